@@ -1,0 +1,75 @@
+# Helpers that keep each component's CMakeLists.txt short and uniform.
+
+# Adds every immediate sub-folder of the given folders that has a CMakeLists.txt (one level deep
+# and, for folders that group components such as drivers/, two levels deep).
+function(handscan_add_component_dirs)
+  foreach(top IN LISTS ARGN)
+    file(GLOB children LIST_DIRECTORIES true RELATIVE ${CMAKE_SOURCE_DIR}
+         ${CMAKE_SOURCE_DIR}/${top}/*)
+    list(SORT children)
+    foreach(child IN LISTS children)
+      if(child STREQUAL "firmware/core" OR child STREQUAL "firmware/cli")
+        continue()
+      endif()
+      if(IS_DIRECTORY ${CMAKE_SOURCE_DIR}/${child} AND EXISTS ${CMAKE_SOURCE_DIR}/${child}/CMakeLists.txt)
+        add_subdirectory(${CMAKE_SOURCE_DIR}/${child} ${CMAKE_BINARY_DIR}/${child})
+      endif()
+    endforeach()
+  endforeach()
+endfunction()
+
+# handscan_library(<name> [SOURCES ...] [PUBLIC_LIBS ...] [PRIVATE_LIBS ...] [INTERFACE])
+# Public headers live in include/handscan/<name>/, sources in src/. Creates handscan_<name> and
+# the ALIAS handscan::<name>.
+function(handscan_library name)
+  cmake_parse_arguments(ARG "INTERFACE" "" "SOURCES;PUBLIC_LIBS;PRIVATE_LIBS" ${ARGN})
+  set(target handscan_${name})
+  if(ARG_INTERFACE)
+    add_library(${target} INTERFACE)
+    target_include_directories(${target} INTERFACE ${CMAKE_CURRENT_SOURCE_DIR}/include)
+    target_link_libraries(${target} INTERFACE ${ARG_PUBLIC_LIBS})
+  else()
+    add_library(${target} STATIC ${ARG_SOURCES})
+    target_include_directories(${target} PUBLIC ${CMAKE_CURRENT_SOURCE_DIR}/include
+                                         PRIVATE ${CMAKE_CURRENT_SOURCE_DIR}/src)
+    target_link_libraries(${target} PUBLIC ${ARG_PUBLIC_LIBS} PRIVATE ${ARG_PRIVATE_LIBS})
+    handscan_set_warnings(${target})
+  endif()
+  add_library(handscan::${name} ALIAS ${target})
+endfunction()
+
+# handscan_test(<name> SOURCES ... LIBS ... [LABELS ...] [TIMEOUT s])
+# A GoogleTest executable registered with CTest test-by-test.
+function(handscan_test name)
+  cmake_parse_arguments(ARG "" "TIMEOUT" "SOURCES;LIBS;LABELS" ${ARGN})
+  add_executable(${name} ${ARG_SOURCES})
+  target_link_libraries(${name} PRIVATE ${ARG_LIBS} GTest::gtest GTest::gmock GTest::gtest_main)
+  target_compile_definitions(${name} PRIVATE
+      HANDSCAN_SHARED_DATA_DIR="${HANDSCAN_SHARED_DATA_DIR}"
+      HANDSCAN_TEST_DATA_DIR="${HANDSCAN_TEST_DATA_DIR}"
+      HANDSCAN_BINARY_DIR="${CMAKE_BINARY_DIR}"
+      HANDSCAN_SOURCE_DIR="${CMAKE_SOURCE_DIR}")
+  handscan_set_warnings(${name})
+  if(NOT ARG_TIMEOUT)
+    set(ARG_TIMEOUT 120)
+  endif()
+  if(NOT ARG_LABELS)
+    set(ARG_LABELS unit)
+  endif()
+  gtest_discover_tests(${name} DISCOVERY_MODE PRE_TEST
+                       PROPERTIES TIMEOUT ${ARG_TIMEOUT} LABELS "${ARG_LABELS}")
+endfunction()
+
+# handscan_benchmark(<name> SOURCES ... LIBS ...): a Google Benchmark executable (not a test).
+function(handscan_benchmark name)
+  cmake_parse_arguments(ARG "" "" "SOURCES;LIBS" ${ARGN})
+  if(NOT HANDSCAN_BUILD_BENCHMARKS)
+    return()
+  endif()
+  add_executable(${name} ${ARG_SOURCES})
+  target_link_libraries(${name} PRIVATE ${ARG_LIBS} benchmark::benchmark benchmark::benchmark_main)
+  target_compile_definitions(${name} PRIVATE
+      HANDSCAN_SHARED_DATA_DIR="${HANDSCAN_SHARED_DATA_DIR}"
+      HANDSCAN_TEST_DATA_DIR="${HANDSCAN_TEST_DATA_DIR}")
+  handscan_set_warnings(${name})
+endfunction()

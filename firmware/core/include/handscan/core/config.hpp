@@ -1,0 +1,120 @@
+// Device configuration and calibration, loaded from YAML in config/. Loading validates every
+// field and rejects unknown keys; the first problem throws ConfigError with a message naming the
+// file, line, key, what was expected and what was found, e.g.
+//   config/device.yaml:14: hokuyo.port: expected an integer in 1..65535, got 0
+// Programs catch it at start-up, print it and exit non-zero before touching any data.
+#pragma once
+
+#include <Eigen/Geometry>
+#include <array>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+namespace handscan {
+
+class ConfigError : public std::runtime_error {
+public:
+    using std::runtime_error::runtime_error;
+};
+
+struct HokuyoConfig {
+    std::string host = "192.168.0.10";
+    int port = 10940;
+    double connect_timeout_s = 2.0;
+    double reconnect_max_backoff_s = 5.0;
+};
+
+struct XsensConfig {
+    std::string transport = "serial";      // serial | usb
+    std::string serial_path = "/dev/ttyUSB0";
+    int baud = 921600;
+    int rate_hz = 200;
+    bool delta_q_v = false;                // also request DeltaQ/DeltaV
+};
+
+struct MotorConfig {
+    std::string can_interface = "can0";
+    int encoder_node_id = 1;
+    int drive_node_id = 2;
+    int encoder_counts_per_rev = 16384;
+    int tpdo_period_ms = 5;
+    double heartbeat_timeout_s = 0.5;
+    double target_speed_rev_s = 1.0;
+    std::string sweep_boundary = "half";   // half | full revolution
+};
+
+struct CameraConfig {
+    bool enabled = true;
+    std::string device = "/dev/video0";
+    int width = 640;
+    int height = 512;
+    double fps = 50.0;
+    std::string format = "GREY";           // GREY | YUYV | MJPEG
+    double exposure_ms = 5.0;
+};
+
+struct GpioConfig {
+    std::string chip = "gpiochip0";
+    int start_button_line = 17;
+    int export_button_line = 27;
+    int led_ready_line = 5;
+    int led_scanning_line = 6;
+    int led_fault_line = 13;
+    int led_exporting_line = 19;
+    double debounce_ms = 20.0;
+};
+
+struct StorageConfig {
+    std::string journal_dir = "/var/lib/handscan/journal";
+    std::string recording_dir = "/var/lib/handscan/recordings";
+    double min_free_gib = 1.0;
+};
+
+struct DeviceConfig {
+    std::string source_file;
+    HokuyoConfig hokuyo;
+    XsensConfig xsens;
+    MotorConfig motor;
+    CameraConfig tracking_camera;
+    CameraConfig colour_camera{true, "/dev/video1", 1600, 1200, 5.0, "YUYV", 10.0};
+    GpioConfig gpio;
+    StorageConfig storage;
+};
+
+// One camera of a Kalibr camchain.
+struct CameraIntrinsics {
+    std::string camera_model = "pinhole";          // pinhole | omni
+    std::array<double, 4> intrinsics{};            // fu fv pu pv
+    std::string distortion_model = "equidistant";  // equidistant | radtan | none
+    std::vector<double> distortion_coeffs;
+    std::array<int, 2> resolution{};               // width height
+    Eigen::Isometry3d T_cam_imu = Eigen::Isometry3d::Identity();
+    double timeshift_cam_imu_s = 0.0;
+};
+
+struct Calibration {
+    std::string source_file;
+    // Laser frame {L} -> motor shaft frame {S}: where the Hokuyo sits on the spinning shaft.
+    Eigen::Isometry3d T_shaft_laser = Eigen::Isometry3d::Identity();
+    // Shaft base frame {B} (the shaft at encoder angle 0) -> tracking camera {C} (the body frame).
+    Eigen::Isometry3d T_camera_shaftbase = Eigen::Isometry3d::Identity();
+    double encoder_zero_offset_rad = 0.0;
+    CameraIntrinsics tracking;                     // cam0 of the camchain
+    CameraIntrinsics colour;                       // cam1 of the camchain
+    Eigen::Isometry3d T_colour_tracking = Eigen::Isometry3d::Identity();  // cam1 T_cn_cnm1
+    // IMU {I} -> tracking camera {C}: the inverse of cam0's T_cam_imu, kept for convenience.
+    Eigen::Isometry3d T_camera_imu() const { return tracking.T_cam_imu; }
+};
+
+DeviceConfig loadDeviceConfig(const std::string& path);
+// calibration.yaml holds the laser/shaft extrinsics and names the camchain file (relative to
+// itself) holding the cameras in Kalibr's format.
+Calibration loadCalibration(const std::string& path);
+// Kalibr camchain alone (cam0 = tracking, cam1 = colour).
+void loadCamchain(const std::string& path, Calibration& calibration);
+
+// Where config/ lives: $HANDSCAN_CONFIG_DIR, else /etc/handscan, else the source tree's config/.
+std::string defaultConfigDir();
+
+}  // namespace handscan
