@@ -135,10 +135,9 @@ Scene office() {
     b.addWall({7, 7}, {7, 12}, T, 0, H, {}, p.wall);
     b.addWall({14, 7}, {14, 12}, T, 0, H, {}, p.wall);
     // Posters and a calibration board along the corridor and in the rooms.
-    for (double x = 1.5; x < 20; x += 2.6) {
-        poster(b, {x, 5.0 + T / 2, 1.6}, {0, 1, 0}, 0.7, 1.0, p.poster);
-        poster(b, {x + 1.2, 7.0 - T / 2, 1.5}, {0, -1, 0}, 0.6, 0.85, p.poster);
-    }
+    // (Posters only where the wall is solid: none across a door.)
+    for (double x : {1.5, 6.0, 8.5, 12.5, 14.6, 18.7}) poster(b, {x, 5.0 + T / 2, 1.6}, {0, 1, 0}, 0.7, 1.0, p.poster);
+    for (double x : {2.0, 5.5, 8.2, 12.8, 14.9, 18.5}) poster(b, {x, 7.0 - T / 2, 1.5}, {0, -1, 0}, 0.6, 0.85, p.poster);
     poster(b, {19.9 - T / 2, 6.0, 1.5}, {-1, 0, 0}, 0.9, 0.9, p.checker);
     poster(b, {5.0, 0.0 + T / 2, 1.7}, {0, 1, 0}, 1.2, 0.8, p.poster);
     poster(b, {15.0, 12.0 - T / 2, 1.6}, {0, -1, 0}, 1.0, 0.7, p.poster);
@@ -201,8 +200,8 @@ Scene house() {
     table(b, {2.5, 6.0}, {3.7, 7.0}, 0, 0.75, p.wood, p.metal);
     chair(b, {3.1, 7.35}, 0, 0, p.wood, p.metal);
     b.addBox(Vector3d(0.2, 7.3, 0), Vector3d(0.6, 8.8, 2.0), p.shelf);
-    poster(b, {6.0, 4.5 - T / 2, 1.5}, {0, -1, 0}, 0.8, 0.6, p.poster);
-    poster(b, {7.0, 4.5 + T / 2, 1.5}, {0, 1, 0}, 0.8, 0.6, p.poster);
+    poster(b, {7.5, 4.5 - T / 2, 1.5}, {0, -1, 0}, 0.8, 0.6, p.poster);
+    poster(b, {8.5, 4.5 + T / 2, 1.5}, {0, 1, 0}, 0.8, 0.6, p.poster);
     poster(b, {W - T / 2, 2.5, 1.5}, {-1, 0, 0}, 1.0, 0.7, p.checker);
     // Stairs: A along the west wall climbing +y, B along the east wall climbing -y.
     b.addStairs({1.0, 2.0, 0.0}, {0, 1}, 1.0, 15, 0.2, 0.28, p.wood);
@@ -256,10 +255,10 @@ Scene corridor() {
     poster(b, {-4.0 + T / 2, 0.0, 1.5}, {1, 0, 0}, 1.0, 0.8, p.poster);
     poster(b, {L + 4.0 - T / 2, 0.0, 1.5}, {-1, 0, 0}, 1.0, 0.8, p.poster);
     poster(b, {L / 2, -hw + T / 2, 1.5}, {0, 1, 0}, 0.6, 0.8, p.poster);
-    for (const Vector2d& q : {Vector2d(1.0, -0.45), Vector2d(49.0, -0.45), Vector2d(50.5, -1.2), Vector2d(52.0, -0.9),
-                              Vector2d(52.5, 0.0), Vector2d(52.0, 0.9), Vector2d(50.5, 1.2), Vector2d(49.0, 0.45),
-                              Vector2d(1.0, 0.45), Vector2d(-0.5, 1.2), Vector2d(-2.0, 0.9), Vector2d(-2.5, 0.0),
-                              Vector2d(-2.0, -0.9), Vector2d(-0.5, -1.2)}) {
+    // Lanes at y = -+0.45 along the corridor, U-turns inside the lobbies.
+    for (const Vector2d& q : {Vector2d(25.0, -0.45), Vector2d(50.8, -0.45), Vector2d(52.2, -1.2), Vector2d(53.2, 0.0),
+                              Vector2d(52.2, 1.2), Vector2d(50.8, 0.45), Vector2d(-0.8, 0.45), Vector2d(-2.2, 1.2),
+                              Vector2d(-3.2, 0.0), Vector2d(-2.2, -1.2), Vector2d(-0.8, -0.45)}) {
         s.walk_loop.emplace_back(q.x(), q.y(), kHand);
     }
     s.world.description = "50 m corridor, 2.2 m wide, plain walls, a few door recesses, lobbies at the ends";

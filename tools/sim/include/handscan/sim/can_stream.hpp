@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "handscan/sim/device_clock.hpp"
+#include "handscan/transport/can_bus.hpp"
 #include "handscan/sim/shaft_model.hpp"
 #include "handscan/sim/stream_message.hpp"
 
@@ -43,7 +44,7 @@ public:
     std::uint32_t positionAt(double t) const;
 
 private:
-    void emit(double t_send, const struct transport::CanFrame& frame, std::vector<StreamMessage>& out);
+    void emit(double t_send, const transport::CanFrame& frame, std::vector<StreamMessage>& out);
     CanStreamConfig cfg_;
     const ShaftModel& shaft_;
     TimeNs host_start_;

@@ -10,9 +10,6 @@ namespace handscan::sim {
 
 enum class SimChannel : std::uint8_t { kHokuyo, kXsens, kCan, kTrackingCamera, kColourCamera, kGroundTruth, kCount };
 
-// Topic of each channel in the recording.
-const char* channelTopic(SimChannel c);
-
 struct StreamMessage {
     TimeNs t_host_rx = 0;   // host CLOCK_MONOTONIC receive time
     SimChannel channel = SimChannel::kHokuyo;
