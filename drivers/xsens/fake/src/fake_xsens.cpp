@@ -94,6 +94,7 @@ void FakeXsens::handle(std::uint8_t mid, std::span<const std::uint8_t> payload) 
             return;
         case MessageId::kGoToMeasurement:
             measuring_ = true;
+            ++epoch_;
             reply(MessageId::kGoToMeasurementAck);
             return;
         case MessageId::kReqDid: reply(MessageId::kDeviceId, encodeDeviceId(cfg_.device_id)); return;
@@ -147,6 +148,7 @@ bool FakeXsens::emitPacket() {
     if (!measuring_) return false;
     StreamedPacket p;
     p.index = next_index_++;
+    p.epoch = epoch_;
     p.packet_counter = counter_++;
     p.sample_time_fine = sample_time_fine_;
     sample_time_fine_ += 10000u / rate_hz_;

@@ -40,6 +40,7 @@ struct FakeXsensFaults {
 // What the fake streamed, packet by packet (the ground truth of a test).
 struct StreamedPacket {
     std::uint64_t index = 0;
+    std::uint32_t epoch = 0;  // measurement period: counts GoToMeasurement acks (0 = since power-up)
     std::uint16_t packet_counter = 0;
     std::uint32_t sample_time_fine = 0;
     Eigen::Vector3d accel_mps2 = Eigen::Vector3d::Zero();
@@ -65,6 +66,7 @@ public:
     int baudrate() const { return baud_; }
     const std::vector<OutputConfigEntry>& outputConfiguration() const { return outputs_; }
     const std::vector<StreamedPacket>& streamed() const { return streamed_; }
+    std::uint32_t epoch() const { return epoch_; }
     const std::vector<std::uint8_t>& requestsSeen() const { return requests_; }  // MIDs, in order
 
     // The synthetic motion at packet index k (also used by tests to predict samples).
@@ -85,6 +87,7 @@ private:
     int baud_ = 115200;
     bool measuring_;
     int goto_configs_ignored_ = 0;
+    std::uint32_t epoch_ = 0;
     std::uint64_t next_index_ = 0;
     std::uint16_t counter_;
     std::uint32_t sample_time_fine_;
