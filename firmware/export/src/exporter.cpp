@@ -13,7 +13,7 @@
 #include <sstream>
 
 #include "handscan/journal/journal_reader.hpp"
-#include "voxel_filter.hpp"
+#include "handscan/export/voxel_filter.hpp"
 
 #ifndef HANDSCAN_VERSION
 #define HANDSCAN_VERSION "0.0.0"

@@ -2,6 +2,7 @@
 // with their mean colour, intensity and time.
 #pragma once
 
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <span>

@@ -1,0 +1,51 @@
+// `handscan replay REC.mcap --out DIR`: a recording through the drivers' decoders and the pipeline.
+#include <csignal>
+#include <iostream>
+
+#include "command_registry.hpp"
+#include "handscan/core/log.hpp"
+#include "handscan/replay/replay_engine.hpp"
+
+namespace handscan::cli {
+namespace {
+
+volatile std::sig_atomic_t g_interrupted = 0;
+
+const RegisterCommand kReplay{"replay", "Run the pipeline on a recording: trajectory.tum, map.ply, stats.json, journal",
+                              [](CLI::App& sub) {
+    auto o = std::make_shared<replay::ReplayOptions>();
+    auto modules = std::make_shared<std::string>("all");
+    sub.add_option("RECORDING", o->recording, "recording (.mcap)")->required()->check(CLI::ExistingFile);
+    sub.add_option("--out", o->out_dir, "output directory")->required();
+    sub.add_option("--modules", *modules, "imu | imu,laser | all")->check(CLI::IsMember({"imu", "imu,laser", "laser,imu", "all"}));
+    sub.add_flag("--fast", o->fast, "as fast as possible on the recording's clock (deterministic)");
+    sub.add_option("--speed", o->speed, "pace multiplier without --fast")->check(CLI::Range(0.01, 1000.0));
+    sub.add_option("--dump-sweeps", o->dump_sweeps_dir, "write every assembled sweep as PLY into this directory");
+    sub.add_option("--device", o->device_config, "device.yaml (default: config dir)");
+    sub.add_option("--calibration", o->calibration, "calibration.yaml (default: config dir)");
+    sub.add_option("--map-voxel", o->map_voxel_m, "map.ply voxel size in metres")->check(CLI::Range(0.001, 1.0));
+    sub.add_flag("--live", o->live, "publish to the live-map shared memory (the UI shows it)");
+    sub.add_flag("--hold", o->hold, "with --live: keep the final state published until Ctrl-C");
+    sub.add_option("--shm-name", o->shm_name, "shared-memory region name (default: the daemon's)");
+    return std::function<int()>([o, modules] {
+        o->use_laser = *modules != "imu";
+        Progress bar("replay", 1.0);
+        o->progress = [&](double f) { bar.update(f); };
+        std::signal(SIGINT, [](int) { g_interrupted = 1; });
+        std::signal(SIGTERM, [](int) { g_interrupted = 1; });
+        o->interrupted = [] { return g_interrupted != 0; };
+        auto r = replay::runReplay(*o);
+        bar.finish();
+        if (!r.isOk()) {
+            log().error("{}", r.status().message());
+            return 1;
+        }
+        std::cout << "replayed " << r->recording_s << " s in " << r->wall_s << " s (" << r->realtime_factor
+                  << "x real time): " << r->poses << " poses, " << r->sweeps << " sweeps, " << r->map_points
+                  << " map points -> " << o->out_dir << "\n";
+        return 0;
+    });
+}};
+
+}  // namespace
+}  // namespace handscan::cli

@@ -1,0 +1,48 @@
+// `handscan replay`: a recording's raw device streams through the drivers' decoders and the
+// pipeline, as fast as possible on the recording's own clock (--fast, deterministic: the same
+// recording gives the same bytes out) or at recorded pace, with the outputs a user and the tests
+// need: DIR/trajectory.tum (200 Hz rig pose, TUM), DIR/map.ply (registered map), DIR/stats.json
+// (per-module cost, real-time factor, sweeps, degenerate directions, peak memory), and
+// DIR/journal.hsj (the full-resolution map journal `handscan export` reads). With `live` it
+// publishes to the same shared memory as the daemon, so the UI can show any recording.
+#pragma once
+
+#include <cstdint>
+#include <functional>
+#include <string>
+
+#include "handscan/core/status.hpp"
+
+namespace handscan::replay {
+
+struct ReplayOptions {
+    std::string recording;
+    std::string out_dir;
+    bool fast = false;                 // as fast as possible instead of recorded pace
+    double speed = 1.0;                // pace multiplier without --fast
+    bool use_laser = true;             // --modules imu: IMU prediction only
+    std::string dump_sweeps_dir;       // each assembled sweep as PLY (x y z intensity t)
+    std::string device_config;         // default: <config dir>/device.yaml
+    std::string calibration;           // default: <config dir>/calibration.yaml
+    double map_voxel_m = 0.02;         // map.ply density
+    bool write_journal = true;
+    bool live = false;                 // publish to shared memory
+    bool hold = false;                 // keep the final state published until interrupted
+    std::string shm_name;              // default: the daemon's region
+    std::function<void(double fraction)> progress;
+    std::function<bool()> interrupted; // polled while holding
+};
+
+struct ReplayReport {
+    double recording_s = 0.0;
+    double wall_s = 0.0;
+    double realtime_factor = 0.0;
+    std::uint64_t poses = 0;
+    std::uint64_t sweeps = 0;
+    std::uint64_t map_points = 0;
+    std::string stats_json_path;
+};
+
+Result<ReplayReport> runReplay(const ReplayOptions& options);
+
+}  // namespace handscan::replay

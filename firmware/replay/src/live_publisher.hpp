@@ -1,0 +1,36 @@
+// Publishes a replay into the live-map shared memory exactly as the daemon does: 200 Hz poses,
+// display points (voxel-downsampled, only voxels not shown yet), and the status block, so the
+// touch-screen UI can show any recording.
+#pragma once
+
+#include <memory>
+#include <unordered_set>
+
+#include "handscan/lio/laser_inertial_odometry.hpp"
+#include "handscan/replay/stream_decoders.hpp"
+#include "handscan/shm/live_map_writer.hpp"
+#include "replay_outputs.hpp"
+
+namespace handscan::replay {
+
+class LivePublisher {
+public:
+    static Result<std::unique_ptr<LivePublisher>> create(const std::string& name);
+
+    void pose(const PoseEstimate& pose);
+    void sweep(const lio::RegisteredSweep& sweep, const lio::LaserInertialOdometry& pipeline);
+    void status(const lio::LaserInertialOdometry& pipeline, const StreamCounters& hokuyo, const StreamCounters& xsens,
+                const StreamCounters& encoder, const ReplayOutputs& outputs, bool finished = false);
+    void heartbeat() { writer_->heartbeat(); }
+
+private:
+    explicit LivePublisher(std::unique_ptr<shm::LiveMapWriter> writer) : writer_(std::move(writer)) {}
+
+    std::unique_ptr<shm::LiveMapWriter> writer_;
+    std::unordered_set<std::uint64_t> shown_voxels_;
+    TimeNs first_pose_t_ = 0;
+    TimeNs last_pose_t_ = 0;
+    std::uint8_t last_solved_mask_ = 0x3F;
+};
+
+}  // namespace handscan::replay

@@ -1,0 +1,215 @@
+#include "handscan/replay/replay_engine.hpp"
+
+#include <sys/resource.h>
+
+#include <chrono>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <iomanip>
+#include <sstream>
+#include <thread>
+#include <unordered_set>
+
+#include "handscan/core/config.hpp"
+#include "handscan/core/log.hpp"
+#include "handscan/export/voxel_filter.hpp"
+#include "handscan/journal/journal_writer.hpp"
+#include "handscan/lio/laser_inertial_odometry.hpp"
+#include "handscan/recording/mcap_reader.hpp"
+#include "handscan/replay/call_timer.hpp"
+#include "handscan/replay/stream_decoders.hpp"
+#include "handscan/scan/ply_writer.hpp"
+#include "live_publisher.hpp"
+#include "replay_outputs.hpp"
+
+namespace handscan::replay {
+namespace {
+
+namespace fs = std::filesystem;
+
+constexpr const char* kHokuyoTopic = "/hokuyo/raw";
+constexpr const char* kXsensTopic = "/xsens/raw";
+constexpr const char* kCanTopic = "/motor/can";
+
+double peakRssMiB() {
+    rusage ru{};
+    getrusage(RUSAGE_SELF, &ru);
+    return static_cast<double>(ru.ru_maxrss) / 1024.0;  // ru_maxrss is in KiB on Linux
+}
+
+lio::LioConfig lioConfig(const ReplayOptions& o, const DeviceConfig& device) {
+    lio::LioConfig c;
+    c.laser_enabled = o.use_laser;
+    c.assembler.boundary = device.motor.sweep_boundary == "full" ? scan::SweepBoundary::kFullRevolution
+                                                                 : scan::SweepBoundary::kHalfRevolution;
+    c.odometry.max_threads = 1;  // replay is deterministic: sweeps are matched in order
+    return c;
+}
+
+}  // namespace
+
+Result<ReplayReport> runReplay(const ReplayOptions& o) {
+    const std::string config_dir = defaultConfigDir();
+    const DeviceConfig device = loadDeviceConfig(o.device_config.empty() ? config_dir + "/device.yaml" : o.device_config);
+    const Calibration calibration =
+        loadCalibration(o.calibration.empty() ? config_dir + "/calibration.yaml" : o.calibration);
+
+    auto reader = recording::McapReader::open(o.recording);
+    if (!reader.isOk()) return reader.status();
+    recording::McapReader& rec = **reader;
+    if (rec.truncated()) log().warn("{}: recording was cut short; replaying every intact chunk", o.recording);
+    for (const char* topic : {kXsensTopic, kHokuyoTopic, kCanTopic}) {
+        const bool needed = std::string(topic) == kXsensTopic || o.use_laser;
+        if (needed && !rec.findTopic(topic)) {
+            return Status(StatusCode::kNotFound, o.recording + ": no " + std::string(topic) +
+                                                     " channel; the pipeline needs it (or choose --modules imu)");
+        }
+    }
+    std::error_code ec;
+    fs::create_directories(o.out_dir, ec);
+    if (ec) return Status(StatusCode::kIoError, "replay: cannot create " + o.out_dir + ": " + ec.message());
+    if (!o.dump_sweeps_dir.empty()) fs::create_directories(o.dump_sweeps_dir, ec);
+
+    lio::LaserInertialOdometry pipeline(lioConfig(o, device), calibration);
+    HokuyoStreamDecoder hokuyo;
+    XsensStreamDecoder xsens;
+    EncoderStreamConfig enc_cfg;
+    enc_cfg.node_id = static_cast<std::uint8_t>(device.motor.encoder_node_id);
+    enc_cfg.unwrapper.units_per_revolution = static_cast<std::uint32_t>(device.motor.encoder_counts_per_rev);
+    enc_cfg.tpdo_period_ns = device.motor.tpdo_period_ms * kNsPerMs;
+    EncoderStreamDecoder encoder(enc_cfg);
+
+    ReplayOutputs outputs(o.out_dir, o.map_voxel_m);
+    std::unique_ptr<journal::JournalWriter> journal;
+    if (o.write_journal) {
+        const std::string path = (fs::path(o.out_dir) / "journal.hsj").string();
+        fs::remove(path, ec);
+        auto j = journal::JournalWriter::create(path, "{\"source\": \"replay\", \"recording\": \"" + o.recording + "\"}");
+        if (!j.isOk()) return j.status();
+        journal = std::move(*j);
+    }
+    std::unique_ptr<LivePublisher> live;
+    if (o.live) {
+        auto p = LivePublisher::create(o.shm_name);
+        if (!p.isOk()) return p.status();
+        live = std::move(*p);
+    }
+
+    CallTimer timer;
+    std::vector<LaserScan> scans;
+    std::vector<ImuSample> imu;
+    std::vector<EncoderSample> enc;
+    TimeNs t_first = 0, t_last = 0;
+    const auto wall_start = std::chrono::steady_clock::now();
+    const double duration_hint = rec.statistics() ? toSeconds(rec.statistics()->message_end_time - rec.statistics()->message_start_time) : 0.0;
+
+    auto consume = [&]() -> Status {
+        for (PoseEstimate& p : pipeline.takePoses()) {
+            outputs.addPose(p);
+            if (journal) (void)journal->appendPose({toSeconds(p.t_host), p.T_world_body.translation().x(),
+                                                    p.T_world_body.translation().y(), p.T_world_body.translation().z(),
+                                                    Eigen::Quaterniond(p.T_world_body.linear()).x(),
+                                                    Eigen::Quaterniond(p.T_world_body.linear()).y(),
+                                                    Eigen::Quaterniond(p.T_world_body.linear()).z(),
+                                                    Eigen::Quaterniond(p.T_world_body.linear()).w()});
+            if (live) live->pose(p);
+        }
+        for (lio::RegisteredSweep& s : pipeline.takeSweeps()) {
+            timer.add("scan_matching", s.result.total_ms * 1e3);
+            outputs.addSweep(s);
+            if (!o.dump_sweeps_dir.empty()) {
+                std::ostringstream name;
+                name << "sweep_" << std::setw(6) << std::setfill('0') << s.sweep.index << ".ply";
+                if (Status st = scan::writeSweepPly((fs::path(o.dump_sweeps_dir) / name.str()).string(), s.sweep); !st.isOk()) {
+                    return st;
+                }
+            }
+            if (journal) {
+                std::vector<journal::MapPoint> pts;
+                pts.reserve(s.points_world.size());
+                for (std::size_t i = 0; i < s.points_world.size(); ++i) {
+                    const auto& p = s.points_world[i];
+                    const auto grey = static_cast<std::uint8_t>(std::min(255.0f, s.intensities[i] / 16.0f));
+                    pts.push_back({toSeconds(s.times[i]), p.x(), p.y(), p.z(), grey, grey, grey,
+                                   static_cast<std::uint16_t>(std::min(65535.0f, s.intensities[i]))});
+                }
+                if (Status st = journal->appendPoints(pts); !st.isOk()) return st;
+                if (Status st = journal->flushIfDue(); !st.isOk()) return st;
+            }
+            if (live) live->sweep(s, pipeline);
+        }
+        return Status::ok();
+    };
+
+    std::vector<std::string> topics{kXsensTopic};
+    if (o.use_laser) {
+        topics.push_back(kHokuyoTopic);
+        topics.push_back(kCanTopic);
+    }
+    auto it = rec.messages({topics});
+    recording::RecordedMessage msg;
+    std::uint64_t n = 0;
+    while (it.next(msg)) {
+        if (t_first == 0) t_first = msg.log_time;
+        t_last = msg.log_time;
+        if (!o.fast) {
+            // Recorded pace on the wall clock.
+            const auto due = wall_start + std::chrono::nanoseconds(static_cast<std::int64_t>(
+                                              static_cast<double>(msg.log_time - t_first) / std::max(0.01, o.speed)));
+            std::this_thread::sleep_until(due);
+        }
+        const std::string& topic = msg.channel->topic;
+        if (topic == kXsensTopic) {
+            imu.clear();
+            timer.time("decode_xsens", [&] { xsens.feed(msg.log_time, msg.data, imu); });
+            for (const ImuSample& s : imu) {
+                timer.time("imu_prediction", [&] { pipeline.addImu(s); });
+            }
+        } else if (topic == kHokuyoTopic) {
+            scans.clear();
+            timer.time("decode_hokuyo", [&] { hokuyo.feed(msg.log_time, msg.data, scans); });
+            for (const LaserScan& s : scans) timer.time("sweep_assembly_and_matching", [&] { pipeline.addScan(s); });
+        } else if (topic == kCanTopic) {
+            enc.clear();
+            timer.time("decode_can", [&] { encoder.feed(msg.log_time, msg.data, enc); });
+            for (const EncoderSample& s : enc) timer.time("sweep_assembly_and_matching", [&] { pipeline.addEncoder(s); });
+        }
+        if (Status st = consume(); !st.isOk()) return st;
+        if (live && (++n % 64) == 0) live->status(pipeline, hokuyo.counters(), xsens.counters(), encoder.counters(), outputs);
+        if (o.progress && duration_hint > 0 && (n % 256) == 0) o.progress(toSeconds(msg.log_time - t_first) / duration_hint);
+    }
+    if (!it.status().isOk()) return it.status();
+    pipeline.finish();
+    if (Status st = consume(); !st.isOk()) return st;
+    if (journal) {
+        if (Status st = journal->finish(); !st.isOk()) return st;
+    }
+    const double wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall_start).count();
+
+    ReplayReport report;
+    report.recording_s = toSeconds(t_last - t_first);
+    report.wall_s = wall_s;
+    report.realtime_factor = wall_s > 0 ? report.recording_s / wall_s : 0.0;
+    report.poses = pipeline.stats().poses_out;
+    report.sweeps = pipeline.stats().sweeps;
+    if (Status st = outputs.writeTrajectory(); !st.isOk()) return st;
+    auto map_points = outputs.writeMap();
+    if (!map_points.isOk()) return map_points.status();
+    report.map_points = *map_points;
+    StatsInputs in{report, timer.summary(), pipeline, hokuyo.counters(), xsens.counters(), encoder.counters(),
+                   peakRssMiB(), rec.truncated(), rec.dropped().size()};
+    auto stats_path = outputs.writeStats(in);
+    if (!stats_path.isOk()) return stats_path.status();
+    report.stats_json_path = *stats_path;
+    if (live) {
+        live->status(pipeline, hokuyo.counters(), xsens.counters(), encoder.counters(), outputs, /*finished=*/true);
+        while (o.hold && !(o.interrupted && o.interrupted())) {
+            live->heartbeat();
+            std::this_thread::sleep_for(std::chrono::milliseconds(100));
+        }
+    }
+    return report;
+}
+
+}  // namespace handscan::replay

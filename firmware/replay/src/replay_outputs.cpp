@@ -1,0 +1,141 @@
+#include "replay_outputs.hpp"
+
+#include <bit>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+#include "handscan/export/point_formats.hpp"
+#include "handscan/export/safe_file.hpp"
+
+namespace handscan::replay {
+namespace {
+
+namespace fs = std::filesystem;
+
+Status writeText(const std::string& path, const std::string& text) {
+    exporter::SafeFileWriter f(path);
+    if (Status s = f.open(); !s.isOk()) return s;
+    if (Status s = f.write({reinterpret_cast<const std::uint8_t*>(text.data()), text.size()}); !s.isOk()) return s;
+    return f.commit();
+}
+
+void callsJson(std::ostringstream& os, const std::map<std::string, CallStats>& calls) {
+    os << "  \"modules\": {";
+    bool first = true;
+    for (const auto& [name, s] : calls) {
+        os << (first ? "\n" : ",\n") << "    \"" << name << "\": {\"calls\": " << s.calls << ", \"mean_us\": " << s.mean_us
+           << ", \"p50_us\": " << s.p50_us << ", \"p99_us\": " << s.p99_us << ", \"max_us\": " << s.max_us
+           << ", \"total_ms\": " << s.total_ms << "}";
+        first = false;
+    }
+    os << "\n  },\n";
+}
+
+void streamJson(std::ostringstream& os, const char* name, const StreamCounters& c, bool last) {
+    os << "    \"" << name << "\": {\"messages\": " << c.messages << ", \"checksum_failures\": " << c.checksum_failures
+       << ", \"resyncs\": " << c.resyncs << ", \"gaps\": " << c.gaps << ", \"errors\": " << c.errors << "}"
+       << (last ? "\n" : ",\n");
+}
+
+}  // namespace
+
+ReplayOutputs::ReplayOutputs(std::string out_dir, double map_voxel_m) : dir_(std::move(out_dir)), map_(map_voxel_m) {}
+
+void ReplayOutputs::addPose(const PoseEstimate& pose) {
+    const Eigen::Vector3d t = pose.T_world_body.translation();
+    const Eigen::Quaterniond q(pose.T_world_body.linear());
+    char line[200];
+    std::snprintf(line, sizeof line, "%.9f %.6f %.6f %.6f %.9f %.9f %.9f %.9f\n", toSeconds(pose.t_host), t.x(), t.y(), t.z(),
+                  q.x(), q.y(), q.z(), q.w());
+    tum_ += line;
+    if (poses_ > 0) distance_m_ += (t - last_position_).norm();
+    last_position_ = t;
+    ++poses_;
+}
+
+void ReplayOutputs::addSweep(const lio::RegisteredSweep& s) {
+    std::vector<journal::MapPoint> pts;
+    pts.reserve(s.points_world.size());
+    for (std::size_t i = 0; i < s.points_world.size(); ++i) {
+        const auto& p = s.points_world[i];
+        const auto grey = static_cast<std::uint8_t>(std::min(255.0f, s.intensities[i] / 16.0f));
+        pts.push_back({toSeconds(s.times[i]), p.x(), p.y(), p.z(), grey, grey, grey,
+                       static_cast<std::uint16_t>(std::min(65535.0f, s.intensities[i]))});
+    }
+    map_.add(pts);
+    registered_points_ += pts.size();
+    SweepSummary sum;
+    sum.index = s.result.sweep_index;
+    sum.t_start_s = toSeconds(s.sweep.t_start);
+    sum.solved_mask = s.result.pose.solved_dof_mask;
+    sum.points = s.points_world.size();
+    sum.edges = s.result.edges;
+    sum.planars = s.result.planars;
+    sum.total_ms = s.result.total_ms;
+    sum.associations = s.result.match.associations;
+    sum.rms_m = s.result.match.rms_m;
+    sweeps_.push_back(sum);
+}
+
+Status ReplayOutputs::writeTrajectory() const { return writeText((fs::path(dir_) / "trajectory.tum").string(), tum_); }
+
+Result<std::uint64_t> ReplayOutputs::writeMap() const {
+    const std::vector<journal::MapPoint> pts = map_.take();
+    exporter::SafeFileWriter file((fs::path(dir_) / "map.ply").string());
+    if (Status s = file.open(); !s.isOk()) return s;
+    auto writer = exporter::makePlyWriter(file);
+    if (Status s = writer->begin(pts.size()); !s.isOk()) return s;
+    if (Status s = writer->write(pts); !s.isOk()) return s;
+    if (Status s = writer->end(); !s.isOk()) return s;
+    return static_cast<std::uint64_t>(pts.size());
+}
+
+Result<std::string> ReplayOutputs::writeStats(const StatsInputs& in) const {
+    std::ostringstream os;
+    os.precision(6);
+    os << std::fixed;
+    const ReplayReport& r = in.report;
+    os << "{\n  \"recording_s\": " << r.recording_s << ",\n  \"wall_s\": " << r.wall_s
+       << ",\n  \"realtime_factor\": " << r.realtime_factor << ",\n  \"poses\": " << r.poses
+       << ",\n  \"distance_m\": " << distance_m_ << ",\n  \"sweeps\": " << sweeps_.size()
+       << ",\n  \"registered_points\": " << registered_points_ << ",\n  \"map_points\": " << r.map_points
+       << ",\n  \"peak_rss_mib\": " << in.peak_rss_mib << ",\n";
+    callsJson(os, in.calls);
+    os << "  \"streams\": {\n";
+    streamJson(os, "hokuyo", in.hokuyo, false);
+    streamJson(os, "xsens", in.xsens, false);
+    streamJson(os, "encoder", in.encoder, true);
+    os << "  },\n";
+    const auto& a = in.pipeline.assemblerStats();
+    os << "  \"sweep_assembly\": {\"scans\": " << a.scans << ", \"points\": " << a.points
+       << ", \"dropped_invalid_range\": " << a.dropped_invalid_range << ", \"dropped_no_encoder\": " << a.dropped_no_encoder
+       << ", \"dropped_scans_late\": " << a.dropped_scans_late << "},\n";
+    const auto& p = in.pipeline.predictor().stats();
+    os << "  \"imu\": {\"aligned\": " << (in.pipeline.aligned() ? "true" : "false") << ", \"samples\": " << p.samples
+       << ", \"rejected\": " << p.rejected_samples << ", \"gaps\": " << p.gaps << ", \"corrections\": " << p.corrections
+       << ", \"rejected_corrections\": " << p.rejected_corrections << "},\n";
+    os << "  \"recording\": {\"truncated\": " << (in.recording_truncated ? "true" : "false")
+       << ", \"dropped_regions\": " << in.recording_dropped_regions << "},\n";
+    // Degenerate directions per sweep (section 8): 6 minus the DOFs the matcher solved.
+    std::size_t histogram[7] = {0, 0, 0, 0, 0, 0, 0};
+    for (const SweepSummary& s : sweeps_) ++histogram[6 - std::popcount(static_cast<unsigned>(s.solved_mask & 0x3F))];
+    os << "  \"degenerate_directions_histogram\": [";
+    for (int i = 0; i < 7; ++i) os << (i ? ", " : "") << histogram[i];
+    os << "],\n  \"per_sweep\": [";
+    for (std::size_t i = 0; i < sweeps_.size(); ++i) {
+        const SweepSummary& s = sweeps_[i];
+        os << (i ? ",\n" : "\n") << "    {\"index\": " << s.index << ", \"t_start_s\": " << s.t_start_s
+           << ", \"degenerate_directions\": " << 6 - std::popcount(static_cast<unsigned>(s.solved_mask & 0x3F))
+           << ", \"solved_dof_mask\": " << static_cast<int>(s.solved_mask) << ", \"points\": " << s.points
+           << ", \"edges\": " << s.edges << ", \"planars\": " << s.planars << ", \"associations\": " << s.associations
+           << ", \"rms_m\": " << s.rms_m << ", \"total_ms\": " << s.total_ms << "}";
+    }
+    os << "\n  ]\n}\n";
+    const std::string path = (fs::path(dir_) / "stats.json").string();
+    if (Status s = writeText(path, os.str()); !s.isOk()) return s;
+    return path;
+}
+
+}  // namespace handscan::replay

@@ -1,0 +1,67 @@
+// What a replay leaves in its output directory: trajectory.tum, map.ply and stats.json.
+#pragma once
+
+#include <map>
+#include <string>
+#include <vector>
+
+#include "handscan/core/samples.hpp"
+#include "handscan/core/status.hpp"
+#include "handscan/export/voxel_filter.hpp"
+#include "handscan/lio/laser_inertial_odometry.hpp"
+#include "handscan/replay/call_timer.hpp"
+#include "handscan/replay/replay_engine.hpp"
+#include "handscan/replay/stream_decoders.hpp"
+
+namespace handscan::replay {
+
+struct SweepSummary {
+    std::uint64_t index = 0;
+    double t_start_s = 0.0;
+    std::uint8_t solved_mask = 0;
+    std::size_t points = 0;
+    std::size_t edges = 0;
+    std::size_t planars = 0;
+    double total_ms = 0.0;
+    int associations = 0;
+    double rms_m = 0.0;
+};
+
+struct StatsInputs {
+    const ReplayReport& report;
+    std::map<std::string, CallStats> calls;
+    const lio::LaserInertialOdometry& pipeline;
+    StreamCounters hokuyo, xsens, encoder;
+    double peak_rss_mib = 0.0;
+    bool recording_truncated = false;
+    std::size_t recording_dropped_regions = 0;
+};
+
+class ReplayOutputs {
+public:
+    ReplayOutputs(std::string out_dir, double map_voxel_m);
+
+    void addPose(const PoseEstimate& pose);
+    void addSweep(const lio::RegisteredSweep& sweep);
+
+    Status writeTrajectory() const;
+    Result<std::uint64_t> writeMap() const;
+    Result<std::string> writeStats(const StatsInputs& in) const;
+
+    std::uint64_t poses() const { return poses_; }
+    double distance_m() const { return distance_m_; }
+    std::uint64_t registeredPoints() const { return registered_points_; }
+    const std::vector<SweepSummary>& sweeps() const { return sweeps_; }
+
+private:
+    std::string dir_;
+    std::string tum_;
+    std::uint64_t poses_ = 0;
+    double distance_m_ = 0.0;
+    Eigen::Vector3d last_position_ = Eigen::Vector3d::Zero();
+    exporter::VoxelFilter map_;
+    std::uint64_t registered_points_ = 0;
+    std::vector<SweepSummary> sweeps_;
+};
+
+}  // namespace handscan::replay
