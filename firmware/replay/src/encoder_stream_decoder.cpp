@@ -12,7 +12,10 @@ ClockMapperConfig tpdoClock(TimeNs period_ns) {
     ClockMapperConfig c;
     c.counter_bits = 64;
     c.tick_ns = static_cast<double>(period_ns);
-    c.outlier_ns = 20 * kNsPerMs;
+    c.outlier_ns = period_ns / 2;  // a miscounted period shows as a point far below the envelope
+    // Short buckets: the encoder's crystal drifts slowly, but the fit must settle within seconds.
+    c.window_ns = 20 * kNsPerSec;
+    c.buckets = 100;
     return c;
 }
 
@@ -32,24 +35,32 @@ void EncoderStreamDecoder::feed(TimeNs t_rx, std::span<const std::uint8_t> line,
     }
     const auto& frame = record->frame;
     if (frame.extended || frame.remote || frame.error || frame.id != motor::cobTpdo(1, cfg_.node_id)) return;
-    if (frame.len < 4) {
+    auto position = motor::decodeEncoderPositionTpdo(frame);
+    if (!position) {
         ++c_.errors;
-        c_.last_error = "CAN: TPDO1 of node " + std::to_string(cfg_.node_id) + " with " + std::to_string(frame.len) + " bytes";
+        c_.last_error = "CAN: TPDO1 of node " + std::to_string(cfg_.node_id) + ": " + position.status().message();
         return;
     }
-    const std::uint32_t raw = static_cast<std::uint32_t>(frame.data[0]) | (static_cast<std::uint32_t>(frame.data[1]) << 8) |
-                              (static_cast<std::uint32_t>(frame.data[2]) << 16) | (static_cast<std::uint32_t>(frame.data[3]) << 24);
-    // Count TPDOs on the encoder's cyclic timer; a longer silence means lost frames.
+    const std::uint32_t raw = *position;
+    // Count TPDOs on the encoder's cyclic timer: n periods after the previous one's (fitted)
+    // transmit time, as many as fit before this receive time (latency is never negative). A
+    // latency beyond one period miscounts; the clock fit then sees points below its envelope
+    // and restarts, so the error heals.
     if (last_rx_) {
-        const double periods = static_cast<double>(t_rx - *last_rx_) / static_cast<double>(cfg_.tpdo_period_ns);
-        const std::int64_t step = std::max<std::int64_t>(1, std::llround(periods));
+        const double since = static_cast<double>(t_rx - tpdo_clock_.toHostUnwrapped(tpdo_index_));
+        const std::int64_t step =
+            std::max<std::int64_t>(1, static_cast<std::int64_t>(std::floor(since / static_cast<double>(cfg_.tpdo_period_ns))));
         if (step > 1) c_.gaps += static_cast<std::uint64_t>(step - 1);
         tpdo_index_ += step;
     }
     last_rx_ = t_rx;
     tpdo_clock_.observe(static_cast<std::uint64_t>(tpdo_index_), t_rx);
-    const TimeNs t_sent = tpdo_clock_.toHostUnwrapped(tpdo_index_);
-    auto sample = unwrapper_.update(std::min(t_sent, t_rx), raw);
+    // Never later than received, never before the previous sample (the fit moves while it
+    // learns the envelope; a step back would make the unwrapper reject the sample).
+    TimeNs t_sent = std::min(tpdo_clock_.toHostUnwrapped(tpdo_index_), t_rx);
+    if (last_sample_t_) t_sent = std::max(t_sent, *last_sample_t_ + 1);
+    last_sample_t_ = t_sent;
+    auto sample = unwrapper_.update(t_sent, raw);
     if (!sample) {
         ++c_.errors;
         c_.last_error = "encoder: " + sample.status().message();

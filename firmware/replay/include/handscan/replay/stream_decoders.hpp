@@ -83,6 +83,7 @@ private:
     motor::PositionUnwrapper unwrapper_;
     ClockMapper tpdo_clock_;
     std::optional<TimeNs> last_rx_;
+    std::optional<TimeNs> last_sample_t_;
     std::int64_t tpdo_index_ = 0;
     StreamCounters c_;
 };

@@ -1,0 +1,186 @@
+// The recorded-stream decoders give back what the codecs' encode side (what the devices and the
+// simulator send) put in, with host times from the devices' clocks.
+#include <gtest/gtest.h>
+
+#include <random>
+
+#include "handscan/hokuyo/scip_codec.hpp"
+#include "handscan/motor/candump_format.hpp"
+#include "handscan/motor/canopen.hpp"
+#include "handscan/replay/stream_decoders.hpp"
+#include "handscan/xsens/mtdata2.hpp"
+
+namespace handscan::replay {
+namespace {
+
+std::span<const std::uint8_t> bytesOf(const std::string& s) {
+    return {reinterpret_cast<const std::uint8_t*>(s.data()), s.size()};
+}
+
+std::string utm30PpReply() {
+    return hokuyo::encodeKeyValueReply("PP", "00", {{"MODL", "UTM-30LX-EW"}, {"DMIN", "23"}, {"DMAX", "60000"},
+                                                    {"ARES", "1440"}, {"AMIN", "0"}, {"AMAX", "1080"},
+                                                    {"AFRT", "540"}, {"SCAN", "2400"}});
+}
+
+TEST(HokuyoStreamDecoder, ScansFromAStreamSplitAnywhere) {
+    hokuyo::ScanRequest req;  // ME0000108001000
+    std::string stream = utm30PpReply() + hokuyo::encodeScanAck(req);
+    std::vector<hokuyo::ScanPayload> sent;
+    for (int k = 0; k < 20; ++k) {
+        hokuyo::ScanPayload p;
+        p.timestamp_ms = 1000 + 25 * static_cast<std::uint32_t>(k);
+        for (int i = 0; i < 1081; ++i) {
+            p.ranges.push_back(i == 7 ? 5 : static_cast<std::uint32_t>(1000 + i + k));  // 5 < DMIN: error code
+            p.intensities.push_back(static_cast<std::uint32_t>(2000 + i));
+        }
+        sent.push_back(p);
+        stream += hokuyo::encodeScanFrame(req, p);
+    }
+    HokuyoStreamDecoder dec;
+    std::vector<LaserScan> out;
+    std::mt19937 rng(5);
+    std::size_t pos = 0;
+    TimeNs t = 10 * kNsPerSec;
+    while (pos < stream.size()) {  // TCP segments of random size
+        const std::size_t n = std::min<std::size_t>(stream.size() - pos, 1 + rng() % 1500);
+        dec.feed(t, bytesOf(stream).subspan(pos, n), out);
+        pos += n;
+        t += kNsPerMs;
+    }
+    ASSERT_EQ(out.size(), sent.size());
+    ASSERT_TRUE(dec.parameters().has_value());
+    EXPECT_EQ(dec.parameters()->afrt, 540);
+    for (std::size_t k = 0; k < out.size(); ++k) {
+        ASSERT_EQ(out[k].ranges_m.size(), 1081u);
+        EXPECT_EQ(out[k].t_device_ms, sent[k].timestamp_ms);
+        EXPECT_FLOAT_EQ(out[k].ranges_m[100], (1000 + 100 + static_cast<float>(k)) * 1e-3f);
+        EXPECT_TRUE(std::isnan(out[k].ranges_m[7]));
+        EXPECT_EQ(out[k].error_codes[7], 5);
+        EXPECT_EQ(out[k].intensities[3], 2003);
+        EXPECT_NEAR(out[k].angle_min_rad, -540 * 2 * M_PI / 1440, 1e-12);
+        EXPECT_NEAR(static_cast<double>(out[k].step_period_ns), 60e9 / 2400 / 1440, 1.0);
+    }
+    const StreamCounters c = dec.counters();
+    EXPECT_EQ(c.messages, 20u);
+    EXPECT_EQ(c.checksum_failures, 0u);
+    EXPECT_EQ(c.gaps, 0u);
+}
+
+TEST(HokuyoStreamDecoder, CorruptBlockLosesOnlyThatScanAndCountsTheGap) {
+    hokuyo::ScanRequest req;
+    std::string stream = utm30PpReply();
+    for (int k = 0; k < 3; ++k) {
+        hokuyo::ScanPayload p;
+        p.timestamp_ms = 25 * static_cast<std::uint32_t>(k);
+        p.ranges.assign(1081, 1234);
+        p.intensities.assign(1081, 99);
+        std::string frame = hokuyo::encodeScanFrame(req, p);
+        if (k == 1) frame[frame.size() / 2] ^= 0x01;  // a flipped bit in a data block
+        stream += frame;
+    }
+    HokuyoStreamDecoder dec;
+    std::vector<LaserScan> out;
+    dec.feed(kNsPerSec, bytesOf(stream), out);
+    ASSERT_EQ(out.size(), 2u);
+    EXPECT_EQ(out[1].t_device_ms, 50u);
+    EXPECT_GE(dec.counters().checksum_failures, 1u);
+    EXPECT_EQ(dec.counters().gaps, 1u);
+}
+
+TEST(HokuyoStreamDecoder, ScanBeforeParametersIsReportedNotGuessed) {
+    hokuyo::ScanRequest req;
+    hokuyo::ScanPayload p;
+    p.ranges.assign(1081, 1000);
+    p.intensities.assign(1081, 1);
+    HokuyoStreamDecoder dec;
+    std::vector<LaserScan> out;
+    dec.feed(0, bytesOf(hokuyo::encodeScanFrame(req, p)), out);
+    EXPECT_TRUE(out.empty());
+    EXPECT_EQ(dec.counters().errors, 1u);
+    EXPECT_NE(dec.counters().last_error.find("before the PP reply"), std::string::npos);
+}
+
+TEST(XsensStreamDecoder, SamplesOnTheHostClockWithGapsAndADroppedByte) {
+    std::vector<std::uint8_t> stream;
+    std::vector<std::size_t> frame_starts;
+    for (std::uint16_t k = 0; k < 400; ++k) {
+        if (k == 100) continue;  // a packet lost on the device side: counter gap
+        xsens::MtData2Builder b;
+        b.packetCounter(k).sampleTimeFine(50'000u + 50u * k).acceleration({0.1, 0.2, 9.81}).rateOfTurn({0.01, -0.02, 0.03}).statusWord(3);
+        const auto f = b.frame();
+        frame_starts.push_back(stream.size());
+        stream.insert(stream.end(), f.begin(), f.end());
+    }
+    stream.erase(stream.begin() + static_cast<std::ptrdiff_t>(frame_starts[200] + 10));  // a byte lost on the wire
+    XsensStreamDecoder dec;
+    std::vector<ImuSample> out;
+    // Received in 8-packet bursts 1-3 ms after the sample instants.
+    const TimeNs t0 = 100 * kNsPerSec;
+    const std::size_t per_chunk = stream.size() / 50;
+    for (std::size_t i = 0; i < 50; ++i) {
+        const std::size_t a = i * per_chunk, b = i == 49 ? stream.size() : (i + 1) * per_chunk;
+        const TimeNs rx = t0 + static_cast<TimeNs>((i + 1) * 8) * 5 * kNsPerMs + 2 * kNsPerMs;
+        dec.feed(rx, std::span(stream).subspan(a, b - a), out);
+    }
+    EXPECT_EQ(out.size(), 398u);  // 400 - the lost packet - the damaged one
+    const StreamCounters c = dec.counters();
+    EXPECT_EQ(c.gaps, 2u);
+    EXPECT_GE(c.resyncs, 1u);
+    EXPECT_DOUBLE_EQ(out[5].accel_mps2_imu.z(), static_cast<double>(9.81f));
+    EXPECT_EQ(out[5].status_word, 3u);
+    // 200 Hz on the device clock stays 5 ms apart on the host clock.
+    EXPECT_NEAR(toSeconds(out[300].t_host - out[299].t_host), 0.005, 1e-6);
+}
+
+TEST(EncoderStreamDecoder, CyclicTimerRemovesReceiveJitter) {
+    EncoderStreamConfig cfg;
+    cfg.node_id = 1;
+    cfg.unwrapper.units_per_revolution = 16384;
+    cfg.unwrapper.total_range = 16384;
+    cfg.tpdo_period_ns = 5 * kNsPerMs;
+    EncoderStreamDecoder dec(cfg);
+    std::mt19937 rng(9);
+    std::uniform_real_distribution<double> jitter_ms(0.0, 2.0);  // arbitration + USB adapter polling
+    std::vector<EncoderSample> out;
+    std::vector<TimeNs> sent;
+    const double rev_per_s = 1.0;
+    for (int k = 0; k < 4000; ++k) {
+        if (k == 1000) continue;  // a lost frame
+        const TimeNs t_sent = 50 * kNsPerSec + static_cast<TimeNs>(k) * 5 * kNsPerMs;
+        const auto counts = static_cast<std::uint32_t>(std::llround(toSeconds(t_sent) * rev_per_s * 16384)) % 16384;
+        motor::CandumpRecord rec;
+        rec.has_time = true;
+        rec.interface = "can0";
+        rec.frame = motor::encodeEncoderPositionTpdo(1, counts);
+        const TimeNs t_rx = t_sent + static_cast<TimeNs>((0.2 + jitter_ms(rng)) * 1e6);
+        rec.setTimeNs(t_rx);
+        const std::string line = motor::formatCandumpLogLine(rec);
+        dec.feed(t_rx, bytesOf(line), out);
+        sent.push_back(t_sent);
+    }
+    ASSERT_EQ(out.size(), sent.size()) << dec.counters().last_error;
+    EXPECT_EQ(dec.counters().gaps, 1u);
+    double max_err_ms = 0;
+    std::size_t worst = 0;
+    for (std::size_t i = 500; i < out.size(); ++i) {
+        // The constant 0.2 ms of minimum latency is not observable; the jitter must be gone.
+        const double err = std::abs(toSeconds(out[i].t_host - sent[i]) * 1e3 - 0.2);
+        if (err > max_err_ms) worst = i;
+        max_err_ms = std::max(max_err_ms, err);
+    }
+    SCOPED_TRACE("worst at sample " + std::to_string(worst));
+    EXPECT_LT(max_err_ms, 0.1) << "receive jitter (0-2 ms) left in the encoder times";
+    EXPECT_NEAR(out.back().speed_radps, 2 * M_PI * rev_per_s, 0.05);
+}
+
+TEST(EncoderStreamDecoder, GarbageLinesAreCountedNotFatal) {
+    EncoderStreamDecoder dec({});
+    std::vector<EncoderSample> out;
+    dec.feed(0, bytesOf("not a candump line\n"), out);
+    EXPECT_TRUE(out.empty());
+    EXPECT_EQ(dec.counters().errors, 1u);
+}
+
+}  // namespace
+}  // namespace handscan::replay
