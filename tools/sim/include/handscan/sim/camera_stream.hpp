@@ -60,7 +60,9 @@ private:
 void rgbToYuyv(const std::vector<std::uint8_t>& rgb, int width, int height, std::vector<std::uint8_t>& out);
 void rgbToMjpeg(const std::vector<std::uint8_t>& rgb, int width, int height, int quality, std::vector<std::uint8_t>& out);
 
-// The recording payload of one buffer (the camera codec's V4L2 buffer record).
+// The recording payload of one buffer (the camera codec's V4L2 buffer record), and whether this
+// build has that codec (drivers/camera).
+bool cameraRecordsAvailable();
 std::vector<std::uint8_t> encodeCameraRecord(const V4l2FrameInfo& info, const CameraStreamConfig& config,
                                              const std::vector<std::uint8_t>& data);
 
