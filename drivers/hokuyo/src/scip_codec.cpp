@@ -332,6 +332,8 @@ std::string describeStatus(std::string_view command, std::string_view status) {
     auto with = [&](const std::string& text) { return cmd + " status " + st + ": " + text; };
     if (status == "00") return with("ok");
     if (status == "0") return with("ok (SCIP 1.1-style acknowledgement)");
+    // A SCIP 2.0-only sensor (UTM-30LX-EW) does not know the mode switch and answers "0E"
+    // (command not defined): it is already speaking SCIP 2.0.
     if (command == "SCIP2.0" && status == "0E") return with("ok, sensor already in SCIP 2.0 mode");
     if (command == "BM") {
         if (status == "01") return with("laser could not be switched on (laser malfunction); "
@@ -364,6 +366,7 @@ std::string describeStatus(std::string_view command, std::string_view status) {
     }
     if (!status.empty() && status[0] == '0' && status.size() == 2 && status[1] >= 'A' &&
         status[1] <= 'Z') {
+        if (status == "0E") return with("command not defined on this sensor");
         return with("command rejected by the sensor (unknown, denied or malformed command)");
     }
     return with("unexpected status; see the SCIP 2.0 specification");

@@ -141,11 +141,11 @@ void ScipStreamParser::processLine(std::string_view line, std::vector<ScipEvent>
         case State::kScanData: onScanDataLine(line, out); return;
         case State::kScanEnd:
             if (line.empty()) {
-                emit(out);
+                emit(out, offset_);
             } else {
                 // The terminating empty line was lost; the scan itself is complete and verified.
                 ++stats_.missing_terminators;
-                emit(out);
+                emit(out, line_start_);
                 processLine(line, out);
             }
             return;
@@ -223,7 +223,7 @@ void ScipStreamParser::onStatus(std::string_view line, std::vector<ScipEvent>& o
 
 void ScipStreamParser::onBodyLine(std::string_view line, std::vector<ScipEvent>& out) {
     if (line.empty()) {
-        emit(out);
+        emit(out, offset_);
         return;
     }
     if (frame_.items.size() + frame_.lines.size() >= kMaxBodyLines) {
@@ -331,8 +331,9 @@ void ScipStreamParser::finishScan(std::vector<ScipEvent>& out) {
     state_ = State::kScanEnd;
 }
 
-void ScipStreamParser::emit(std::vector<ScipEvent>& out) {
+void ScipStreamParser::emit(std::vector<ScipEvent>& out, std::uint64_t end_offset) {
     ++stats_.frames;
+    frame_.stream_end = end_offset;
     if (frame_.scan) ++stats_.scans;
     out.emplace_back(std::move(frame_));
     frame_ = {};

@@ -34,6 +34,7 @@ struct ScipFrame {
     std::optional<ScanRequest> scan_request;  // parsed echo of MD/MS/ME/GD/GS/GE
     std::optional<ScanPayload> scan;          // a scan with its data (status 99, or 00 for G*)
     std::uint64_t stream_offset = 0;          // stream byte at which the echo started
+    std::uint64_t stream_end = 0;             // stream byte just past the frame's terminator
 
     bool ok() const { return isSuccessStatus(command, status); }
     std::string statusText() const { return describeStatus(command, status); }
@@ -81,7 +82,7 @@ private:
     void onBodyLine(std::string_view line, std::vector<ScipEvent>& out);
     void onScanDataLine(std::string_view line, std::vector<ScipEvent>& out);
     void finishScan(std::vector<ScipEvent>& out);
-    void emit(std::vector<ScipEvent>& out);
+    void emit(std::vector<ScipEvent>& out, std::uint64_t end_offset);
     void fail(StatusCode code, const std::string& what, std::vector<ScipEvent>& out);
 
     State state_ = State::kIdle;
