@@ -7,6 +7,8 @@
 #include <cmath>
 #include <numbers>
 
+#include "handscan/camera/frame_record.hpp"
+#include "handscan/camera/frame_timing.hpp"
 #include "handscan/core/config.hpp"
 #include "handscan/sim/camera_model.hpp"
 #include "handscan/sim/camera_stream.hpp"
@@ -116,6 +118,49 @@ TEST(CameraModelTest, ColourCameraPacksYuyvAndMjpeg) {
     EXPECT_EQ(jpeg[1], 0xD8);  // SOI
     EXPECT_EQ(jpeg[jpeg.size() - 2], 0xFF);
     EXPECT_EQ(jpeg[jpeg.size() - 1], 0xD9);  // EOI
+}
+
+}  // namespace
+}  // namespace handscan::sim
+
+namespace handscan::sim {
+namespace {
+
+TEST(CameraStreamTest, BufferRecordsDecodeWithMetadataRateAndSequenceGaps) {
+    CameraStreamConfig cfg;  // tracking camera: GREY 640x512 at 50 Hz, SOE timestamps
+    cfg.width = 64;
+    cfg.height = 32;
+    CameraStream stream(cfg, 1000 * kNsPerSec, Rng(1, "v4l2"));
+    std::vector<StreamMessage> msgs;
+    std::vector<std::vector<std::uint8_t>> sent;
+    for (int k = 0; k < 500; ++k) {
+        std::vector<std::uint8_t> img(64 * 32);
+        for (std::size_t i = 0; i < img.size(); ++i) img[i] = static_cast<std::uint8_t>(i * 7 + k);
+        stream.frame(k, img, k == 100 || k == 101, msgs);
+        if (k != 100 && k != 101) sent.push_back(img);
+    }
+    ASSERT_EQ(msgs.size(), sent.size());
+    camera::SequenceTracker seq;
+    std::vector<TimeNs> stamps;
+    for (std::size_t i = 0; i < msgs.size(); ++i) {
+        auto r = camera::decodeFrameRecord(msgs[i].bytes);
+        ASSERT_TRUE(r.isOk()) << r.status().message();
+        const auto& h = r->header;
+        EXPECT_EQ(std::vector<std::uint8_t>(r->payload.begin(), r->payload.end()), sent[i]);
+        EXPECT_EQ(h.width, 64u);
+        EXPECT_EQ(h.stride, 64u);
+        EXPECT_EQ(h.flags & 0xE000u, 0x2000u);    // CLOCK_MONOTONIC
+        EXPECT_EQ(h.flags & 0x70000u, 0x10000u);  // start of exposure
+        EXPECT_EQ(h.exposure_us, 5000u);
+        EXPECT_EQ(h.t_host_ns, h.timestamp_ns + 2'500'000);  // mid-exposure by the codec's rule
+        EXPECT_GT(msgs[i].t_host_rx, h.timestamp_ns);       // dequeued after the exposure
+        seq.update(h.sequence);
+        stamps.push_back(h.timestamp_ns);
+    }
+    EXPECT_EQ(seq.dropped(), 2u);
+    // 50 Hz of the camera's oscillator, 25 ppm fast against the host.
+    const double period = toSeconds(stamps.back() - stamps.front()) / 499.0;
+    EXPECT_NEAR(period, 0.02 / (1 + 25e-6), 3e-8);
 }
 
 }  // namespace

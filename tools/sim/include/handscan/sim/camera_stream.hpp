@@ -34,6 +34,9 @@ struct V4l2FrameInfo {
     std::uint32_t flags = 0;   // V4L2_BUF_FLAG_* (timestamp type/source)
     std::uint32_t bytesused = 0;
     double t_exposure_start = 0.0;  // simulation time
+    TimeNs exposure_ns = 0;
+    TimeNs readout_ns = 0;          // end of exposure to the last line transferred
+    TimeNs t_dequeue_ns = 0;        // host time the driver dequeues the buffer
 };
 
 class CameraStream {
