@@ -97,6 +97,7 @@ public:
         }
     }
     const Status& status() const { return status_; }
+    std::uint64_t count() const { return filtered_ ? filtered_->size() : reader_.summary().points; }
     Status forEach(const std::function<void(std::span<const journal::MapPoint>)>& sink) const {
         if (!filtered_) return reader_.forEachPoints(sink);
         constexpr std::size_t kBatch = 1 << 16;
@@ -158,24 +159,11 @@ Result<ExportReport> exportScan(const std::string& source, const std::string& ta
     progress(0.0, "reading journal");
     PointSource points(*reader, options.voxel_m);
     if (!points.status().isOk()) return points.status();
-    CloudInfo info;
-    info.t_min = 1e300;
-    info.t_max = -1e300;
-    if (Status s = points.forEach([&](std::span<const journal::MapPoint> pts) {
-            for (const auto& p : pts) {
-                info.bounds.add(p.x, p.y, p.z);
-                info.t_min = std::min(info.t_min, p.t_s);
-                info.t_max = std::max(info.t_max, p.t_s);
-            }
-            info.count += pts.size();
-        });
-        !s.isOk()) {
-        return s;
-    }
+    const std::uint64_t count = points.count();
 
     // Free space first: refuse before writing anything rather than fail half-way.
     std::uint64_t need = 64 * 1024 + js.trajectory.size() * 200;
-    for (const std::string& f : options.formats) need += f == "ply" ? plyBytes(info.count) : lasBytes(info.count);
+    for (const std::string& f : options.formats) need += f == "ply" ? plyBytes(count) : lasBytes(count);
     const fs::space_info space = fs::space(out_dir, ec);
     if (!ec && space.available < need) {
         return Status(StatusCode::kNoSpace, "export: " + target_dir + " has " + std::to_string(space.available >> 20) +
@@ -185,18 +173,17 @@ Result<ExportReport> exportScan(const std::string& source, const std::string& ta
 
     ExportReport report;
     report.directory = out_dir.string();
-    report.points = info.count;
+    report.points = count;
     report.journal_points = js.points;
-    report.bounds = info.bounds;
     report.journal_damage = js.damage;
-    const double total_work = static_cast<double>(std::max<std::uint64_t>(1, info.count * options.formats.size()));
+    const double total_work = static_cast<double>(std::max<std::uint64_t>(1, count * options.formats.size()));
     double done_work = 0.0;
     for (const std::string& format : options.formats) {
         const std::string path = (out_dir / ("cloud." + format)).string();
         SafeFileWriter file(path, options.faults);
         if (Status s = file.open(); !s.isOk()) return s;
         std::unique_ptr<PointFileWriter> writer = format == "ply" ? makePlyWriter(file) : makeLasWriter(file);
-        if (Status s = writer->begin(info); !s.isOk()) return s;
+        if (Status s = writer->begin(count); !s.isOk()) return s;
         Status failure;
         if (Status s = points.forEach([&](std::span<const journal::MapPoint> pts) {
                 if (!failure.isOk()) return;
@@ -210,6 +197,7 @@ Result<ExportReport> exportScan(const std::string& source, const std::string& ta
         if (!failure.isOk()) return failure;
         progress(done_work / total_work * 0.95, "verifying " + fs::path(path).filename().string());
         if (Status s = writer->end(); !s.isOk()) return s;
+        report.bounds = writer->bounds();
         report.files.push_back(path);
         report.bytes += file.bytesWritten();
     }

@@ -26,18 +26,13 @@ class LasWriter final : public PointFileWriter {
 public:
     LasWriter(SafeFileWriter& file, LasOptions options) : file_(file), opt_(std::move(options)) {}
 
-    Status begin(const CloudInfo& info) override {
-        expected_ = info.count;
-        for (int i = 0; i < 3; ++i) {
-            // Offsets on a round grid near the minimum keep the integers small and readable.
-            offset_[i] = info.count ? std::floor(info.bounds.min[i]) : 0.0;
-            const double span = info.count ? (info.bounds.max[i] - offset_[i]) / opt_.scale : 0.0;
-            if (span > 2147483647.0) {
-                return Status(StatusCode::kInvalidArgument, "export " + file_.finalPath() + ": extent " +
-                                                                std::to_string(info.bounds.max[i] - info.bounds.min[i]) +
-                                                                " m does not fit LAS integers at scale " + std::to_string(opt_.scale));
-            }
-        }
+    Status begin(std::uint64_t count) override {
+        expected_ = count;
+        return file_.reserveHeader(kLasHeaderBytes);
+    }
+
+    std::vector<std::uint8_t> header() const {
+        const bool any = written_ > 0;
         ByteWriter h;
         h.text("LASF", 4);
         h.put<std::uint16_t>(0);       // file source id
@@ -61,49 +56,67 @@ public:
         // Bounds of the stored (quantised) coordinates: quantisation is monotonic, so the
         // quantised extremes are the extremes of the quantised points.
         for (int i = 0; i < 3; ++i) {
-            h.put<double>(info.count ? dequantise(quantise(info.bounds.max[i], i), i) : 0.0);
-            h.put<double>(info.count ? dequantise(quantise(info.bounds.min[i], i), i) : 0.0);
+            h.put<double>(any ? dequantise(quantise(bounds_.max[i], i), i) : 0.0);
+            h.put<double>(any ? dequantise(quantise(bounds_.min[i], i), i) : 0.0);
         }
         h.put<std::uint64_t>(0);  // start of waveform data
         h.put<std::uint64_t>(0);  // start of first EVLR
         h.put<std::uint32_t>(0);  // number of EVLRs
-        h.put<std::uint64_t>(info.count);
-        h.put<std::uint64_t>(info.count);  // every point is return 1 of 1
+        h.put<std::uint64_t>(written_);
+        h.put<std::uint64_t>(written_);  // every point is return 1 of 1
         for (int i = 1; i < 15; ++i) h.put<std::uint64_t>(0);
-        if (h.bytes.size() != kLasHeaderBytes) {
-            return Status(StatusCode::kInvalidArgument, "internal: LAS header is " + std::to_string(h.bytes.size()) + " bytes");
-        }
-        return file_.write(h.bytes);
+        return h.bytes;
     }
 
     Status write(std::span<const journal::MapPoint> points) override {
-        ByteWriter w;
-        w.bytes.reserve(points.size() * kLasPointRecordBytes);
+        if (written_ == 0 && !points.empty()) {
+            // Offsets on a round grid at the first point keep the integers small; the i32 range
+            // at 0.1 mm reaches +-214 km from there.
+            offset_[0] = std::floor(points[0].x);
+            offset_[1] = std::floor(points[0].y);
+            offset_[2] = std::floor(points[0].z);
+        }
+        // Fixed-layout records straight into one buffer (little-endian CPUs: fields copy as is).
+        buf_.resize(points.size() * kLasPointRecordBytes);
+        std::uint8_t* o = buf_.data();
         for (const journal::MapPoint& p : points) {
-            w.put<std::int32_t>(quantise(p.x, 0));
-            w.put<std::int32_t>(quantise(p.y, 1));
-            w.put<std::int32_t>(quantise(p.z, 2));
-            w.put<std::uint16_t>(p.intensity);
-            w.put<std::uint8_t>(0x11);  // return 1 of 1
-            w.put<std::uint8_t>(0);     // classification flags, channel, scan direction, edge
-            w.put<std::uint8_t>(0);     // classification: never classified
-            w.put<std::uint8_t>(0);     // user data
-            w.put<std::int16_t>(0);     // scan angle
-            w.put<std::uint16_t>(0);    // point source id
-            w.put<double>(p.t_s);       // seconds of the scan clock
-            w.put<std::uint16_t>(static_cast<std::uint16_t>(p.r * 257));  // 8 -> 16 bit colour
-            w.put<std::uint16_t>(static_cast<std::uint16_t>(p.g * 257));
-            w.put<std::uint16_t>(static_cast<std::uint16_t>(p.b * 257));
+            bounds_.add(p.x, p.y, p.z);
+            const double xyz[3] = {p.x, p.y, p.z};
+            for (int i = 0; i < 3; ++i) {
+                if (std::abs((xyz[i] - offset_[i]) / opt_.scale) > 2147483647.0) {
+                    return Status(StatusCode::kInvalidArgument, "export " + file_.finalPath() + ": point at " +
+                                                                    std::to_string(xyz[i]) +
+                                                                    " m is too far from the scan origin for LAS integers");
+                }
+                const std::int32_t q = quantise(xyz[i], i);
+                std::memcpy(o + 4 * i, &q, 4);
+            }
+            std::memcpy(o + 12, &p.intensity, 2);
+            o[14] = 0x11;  // return 1 of 1
+            o[15] = 0;     // classification flags, scanner channel, scan direction, edge of flight line
+            o[16] = 0;     // classification: never classified
+            o[17] = 0;     // user data
+            std::memset(o + 18, 0, 4);  // scan angle, point source id
+            std::memcpy(o + 22, &p.t_s, 8);  // GPS time: seconds of the scan clock
+            const std::uint16_t rgb[3] = {static_cast<std::uint16_t>(p.r * 257), static_cast<std::uint16_t>(p.g * 257),
+                                          static_cast<std::uint16_t>(p.b * 257)};  // 8 -> 16 bit colour
+            std::memcpy(o + 30, rgb, 6);
+            o += kLasPointRecordBytes;
         }
         written_ += points.size();
-        return file_.write(w.bytes);
+        return file_.write(buf_);
     }
 
     Status end() override {
         if (written_ != expected_) {
             return Status(StatusCode::kInvalidArgument, "export " + file_.finalPath() + ": wrote " + std::to_string(written_) +
-                                                            " points but the header says " + std::to_string(expected_));
+                                                            " points, expected " + std::to_string(expected_));
         }
+        const std::vector<std::uint8_t> h = header();
+        if (h.size() != kLasHeaderBytes) {
+            return Status(StatusCode::kInvalidArgument, "internal: LAS header is " + std::to_string(h.size()) + " bytes");
+        }
+        if (Status s = file_.patchHeader(h); !s.isOk()) return s;
         return file_.commit();
     }
 
@@ -116,6 +129,7 @@ private:
     SafeFileWriter& file_;
     LasOptions opt_;
     double offset_[3] = {0, 0, 0};
+    std::vector<std::uint8_t> buf_;
     std::uint64_t expected_ = 0;
     std::uint64_t written_ = 0;
 };

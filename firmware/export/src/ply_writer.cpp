@@ -19,15 +19,16 @@ std::string plyHeader(std::uint64_t count) {
 class PlyWriter final : public PointFileWriter {
 public:
     explicit PlyWriter(SafeFileWriter& file) : file_(file) {}
-    Status begin(const CloudInfo& info) override {
-        expected_ = info.count;
-        const std::string h = plyHeader(info.count);
+    Status begin(std::uint64_t count) override {
+        expected_ = count;
+        const std::string h = plyHeader(count);
         return file_.write(std::span(reinterpret_cast<const std::uint8_t*>(h.data()), h.size()));
     }
     Status write(std::span<const journal::MapPoint> points) override {
         buf_.resize(points.size() * kPlyRecordBytes);
         std::uint8_t* o = buf_.data();
         for (const journal::MapPoint& p : points) {  // x86 and ARM are little-endian: fields copy as is
+            bounds_.add(p.x, p.y, p.z);
             std::memcpy(o, &p.x, 4);
             std::memcpy(o + 4, &p.y, 4);
             std::memcpy(o + 8, &p.z, 4);

@@ -53,6 +53,33 @@ Status SafeFileWriter::open() {
     return Status::ok();
 }
 
+Status SafeFileWriter::reserveHeader(std::size_t bytes) {
+    if (written_ != 0 || !buffer_.empty()) return Status(StatusCode::kInvalidArgument, "export " + final_path_ + ": header after data");
+    header_.assign(bytes, 0);
+    buffer_.insert(buffer_.end(), header_.begin(), header_.end());
+    return Status::ok();
+}
+
+Status SafeFileWriter::patchHeader(std::span<const std::uint8_t> header) {
+    if (header.size() != header_.size()) {
+        return Status(StatusCode::kInvalidArgument, "export " + final_path_ + ": header is " + std::to_string(header.size()) +
+                                                        " bytes, reserved " + std::to_string(header_.size()));
+    }
+    header_.assign(header.begin(), header.end());
+    if (written_ == 0) {  // still in the buffer
+        std::copy(header_.begin(), header_.end(), buffer_.begin());
+        return Status::ok();
+    }
+    std::size_t done = 0;
+    while (done < header_.size()) {
+        const ssize_t n = ::pwrite(fd_, header_.data() + done, header_.size() - done, static_cast<off_t>(done));
+        if (n < 0 && errno == EINTR) continue;
+        if (n <= 0) return fail("header write failed", n == 0 ? EIO : errno);
+        done += static_cast<std::size_t>(n);
+    }
+    return Status::ok();
+}
+
 Status SafeFileWriter::write(std::span<const std::uint8_t> bytes) {
     if (fd_ < 0) return Status(StatusCode::kIoError, "export " + final_path_ + ": not open");
     crc_ = static_cast<std::uint32_t>(::crc32_z(crc_, bytes.data(), bytes.size()));
@@ -110,7 +137,10 @@ Status SafeFileWriter::commit() {
         total += static_cast<std::uint64_t>(n);
     }
     ::close(rfd);
-    if (crc != crc_ || total != written_) {
+    const std::uint32_t header_crc = static_cast<std::uint32_t>(::crc32_z(0, header_.data(), header_.size()));
+    const std::uint32_t expected = static_cast<std::uint32_t>(
+        ::crc32_combine(header_crc, crc_, static_cast<z_off_t>(written_ - header_.size())));
+    if (crc != expected || total != written_) {
         return fail("verification failed (read back " + std::to_string(total) + " bytes, CRC mismatch)", EIO);
     }
     if (::rename(partial_path_.c_str(), final_path_.c_str()) != 0) return fail("rename failed", errno);

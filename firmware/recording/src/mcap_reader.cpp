@@ -138,6 +138,16 @@ Result<std::unique_ptr<McapReader>> McapReader::fromBuffer(std::vector<std::uint
 std::uint64_t McapReader::fileSize() const { return source_->size(); }
 std::size_t McapReader::chunkCount() const { return chunks_.size(); }
 
+std::pair<TimeNs, TimeNs> McapReader::timeRange() const {
+    if (chunks_.empty()) return {0, 0};
+    std::pair<TimeNs, TimeNs> r{chunks_.front().start, chunks_.front().end};
+    for (const auto& c : chunks_) {
+        r.first = std::min(r.first, c.start);
+        r.second = std::max(r.second, c.end);
+    }
+    return r;
+}
+
 const Channel* McapReader::channel(std::uint16_t id) const {
     const auto it = channel_by_id_.find(id);
     return it == channel_by_id_.end() ? nullptr : &channels_[it->second];

@@ -24,7 +24,7 @@ std::vector<Eigen::Vector3f> cameraRays(const CameraIntrinsics& cam) {
                 // Kalibr pinhole-equi: theta_d = theta (1 + k1 theta^2 + k2 theta^4 + k3 theta^6 + k4 theta^8).
                 const double theta_d = std::hypot(mx, my);
                 double th = theta_d;
-                for (int it = 0; it < 20; ++it) {
+                for (int it = 0; it < 8; ++it) {
                     const double t2 = th * th;
                     const double f = th * (1 + t2 * (coeff(0) + t2 * (coeff(1) + t2 * (coeff(2) + t2 * coeff(3))))) - theta_d;
                     const double df = 1 + t2 * (3 * coeff(0) + t2 * (5 * coeff(1) + t2 * (7 * coeff(2) + t2 * 9 * coeff(3))));
@@ -110,6 +110,10 @@ void CameraRenderer::radiance(const Eigen::Isometry3d& T, std::vector<float>& ra
     const Eigen::Matrix3f R = T.linear().cast<float>();
     const Eigen::Vector3f o = T.translation().cast<float>();
     const int G = std::max(1, cfg_.coarse);
+    const World& world = rc_.world();
+    const TextureAtlas& atlas = TextureAtlas::instance();
+    const Eigen::Vector3f light_dir = Eigen::Vector3f(0.3f, 0.2f, 0.93f).normalized();
+    const float illum = static_cast<float>(cfg_.illumination);
     rad.assign(static_cast<std::size_t>(w_) * h_ * channels_, 0.0f);
     const float sky[3] = {0.75f * static_cast<float>(cfg_.illumination), 0.8f * static_cast<float>(cfg_.illumination),
                           0.9f * static_cast<float>(cfg_.illumination)};
@@ -147,16 +151,41 @@ void CameraRenderer::radiance(const Eigen::Isometry3d& T, std::vector<float>& ra
             const bool none_hit = !a.hit() && !b.hit() && !c.hit() && !d.hit();
             if (all_hit && plane_id_[a.triangle] == plane_id_[b.triangle] &&
                 plane_id_[a.triangle] == plane_id_[c.triangle] && plane_id_[a.triangle] == plane_id_[d.triangle]) {
+                // One surface: material, light, texture axes and mip level are the cell's.
                 const Eigen::Vector4f& pl = planes_[a.triangle];
                 const Eigen::Vector3f n = pl.head<3>();
                 const float num = pl.w() - n.dot(o);
+                const Material& m = world.materials[world.triangle_material[a.triangle]];
+                const Eigen::Vector3f dir_a = rays_[j * nx + i].dir;
+                const float cos_inc = std::abs(n.dot(dir_a));
+                const Eigen::Vector3f nf = n.dot(dir_a) > 0 ? Eigen::Vector3f(-n) : n;
+                const float light = (0.55f + 0.45f * std::max(0.0f, nf.dot(light_dir))) * illum;
+                float k[3];
+                if (channels_ == 1) {
+                    k[0] = light * (0.299f * m.colour[0] + 0.587f * m.colour[1] + 0.114f * m.colour[2]);
+                } else {
+                    for (int ch = 0; ch < 3; ++ch) k[ch] = light * m.colour[static_cast<std::size_t>(ch)];
+                }
+                int au, av;
+                float sv;
+                TextureAtlas::planarAxes(n, au, av, sv);
+                const float inv_scale = 1.0f / m.texture_scale_m;
+                const float t_mid = 0.25f * (a.t + b.t + c.t + d.t);
+                const TextureAtlas::Level& level =
+                    atlas.level(m.texture, t_mid * pixel_angle_ * inv_scale / std::max(cos_inc, 0.25f));
                 for (int y = y0; y < y1; ++y)
                     for (int x = x0; x < x1; ++x) {
                         const std::size_t p = static_cast<std::size_t>(y) * w_ + x;
                         const Eigen::Vector3f dir = R * dirs_[p];
                         const float den = n.dot(dir);
-                        const float t = std::abs(den) > 1e-9f ? num / den : a.t;
-                        shade(p, o, dir, t > 0 ? t : a.t, a.triangle, &rad[p * channels_]);
+                        float t = std::abs(den) > 1e-9f ? num / den : a.t;
+                        if (!(t > 0)) t = a.t;
+                        const Eigen::Vector3f q = o + t * dir;
+                        float tex[3];
+                        TextureAtlas::sampleLevel(level, q[au] * inv_scale, sv * q[av] * inv_scale, channels_, tex);
+                        float* out = &rad[p * channels_];
+                        const float vig = vignette_[p];
+                        for (int ch = 0; ch < channels_; ++ch) out[ch] = tex[ch] * k[ch] * vig;
                     }
             } else if (none_hit) {
                 for (int y = y0; y < y1; ++y)
@@ -198,17 +227,18 @@ void CameraRenderer::render(double t_start, const std::function<Eigen::Isometry3
         rad_.swap(acc_);
     }
     // Exposure, shot + read noise, 8 bits.
-    const float scale = static_cast<float>(255.0 * cfg_.exposure_s / cfg_.reference_exposure_s);
-    const float read2 = static_cast<float>(cfg_.read_noise_dn * cfg_.read_noise_dn);
-    const float shot = static_cast<float>(cfg_.shot_noise_gain);
+    const float scale = static_cast<float>(255.0 * cfg_.gain * cfg_.exposure_s / cfg_.reference_exposure_s);
+    // Noise sigma per signal level (read noise + shot noise), tabulated.
+    float sigma[257];
+    for (int d = 0; d <= 256; ++d) sigma[d] = static_cast<float>(std::sqrt(cfg_.read_noise_dn * cfg_.read_noise_dn + cfg_.shot_noise_gain * d));
     out.resize(rad_.size());
     std::uint64_t bits = 0;
     for (std::size_t i = 0; i < rad_.size(); ++i) {
         if ((i & 3) == 0) bits = rng_.next();
-        const float dn = rad_[i] * scale;
+        const float dn = std::min(rad_[i] * scale, 300.0f);
         const float g = gauss_table_[(bits >> (16 * (i & 3))) & 0xFFFF];
-        const float v = dn + g * std::sqrt(read2 + shot * std::max(dn, 0.0f));
-        out[i] = static_cast<std::uint8_t>(std::clamp(std::lround(v), 0L, 255L));
+        const float v = dn + g * sigma[std::clamp(static_cast<int>(dn), 0, 256)] + 0.5f;
+        out[i] = static_cast<std::uint8_t>(std::clamp(static_cast<int>(std::floor(v)), 0, 255));
     }
     pixels_ += static_cast<std::uint64_t>(w_) * h_;
 }

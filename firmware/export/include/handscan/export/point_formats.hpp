@@ -1,7 +1,7 @@
 // Point-cloud file formats surveyors' tools open: PLY (binary little-endian: x y z as float,
 // red green blue as uchar, intensity as ushort, time as double) and LAS 1.4 with point data record
-// format 7 (RGB + GPS time, 36 bytes). Both need the count and bounds up front, so the exporter
-// makes one pass for CloudInfo and a second to write.
+// format 7 (RGB + GPS time, 36 bytes). The points stream through once: the count is known up front
+// (from the journal), the bounds are gathered while writing and patched into the header at the end.
 #pragma once
 
 #include <cstdint>
@@ -28,18 +28,16 @@ struct Bounds {
     }
 };
 
-struct CloudInfo {
-    std::uint64_t count = 0;
-    Bounds bounds;
-    double t_min = 0.0, t_max = 0.0;
-};
-
 class PointFileWriter {
 public:
     virtual ~PointFileWriter() = default;
-    virtual Status begin(const CloudInfo& info) = 0;
+    virtual Status begin(std::uint64_t count) = 0;
     virtual Status write(std::span<const journal::MapPoint> points) = 0;
-    virtual Status end() = 0;  // commits the file (verify + rename)
+    virtual Status end() = 0;  // header with the final bounds, then commit (verify + rename)
+    const Bounds& bounds() const { return bounds_; }
+
+protected:
+    Bounds bounds_;
 };
 
 struct LasOptions {

@@ -28,11 +28,14 @@ public:
     SafeFileWriter& operator=(const SafeFileWriter&) = delete;
 
     Status open();
+    // Reserves the first `bytes` of the file for a header only known at the end (counts, bounds),
+    // so the points stream through once. Call right after open(); fill with patchHeader().
+    Status reserveHeader(std::size_t bytes);
+    Status patchHeader(std::span<const std::uint8_t> header);
     Status write(std::span<const std::uint8_t> bytes);  // buffered
     // fsync, read back and verify, rename, fsync the directory.
     Status commit();
     std::uint64_t bytesWritten() const { return written_ + buffer_.size(); }
-    std::uint32_t crc() const { return crc_; }
     const std::string& finalPath() const { return final_path_; }
 
 private:
@@ -45,7 +48,8 @@ private:
     int fd_ = -1;
     std::vector<std::uint8_t> buffer_;
     std::uint64_t written_ = 0;
-    std::uint32_t crc_ = 0;
+    std::uint32_t crc_ = 0;                  // over everything after the header region
+    std::vector<std::uint8_t> header_;       // the reserved / patched header region
     bool committed_ = false;
 };
 

@@ -25,6 +25,7 @@ struct CameraRenderConfig {
     double exposure_s = 0.005;   // exposure time
     double reference_exposure_s = 0.005;  // exposure at which a white wall reaches ~full scale
     double illumination = 1.0;   // scene light (--dark: 0.02)
+    double gain = 1.7;           // analogue gain: indoor auto-exposure puts the mean near mid-grey
     double read_noise_dn = 1.2;  // sigma, digital numbers
     double shot_noise_gain = 0.08;  // variance per DN of signal
     bool motion_blur = false;

@@ -28,15 +28,21 @@ public:
 
     // Texture coordinates (in tiles) of world point p on a surface with normal n.
     static Eigen::Vector2f planarUv(const Eigen::Vector3f& p, const Eigen::Vector3f& n, float scale_m);
+    // Which world axes give (u, v) on a surface with normal n (v is negated when it is z, so
+    // textures stand upright on walls).
+    static void planarAxes(const Eigen::Vector3f& n, int& axis_u, int& axis_v, float& sign_v);
 
-private:
+    // Fast path for many pixels on one surface: pick the mip level once, then sample it.
     struct Level {
         int size = 0;
-        std::vector<std::array<float, 4>> texels;  // r, g, b, grey
+        std::vector<std::array<std::uint8_t, 4>> texels;  // r, g, b, grey (compact: cache-friendly)
+        std::vector<std::uint8_t> grey;                   // grey alone: 4x less cache for mono cameras
     };
-    const std::array<float, 4>& texel(const Level& l, int x, int y) const {
-        return l.texels[static_cast<std::size_t>(y & (l.size - 1)) * l.size + (x & (l.size - 1))];
-    }
+    const Level& level(TextureId id, float footprint) const;
+    // Bilinear sample of `channels` (1: grey, 3: rgb) into out.
+    static void sampleLevel(const Level& l, float u, float v, int channels, float* out);
+
+private:
     std::array<float, 4> sample(TextureId id, float u, float v, float footprint) const;
     std::array<std::vector<Level>, static_cast<std::size_t>(TextureId::kCount)> mips_;
 };
