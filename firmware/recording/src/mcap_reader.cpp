@@ -111,6 +111,43 @@ Status decodeChunk(std::span<const std::uint8_t> content, std::uint64_t offset, 
     return Status::ok();
 }
 
+// Looks from `from` on for the next whole Chunk record whose CRC verifies: after a damaged
+// region (blocks of zeros a power cut left behind, a corrupt length) the scan resumes there
+// instead of losing the rest of the file. A candidate must have a consistent chunk header
+// before it is decompressed and checked, so the search is cheap and false matches impossible
+// in practice (they would also need a matching CRC32).
+Result<std::optional<std::uint64_t>> findNextChunk(detail::ByteSource& src, std::uint64_t from) {
+    constexpr std::size_t kWindow = 1u << 20;
+    constexpr std::size_t kHead = kRecordPrefixSize + 36 + 4 + 8;  // up to records_size with "zstd"
+    const std::uint64_t size = src.size();
+    std::vector<std::uint8_t> win;
+    std::vector<std::uint8_t> content;
+    std::vector<std::uint8_t> records;
+    for (std::uint64_t base = from; base + kRecordPrefixSize + 40 <= size; base += kWindow) {
+        const std::size_t n = static_cast<std::size_t>(std::min<std::uint64_t>(kWindow + kHead, size - base));
+        if (Status s = src.readAt(base, n, win); !s) return s;
+        for (std::size_t i = 0; i < std::min(kWindow, n); ++i) {
+            if (win[i] != static_cast<std::uint8_t>(Opcode::kChunk) || i + kHead > n) continue;
+            const std::uint64_t q = base + i;
+            ByteReader r(std::span<const std::uint8_t>(win).subspan(i + 1));
+            std::uint64_t len = 0, start = 0, end = 0, usize = 0, records_size = 0;
+            std::uint32_t crc = 0, complen = 0;
+            (void)(r.u64(len) && r.u64(start) && r.u64(end) && r.u64(usize) && r.u32(crc) && r.u32(complen));
+            if (len < 40 || len > size - q - kRecordPrefixSize || start > end || usize > kMaxChunkBytes ||
+                (complen != 0 && complen != 4)) {
+                continue;
+            }
+            std::span<const std::uint8_t> name;
+            (void)(r.bytes(complen, name) && r.u64(records_size));
+            if ((complen == 4 && !std::equal(name.begin(), name.end(), "zstd")) || len != 40 + complen + records_size) continue;
+            if (Status s = src.readAt(q + kRecordPrefixSize, static_cast<std::size_t>(len), content); !s) return s;
+            ChunkHeader ch;
+            if (decodeChunk(content, q, ch, records)) return std::optional<std::uint64_t>(q);
+        }
+    }
+    return std::optional<std::uint64_t>();
+}
+
 }  // namespace
 
 // ---------------------------------------------------------------------------------------------
@@ -335,10 +372,21 @@ Status McapReader::scanLinear() {
 
     while (pos < size && !reached_end) {
         auto prefix = readPrefix(*source_, pos, buf);
-        if (!prefix) {
-            if (prefix.status().code() != StatusCode::kTruncated) return prefix.status();
-            drop(pos, size - pos, prefix.status().message());
-            break;
+        // Opcode 0 is no record: zero-filled blocks (a power cut on a delayed-allocation file
+        // system) or garbage. Either that or a length past the end: resume at the next chunk.
+        if (!prefix || prefix->op == 0) {
+            if (!prefix && prefix.status().code() != StatusCode::kTruncated) return prefix.status();
+            const std::string why = prefix ? "invalid record (opcode 0x00) " + at(pos) + ": zero-filled or corrupt data"
+                                           : prefix.status().message();
+            auto next = findNextChunk(*source_, pos + 1);
+            if (!next) return next.status();
+            if (!*next) {
+                drop(pos, size - pos, why);
+                break;
+            }
+            drop(pos, **next - pos, why + "; resumed at the chunk at byte " + std::to_string(**next));
+            pos = **next;
+            continue;
         }
         const std::uint8_t op = prefix->op;
         const std::uint64_t len = prefix->len;

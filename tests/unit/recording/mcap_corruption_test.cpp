@@ -73,7 +73,7 @@ TEST_P(Corruption, CorruptChunkFoundByLinearScanToo) {
     auto bytes = makeFile(GetParam(), sent);
     const auto chunks = test::recordsWithOp(bytes, 0x06);
     bytes[chunks[5].offset + chunks[5].size - 3] ^= 0x01;
-    bytes.resize(test::recordsWithOp(bytes, 0x0F)[0].offset);  // cut at Data End: no summary, no footer
+    bytes.resize(test::recordsWithOp(bytes, 0x0F).at(0).offset);  // cut at Data End: no summary, no footer
     auto r = McapReader::fromBuffer(bytes);
     ASSERT_TRUE(r);
     EXPECT_TRUE((*r)->truncated());
@@ -83,6 +83,47 @@ TEST_P(Corruption, CorruptChunkFoundByLinearScanToo) {
 }
 
 INSTANTIATE_TEST_SUITE_P(Compressions, Corruption, ::testing::Values(std::string(""), std::string("zstd")));
+
+// A power cut on a file system with delayed allocation can leave a block of zeros where data
+// was: the scan loses the chunks the zeros touch and resumes at the next intact chunk.
+TEST(Corruption, ZeroedBlockInTheMiddleIsSkippedAndTheScanResumes) {
+    std::vector<Msg> sent;
+    auto bytes = makeFile("zstd", sent);
+    const auto chunks = test::recordsWithOp(bytes, 0x06);
+    const std::size_t from = chunks[3].offset + chunks[3].size / 2;
+    const std::size_t to = chunks[4].offset + 20;  // chunk 4's header is gone too
+    const std::size_t data_end = test::recordsWithOp(bytes, 0x0F).at(0).offset;
+    std::fill(bytes.begin() + static_cast<std::ptrdiff_t>(from), bytes.begin() + static_cast<std::ptrdiff_t>(to), 0);
+    bytes.resize(data_end);  // and the summary never made it
+    auto r = McapReader::fromBuffer(bytes);
+    ASSERT_TRUE(r) << r.status().message();
+    std::vector<Msg> expected(sent.begin(), sent.begin() + 90);
+    expected.insert(expected.end(), sent.begin() + 150, sent.end());
+    EXPECT_EQ(test::readAll(**r), expected);
+    ASSERT_EQ((*r)->dropped().size(), 2u);
+    EXPECT_EQ((*r)->dropped()[0].offset, chunks[3].offset);  // its content fails to decode
+    EXPECT_EQ((*r)->dropped()[1].offset, chunks[3].end());   // zeros up to chunk 5
+    EXPECT_EQ((*r)->dropped()[1].length, chunks[5].offset - chunks[3].end());
+    EXPECT_NE((*r)->dropped()[1].reason.find("resumed at the chunk at byte " + std::to_string(chunks[5].offset)),
+              std::string::npos)
+        << (*r)->dropped()[1].reason;
+}
+
+TEST(Corruption, ZeroFilledTailAfterPowerCut) {
+    std::vector<Msg> sent;
+    auto bytes = makeFile("", sent);
+    const std::size_t data_end = test::recordsWithOp(bytes, 0x0F).at(0).offset;
+    bytes.resize(data_end);
+    bytes.resize(data_end + 4096, 0);  // the file's size was committed, its last block was not
+    auto r = McapReader::fromBuffer(bytes);
+    ASSERT_TRUE(r);
+    EXPECT_TRUE((*r)->truncated());
+    EXPECT_EQ(test::readAll(**r), sent);
+    ASSERT_EQ((*r)->dropped().size(), 1u);
+    EXPECT_EQ((*r)->dropped()[0].offset, data_end);
+    EXPECT_EQ((*r)->dropped()[0].length, 4096u);
+    EXPECT_NE((*r)->dropped()[0].reason.find("zero-filled"), std::string::npos);
+}
 
 TEST(Corruption, DamagedSummaryFallsBackToScan) {
     std::vector<Msg> sent;
