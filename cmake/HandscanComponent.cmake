@@ -4,6 +4,11 @@
 # and, for folders that group components such as drivers/, two levels deep).
 function(handscan_add_component_dirs)
   foreach(top IN LISTS ARGN)
+    # A top folder that is one component itself (ui/) owns its CMakeLists.txt.
+    if(EXISTS ${CMAKE_SOURCE_DIR}/${top}/CMakeLists.txt)
+      add_subdirectory(${CMAKE_SOURCE_DIR}/${top} ${CMAKE_BINARY_DIR}/${top})
+      continue()
+    endif()
     file(GLOB children LIST_DIRECTORIES true RELATIVE ${CMAKE_SOURCE_DIR}
          ${CMAKE_SOURCE_DIR}/${top}/*)
     list(SORT children)

@@ -1,0 +1,95 @@
+#include "handscan/camera/frame_record.hpp"
+
+#include <algorithm>
+#include <cstring>
+#include <string>
+
+#include "handscan/transport/v4l2_device.hpp"
+
+namespace handscan::camera {
+namespace {
+
+void put(std::vector<std::uint8_t>& out, std::size_t at, std::uint64_t v, int n) {
+    for (int i = 0; i < n; ++i) out[at + static_cast<std::size_t>(i)] = static_cast<std::uint8_t>(v >> (8 * i));
+}
+std::uint64_t get(std::span<const std::uint8_t> b, std::size_t at, int n) {
+    std::uint64_t v = 0;
+    for (int i = 0; i < n; ++i) v |= static_cast<std::uint64_t>(b[at + static_cast<std::size_t>(i)]) << (8 * i);
+    return v;
+}
+Status bad(const std::string& what) { return {StatusCode::kProtocolError, "camera frame record: " + what}; }
+
+// Minimum bytes per line of an uncompressed format (0 = compressed, no stride).
+std::uint64_t minStride(std::uint32_t fourcc, std::uint32_t width) {
+    if (fourcc == transport::kFourccGrey) return width;
+    if (fourcc == transport::kFourccYuyv) return 2ull * width;
+    return 0;
+}
+
+}  // namespace
+
+std::vector<std::uint8_t> encodeFrameRecord(const FrameRecordHeader& h, std::span<const std::uint8_t> payload) {
+    std::vector<std::uint8_t> out(kFrameRecordHeaderSize + payload.size());
+    for (std::size_t i = 0; i < kFrameRecordMagic.size(); ++i) out[i] = kFrameRecordMagic[i];
+    put(out, 4, kFrameRecordVersion, 2);
+    put(out, 6, kFrameRecordHeaderSize, 2);
+    put(out, 8, h.sequence, 4);
+    put(out, 12, h.flags, 4);
+    put(out, 16, static_cast<std::uint64_t>(h.timestamp_ns), 8);
+    put(out, 24, payload.size(), 4);
+    put(out, 28, h.fourcc, 4);
+    put(out, 32, h.width, 4);
+    put(out, 36, h.height, 4);
+    put(out, 40, h.stride, 4);
+    put(out, 44, h.exposure_us, 4);
+    put(out, 48, static_cast<std::uint64_t>(h.t_host_ns), 8);
+    if (!payload.empty()) std::memcpy(out.data() + kFrameRecordHeaderSize, payload.data(), payload.size());
+    return out;
+}
+
+Result<FrameRecordView> decodeFrameRecord(std::span<const std::uint8_t> b) {
+    if (b.size() < 8) return Status(StatusCode::kTruncated, "camera frame record: " + std::to_string(b.size()) + " bytes, the header alone needs 56");
+    if (!std::equal(kFrameRecordMagic.begin(), kFrameRecordMagic.end(), b.begin())) return bad("magic is not 'HSVF'");
+    const auto version = static_cast<std::uint16_t>(get(b, 4, 2));
+    const auto header_size = static_cast<std::uint16_t>(get(b, 6, 2));
+    if (version != kFrameRecordVersion) return bad("version " + std::to_string(version) + ", this reader knows 1");
+    if (header_size < kFrameRecordHeaderSize) return bad("header size " + std::to_string(header_size) + " < 56");
+    if (b.size() < header_size) return Status(StatusCode::kTruncated, "camera frame record: header cut at " + std::to_string(b.size()) + " bytes");
+    FrameRecordView v;
+    FrameRecordHeader& h = v.header;
+    h.sequence = static_cast<std::uint32_t>(get(b, 8, 4));
+    h.flags = static_cast<std::uint32_t>(get(b, 12, 4));
+    h.timestamp_ns = static_cast<TimeNs>(get(b, 16, 8));
+    h.bytesused = static_cast<std::uint32_t>(get(b, 24, 4));
+    h.fourcc = static_cast<std::uint32_t>(get(b, 28, 4));
+    h.width = static_cast<std::uint32_t>(get(b, 32, 4));
+    h.height = static_cast<std::uint32_t>(get(b, 36, 4));
+    h.stride = static_cast<std::uint32_t>(get(b, 40, 4));
+    h.exposure_us = static_cast<std::uint32_t>(get(b, 44, 4));
+    h.t_host_ns = static_cast<TimeNs>(get(b, 48, 8));
+    if (h.width == 0 || h.height == 0 || h.width > kMaxFrameDimension || h.height > kMaxFrameDimension) {
+        return bad("size " + std::to_string(h.width) + "x" + std::to_string(h.height) + " outside 1..16384");
+    }
+    if (h.bytesused > kMaxFramePayload) return bad("bytesused " + std::to_string(h.bytesused) + " over 64 MiB");
+    const std::uint64_t min_stride = minStride(h.fourcc, h.width);
+    if (min_stride > 0) {
+        if (h.stride < min_stride) return bad(transport::fourccName(h.fourcc) + " stride " + std::to_string(h.stride) + " < " + std::to_string(min_stride));
+        // The last line needs only its pixels, not the padding.
+        if (h.bytesused < static_cast<std::uint64_t>(h.stride) * (h.height - 1) + min_stride) {
+            return bad(transport::fourccName(h.fourcc) + " payload " + std::to_string(h.bytesused) + " bytes too short for " +
+                       std::to_string(h.width) + "x" + std::to_string(h.height) + " stride " + std::to_string(h.stride));
+        }
+    } else if (h.fourcc != transport::kFourccMjpeg) {
+        return bad("unknown pixel format '" + transport::fourccName(h.fourcc) + "'");
+    }
+    const std::size_t total = header_size + static_cast<std::size_t>(h.bytesused);
+    if (b.size() < total) {
+        return Status(StatusCode::kTruncated, "camera frame record: payload cut (" + std::to_string(b.size() - header_size) + " of " +
+                                                  std::to_string(h.bytesused) + " bytes)");
+    }
+    v.payload = b.subspan(header_size, h.bytesused);
+    v.record_size = total;
+    return v;
+}
+
+}  // namespace handscan::camera

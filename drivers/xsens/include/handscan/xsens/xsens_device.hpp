@@ -1,0 +1,99 @@
+// The Xsens MTi device state machine over an injected ByteStream (serial tty, USB bulk pipe or a
+// test double). configure() brings the device from whatever it is doing (it may be streaming
+// since power-up) into config mode with GoToConfig (resent until acknowledged), reads its id and
+// product code, sets the 200 Hz output configuration (PacketCounter, SampleTimeFine,
+// Acceleration, RateOfTurn, StatusWord, optional DeltaQ/DeltaV) and starts measurement. poll()
+// then hands out ImuSamples whose SampleTimeFine (10 kHz, 32 bit) is mapped to host time by a
+// ClockMapper; packet-counter gaps, checksum failures, resyncs and Error messages are counted
+// and described, never fatal. Every received byte chunk goes to the optional RawTap first.
+#pragma once
+
+#include <cstdint>
+#include <functional>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "handscan/core/clock_mapper.hpp"
+#include "handscan/core/raw_tap.hpp"
+#include "handscan/core/samples.hpp"
+#include "handscan/core/status.hpp"
+#include "handscan/transport/byte_stream.hpp"
+#include "handscan/xsens/mtdata2.hpp"
+#include "handscan/xsens/xbus_messages.hpp"
+#include "handscan/xsens/xbus_parser.hpp"
+
+namespace handscan::xsens {
+
+struct XsensDeviceConfig {
+    std::uint16_t output_rate_hz = 200;
+    bool delta_q_delta_v = false;                // also request DeltaQ and DeltaV (SDI outputs)
+    Precision precision = Precision::kFloat32;   // number format of the real-valued outputs
+    TimeNs reply_timeout = 200 * kNsPerMs;       // wait for an ack before resending
+    int attempts = 5;                            // sends per request (GoToConfig while streaming)
+    std::function<TimeNs()> clock = monotonicNow;  // host receive time (tests inject a fake)
+};
+
+struct XsensDeviceStats {
+    std::uint64_t bytes = 0;
+    std::uint64_t packets = 0;         // MTData2 frames received in measurement
+    std::uint64_t samples = 0;         // ImuSamples handed out
+    std::uint64_t gaps = 0;            // packet-counter discontinuities
+    std::uint64_t lost_packets = 0;    // packets missing across those gaps
+    std::uint64_t incomplete = 0;      // MTData2 without SampleTimeFine / Acceleration / RateOfTurn
+    std::uint64_t malformed = 0;       // MTData2 whose items could not be decoded
+    std::uint64_t device_errors = 0;   // Error (0x42) messages received
+    std::uint64_t checksum_failures = 0;
+    std::uint64_t resyncs = 0;
+};
+
+class XsensDevice {
+public:
+    XsensDevice(transport::ByteStream& stream, XsensDeviceConfig config = {}, RawTap* tap = nullptr);
+
+    // Opens the stream if needed and runs the handshake. On failure the message says which step
+    // failed, what the device answered and what to check.
+    Status configure();
+    // Reads for at most `timeout`, appends every complete sample to `out`. kDisconnected when the
+    // stream went away (call configure() again to recover).
+    Status poll(std::vector<ImuSample>& out, TimeNs timeout);
+
+    std::uint32_t deviceId() const { return device_id_; }
+    const std::string& productCode() const { return product_code_; }
+    const std::vector<OutputConfigEntry>& outputConfiguration() const { return output_config_; }
+    const XsensDeviceStats& stats() const;
+    // Human-readable descriptions of the last problems seen (gaps, device errors, damage); the
+    // oldest are dropped beyond 32.
+    const std::vector<std::string>& problems() const { return problems_; }
+    const ClockMapper& clock() const { return clock_; }
+    bool measuring() const { return measuring_; }
+
+    // The output configuration configure() sends for `config`.
+    static std::vector<OutputConfigEntry> outputConfigurationFor(const XsensDeviceConfig& config);
+
+private:
+    struct Reply {
+        std::uint8_t mid = 0;
+        std::vector<std::uint8_t> payload;
+    };
+    Result<Reply> request(MessageId mid, std::span<const std::uint8_t> payload, const char* step);
+    Status readSome(TimeNs timeout, TimeNs& t_rx);
+    void handleMeasurement(const XbusFrameView& frame, TimeNs t_rx, std::vector<ImuSample>* out);
+    void note(std::string problem);
+
+    transport::ByteStream& stream_;
+    XsensDeviceConfig cfg_;
+    RawTap* tap_;
+    XbusParser parser_;
+    ClockMapper clock_;
+    std::vector<std::uint8_t> rx_;
+    std::uint32_t device_id_ = 0;
+    std::string product_code_;
+    std::vector<OutputConfigEntry> output_config_;
+    bool measuring_ = false;
+    std::optional<std::uint16_t> last_counter_;
+    mutable XsensDeviceStats stats_;
+    std::vector<std::string> problems_;
+};
+
+}  // namespace handscan::xsens

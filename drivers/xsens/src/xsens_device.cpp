@@ -1,0 +1,217 @@
+#include "handscan/xsens/xsens_device.hpp"
+
+#include <algorithm>
+#include <array>
+
+#include "handscan/core/log.hpp"
+
+namespace handscan::xsens {
+namespace {
+
+constexpr std::size_t kMaxProblems = 32;
+constexpr std::size_t kReadChunk = 4096;
+
+ClockMapperConfig xsensClock() {
+    ClockMapperConfig c;
+    c.counter_bits = 32;  // SampleTimeFine wraps after 2^32 ticks = 4.97 days
+    c.tick_ns = 1e5;      // 10 kHz
+    return c;
+}
+
+}  // namespace
+
+XsensDevice::XsensDevice(transport::ByteStream& stream, XsensDeviceConfig config, RawTap* tap)
+    : stream_(stream), cfg_(std::move(config)), tap_(tap), clock_(xsensClock()), rx_(kReadChunk) {}
+
+std::vector<OutputConfigEntry> XsensDevice::outputConfigurationFor(const XsensDeviceConfig& config) {
+    const std::uint16_t hz = config.output_rate_hz;
+    std::vector<OutputConfigEntry> entries{
+        {xdi::kPacketCounter, kEveryPacket},
+        {xdi::kSampleTimeFine, kEveryPacket},
+        {withFormat(xdi::kAcceleration, config.precision), hz},
+        {withFormat(xdi::kRateOfTurn, config.precision), hz},
+    };
+    if (config.delta_q_delta_v) {
+        entries.push_back({withFormat(xdi::kDeltaQ, config.precision), hz});
+        entries.push_back({withFormat(xdi::kDeltaV, config.precision), hz});
+    }
+    entries.push_back({xdi::kStatusWord, kEveryPacket});
+    return entries;
+}
+
+const XsensDeviceStats& XsensDevice::stats() const {
+    stats_.checksum_failures = parser_.stats().checksum_failures;
+    stats_.resyncs = parser_.stats().resyncs;
+    return stats_;
+}
+
+void XsensDevice::note(std::string problem) {
+    log().warn("{}", problem);
+    if (problems_.size() >= kMaxProblems) problems_.erase(problems_.begin());
+    problems_.push_back(std::move(problem));
+}
+
+Status XsensDevice::readSome(TimeNs timeout, TimeNs& t_rx) {
+    auto n = stream_.read(rx_, std::max<TimeNs>(timeout, 0));
+    if (!n.isOk()) return n.status();
+    t_rx = cfg_.clock();
+    if (*n == 0) return Status::ok();
+    const std::span<const std::uint8_t> chunk(rx_.data(), *n);
+    if (tap_ != nullptr) tap_->onRaw(t_rx, chunk);
+    stats_.bytes += *n;
+    parser_.feed(chunk);
+    return Status::ok();
+}
+
+Result<XsensDevice::Reply> XsensDevice::request(MessageId mid, std::span<const std::uint8_t> payload,
+                                                const char* step) {
+    const std::vector<std::uint8_t> frame = encodeFrame(mid, payload);
+    const MessageId ack = ackOf(mid);
+    std::string last_error;
+    for (int attempt = 1; attempt <= cfg_.attempts; ++attempt) {
+        if (Status s = stream_.writeAll(frame, cfg_.reply_timeout); !s) {
+            return Status{s.code(), "Xsens " + std::string(step) + ": sending " + messageName(toByte(mid)) +
+                                        " over " + stream_.describe() + " failed: " + s.message()};
+        }
+        const TimeNs deadline = cfg_.clock() + cfg_.reply_timeout;
+        bool resend = false;
+        for (TimeNs now = cfg_.clock(); now < deadline && !resend;) {
+            if (Status s = readSome(deadline - now, now); !s) {
+                return Status{s.code(), "Xsens " + std::string(step) + ": " + stream_.describe() + ": " + s.message()};
+            }
+            while (auto f = parser_.next()) {
+                if (f->mid == toByte(ack)) return Reply{f->mid, {f->payload.begin(), f->payload.end()}};
+                if (f->mid == toByte(MessageId::kError)) {
+                    ++stats_.device_errors;
+                    auto e = decodeError(f->payload);
+                    last_error = e.isOk() ? errorText(e->code) : e.status().message();
+                    note("Xsens " + std::string(step) + ": device answered " + messageName(toByte(mid)) +
+                         " with Error " + last_error + " (attempt " + std::to_string(attempt) + " of " +
+                         std::to_string(cfg_.attempts) + ")");
+                    resend = true;
+                    break;
+                }
+                // Anything else is left over from before the request (MTData2 while the device
+                // still streams, late acks): skip it.
+            }
+        }
+    }
+    if (!last_error.empty()) {
+        return Status{StatusCode::kDeviceError, "Xsens " + std::string(step) + ": " + stream_.describe() +
+                                                    " refused " + messageName(toByte(mid)) + " " +
+                                                    std::to_string(cfg_.attempts) + " times; last error: " + last_error};
+    }
+    return Status{StatusCode::kTimeout,
+                  "Xsens " + std::string(step) + ": no " + messageName(toByte(ack)) + " from " + stream_.describe() +
+                      " after " + std::to_string(cfg_.attempts) + " attempts of " +
+                      std::to_string(cfg_.reply_timeout / kNsPerMs) +
+                      " ms; check power, cable, port and baud rate (MTi default 115200, configured 921600?)"};
+}
+
+Status XsensDevice::configure() {
+    measuring_ = false;
+    if (!stream_.isOpen()) {
+        if (Status s = stream_.open(); !s) return s;
+    }
+    parser_.reset();
+    // 1. Config mode. The device may be streaming since power-up: GoToConfig is resent until acked.
+    if (auto r = request(MessageId::kGoToConfig, {}, "entering config mode"); !r) return r.status();
+    // 2. Identity.
+    auto did = request(MessageId::kReqDid, {}, "reading the device id");
+    if (!did) return did.status();
+    auto id = decodeDeviceId(did->payload);
+    if (!id) return id.status();
+    device_id_ = *id;
+    auto pc = request(MessageId::kReqProductCode, {}, "reading the product code");
+    if (!pc) return pc.status();
+    product_code_ = decodeProductCode(pc->payload);
+    // 3. Outputs. The ack echoes the configuration the device actually took.
+    const auto wanted = outputConfigurationFor(cfg_);
+    auto oc = request(MessageId::kSetOutputConfiguration, encodeOutputConfiguration(wanted), "setting the outputs");
+    if (!oc) return oc.status();
+    auto echoed = decodeOutputConfiguration(oc->payload);
+    if (!echoed) return echoed.status();
+    for (const auto& w : wanted) {
+        if (std::find(echoed->begin(), echoed->end(), w) == echoed->end()) {
+            char buf[96];
+            std::snprintf(buf, sizeof buf, "XDI 0x%04X at %u Hz", w.xdi, w.rate_hz);
+            return Status{StatusCode::kDeviceError,
+                          "Xsens setting the outputs: " + product_code_ + " on " + stream_.describe() +
+                              " did not take " + buf + "; is it an MTi model with that output?"};
+        }
+    }
+    output_config_ = *echoed;
+    // 4. Measurement.
+    if (auto r = request(MessageId::kGoToMeasurement, {}, "starting measurement"); !r) return r.status();
+    measuring_ = true;
+    last_counter_.reset();
+    log().info("Xsens {} (id {:08X}) on {} streaming at {} Hz", product_code_, device_id_, stream_.describe(),
+               cfg_.output_rate_hz);
+    return Status::ok();
+}
+
+Status XsensDevice::poll(std::vector<ImuSample>& out, TimeNs timeout) {
+    TimeNs t_rx = 0;
+    if (Status s = readSome(timeout, t_rx); !s) {
+        measuring_ = false;
+        return Status{s.code(), "Xsens " + stream_.describe() + ": " + s.message() + "; reconnect with configure()"};
+    }
+    while (auto f = parser_.next()) handleMeasurement(*f, t_rx, &out);
+    return Status::ok();
+}
+
+void XsensDevice::handleMeasurement(const XbusFrameView& frame, TimeNs t_rx, std::vector<ImuSample>* out) {
+    if (frame.mid == toByte(MessageId::kError)) {
+        ++stats_.device_errors;
+        auto e = decodeError(frame.payload);
+        note("Xsens " + stream_.describe() + " reported Error " + (e.isOk() ? errorText(e->code) : e.status().message()));
+        return;
+    }
+    if (frame.mid != toByte(MessageId::kMtData2)) return;
+    ++stats_.packets;
+    auto packet = decodeMtData2(frame.payload);
+    if (!packet) {
+        ++stats_.malformed;
+        note(packet.status().message());
+        return;
+    }
+    if (auto pc = packet->integer(xdi::kPacketCounter)) {
+        const auto counter = static_cast<std::uint16_t>(*pc);
+        if (last_counter_) {
+            const auto missing = static_cast<std::uint16_t>(counter - *last_counter_ - 1);
+            if (missing != 0) {
+                ++stats_.gaps;
+                stats_.lost_packets += missing;
+                note("Xsens packet counter jumped from " + std::to_string(*last_counter_) + " to " +
+                     std::to_string(counter) + ": " + std::to_string(missing) +
+                     " packet(s) lost (damaged on the wire or a serial overrun)");
+            }
+        }
+        last_counter_ = counter;
+    }
+    const auto stf = packet->integer(xdi::kSampleTimeFine);
+    const auto acc = packet->vector3(xdi::kAcceleration);
+    const auto gyro = packet->vector3(xdi::kRateOfTurn);
+    if (!stf || !acc || !gyro) {
+        ++stats_.incomplete;
+        note("Xsens MTData2 without SampleTimeFine, Acceleration or RateOfTurn (packet counter " +
+             std::to_string(last_counter_.value_or(0)) + "): no sample; is the output configuration ours?");
+        return;
+    }
+    clock_.observe(*stf, t_rx);
+    ImuSample s;
+    s.t_host = *clock_.toHost(*stf);
+    s.t_device_ticks = clock_.unwrap(*stf);
+    s.accel_mps2_imu = *acc;
+    s.gyro_radps_imu = *gyro;
+    if (auto sw = packet->integer(xdi::kStatusWord)) {
+        s.status_word = static_cast<std::uint32_t>(*sw);
+    } else if (auto sb = packet->integer(xdi::kStatusByte)) {
+        s.status_word = static_cast<std::uint32_t>(*sb);  // bits 0-7 of the status word
+    }
+    s.packet_counter = last_counter_.value_or(0);
+    ++stats_.samples;
+    out->push_back(s);
+}
+
+}  // namespace handscan::xsens

@@ -1,0 +1,60 @@
+// Point-cloud file formats surveyors' tools open: PLY (binary little-endian: x y z as float,
+// red green blue as uchar, intensity as ushort, time as double) and LAS 1.4 with point data record
+// format 7 (RGB + GPS time, 36 bytes). The points stream through once: the count is known up front
+// (from the journal), the bounds are gathered while writing and patched into the header at the end.
+#pragma once
+
+#include <cstdint>
+#include <limits>
+#include <memory>
+#include <span>
+#include <string>
+
+#include "handscan/core/status.hpp"
+#include "handscan/export/safe_file.hpp"
+#include "handscan/journal/map_point.hpp"
+
+namespace handscan::exporter {
+
+struct Bounds {
+    double min[3] = {std::numeric_limits<double>::max(), std::numeric_limits<double>::max(), std::numeric_limits<double>::max()};
+    double max[3] = {std::numeric_limits<double>::lowest(), std::numeric_limits<double>::lowest(), std::numeric_limits<double>::lowest()};
+    void add(double x, double y, double z) {
+        const double v[3] = {x, y, z};
+        for (int i = 0; i < 3; ++i) {
+            min[i] = v[i] < min[i] ? v[i] : min[i];
+            max[i] = v[i] > max[i] ? v[i] : max[i];
+        }
+    }
+};
+
+class PointFileWriter {
+public:
+    virtual ~PointFileWriter() = default;
+    virtual Status begin(std::uint64_t count) = 0;
+    virtual Status write(std::span<const journal::MapPoint> points) = 0;
+    virtual Status end() = 0;  // header with the final bounds, then commit (verify + rename)
+    const Bounds& bounds() const { return bounds_; }
+
+protected:
+    Bounds bounds_;
+};
+
+struct LasOptions {
+    std::string system_identifier = "handscan handheld scanner";
+    std::string generating_software = "handscan";
+    double scale = 1e-4;  // 0.1 mm
+    int creation_day_of_year = 1;
+    int creation_year = 2026;
+};
+
+std::unique_ptr<PointFileWriter> makePlyWriter(SafeFileWriter& file);
+std::unique_ptr<PointFileWriter> makeLasWriter(SafeFileWriter& file, LasOptions options = {});
+
+// Sizes, for the free-space check before writing.
+std::uint64_t plyBytes(std::uint64_t points);
+std::uint64_t lasBytes(std::uint64_t points);
+constexpr std::size_t kLasHeaderBytes = 375;
+constexpr std::size_t kLasPointRecordBytes = 36;
+
+}  // namespace handscan::exporter

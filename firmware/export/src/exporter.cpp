@@ -1,0 +1,231 @@
+#include "handscan/export/exporter.hpp"
+
+#include <fcntl.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <ctime>
+#include <filesystem>
+#include <memory>
+#include <sstream>
+
+#include "handscan/journal/journal_reader.hpp"
+#include "voxel_filter.hpp"
+
+#ifndef HANDSCAN_VERSION
+#define HANDSCAN_VERSION "0.0.0"
+#endif
+
+namespace handscan::exporter {
+namespace {
+
+namespace fs = std::filesystem;
+
+std::span<const std::uint8_t> asBytes(const std::string& s) {
+    return {reinterpret_cast<const std::uint8_t*>(s.data()), s.size()};
+}
+
+Status writeSmallFile(const std::string& path, const std::string& text, const WriteFaults& faults) {
+    SafeFileWriter f(path, faults);
+    if (Status s = f.open(); !s.isOk()) return s;
+    if (Status s = f.write(asBytes(text)); !s.isOk()) return s;
+    return f.commit();
+}
+
+std::string trajectoryTum(const std::vector<journal::TrajectoryPose>& poses) {
+    std::ostringstream os;
+    os.precision(9);
+    os << std::fixed;
+    for (const auto& p : poses) {
+        os << p.t_s << ' ' << p.x << ' ' << p.y << ' ' << p.z << ' ' << p.qx << ' ' << p.qy << ' ' << p.qz << ' ' << p.qw << '\n';
+    }
+    return os.str();
+}
+
+std::string trajectoryCsv(const std::vector<journal::TrajectoryPose>& poses) {
+    std::ostringstream os;
+    os.precision(9);
+    os << std::fixed << "time_s,x_m,y_m,z_m,qx,qy,qz,qw\n";
+    for (const auto& p : poses) {
+        os << p.t_s << ',' << p.x << ',' << p.y << ',' << p.z << ',' << p.qx << ',' << p.qy << ',' << p.qz << ',' << p.qw << '\n';
+    }
+    return os.str();
+}
+
+std::string jsonEscape(const std::string& s) {
+    std::string o;
+    for (char c : s) {
+        if (c == '"' || c == '\\') o += '\\';
+        if (static_cast<unsigned char>(c) < 0x20) {
+            char buf[8];
+            std::snprintf(buf, sizeof buf, "\\u%04x", c);
+            o += buf;
+            continue;
+        }
+        o += c;
+    }
+    return o;
+}
+
+std::string metadataJson(const journal::JournalSummary& js, const ExportReport& r, const ExportOptions& o) {
+    std::ostringstream os;
+    os.precision(6);
+    os << std::fixed;
+    os << "{\n  \"software\": \"handscan " << HANDSCAN_VERSION << "\",\n";
+    os << "  \"scan\": " << (js.metadata_json.empty() ? "{}" : js.metadata_json) << ",\n";
+    os << "  \"journal\": {\"path\": \"" << jsonEscape(js.path) << "\", \"points\": " << js.points
+       << ", \"finished\": " << (js.finished ? "true" : "false") << ", \"damage\": \"" << jsonEscape(js.damage) << "\"},\n";
+    os << "  \"export\": {\"points\": " << r.points << ", \"voxel_m\": " << o.voxel_m << ", \"formats\": [";
+    for (std::size_t i = 0; i < o.formats.size(); ++i) os << (i ? ", " : "") << '"' << o.formats[i] << '"';
+    os << "],\n    \"bounds_min\": [" << r.bounds.min[0] << ", " << r.bounds.min[1] << ", " << r.bounds.min[2]
+       << "], \"bounds_max\": [" << r.bounds.max[0] << ", " << r.bounds.max[1] << ", " << r.bounds.max[2] << "],\n";
+    os << "    \"trajectory_poses\": " << js.trajectory.size() << "}\n}\n";
+    return os.str();
+}
+
+// The points to export: straight from the journal (two streaming passes) or voxel-filtered.
+class PointSource {
+public:
+    PointSource(const journal::JournalReader& reader, double voxel_m) : reader_(reader) {
+        if (voxel_m > 0.0) {
+            VoxelFilter filter(voxel_m);
+            status_ = reader.forEachPoints([&](std::span<const journal::MapPoint> pts) { filter.add(pts); });
+            filtered_ = std::make_unique<std::vector<journal::MapPoint>>(filter.take());
+        }
+    }
+    const Status& status() const { return status_; }
+    std::uint64_t count() const { return filtered_ ? filtered_->size() : reader_.summary().points; }
+    Status forEach(const std::function<void(std::span<const journal::MapPoint>)>& sink) const {
+        if (!filtered_) return reader_.forEachPoints(sink);
+        constexpr std::size_t kBatch = 1 << 16;
+        for (std::size_t i = 0; i < filtered_->size(); i += kBatch) {
+            sink(std::span(filtered_->data() + i, std::min(kBatch, filtered_->size() - i)));
+        }
+        return Status::ok();
+    }
+
+private:
+    const journal::JournalReader& reader_;
+    std::unique_ptr<std::vector<journal::MapPoint>> filtered_;
+    Status status_;
+};
+
+}  // namespace
+
+Result<std::string> findJournal(const std::string& source) {
+    std::error_code ec;
+    if (fs::is_regular_file(source, ec)) return source;
+    if (fs::is_directory(source, ec)) {
+        const fs::path p = fs::path(source) / "journal.hsj";
+        if (fs::is_regular_file(p, ec)) return p.string();
+        return Status(StatusCode::kNotFound, source + ": no journal.hsj in this directory");
+    }
+    return Status(StatusCode::kNotFound, source + ": no such journal file or directory");
+}
+
+Result<ExportReport> exportScan(const std::string& source, const std::string& target_dir, const ExportOptions& options) {
+    const auto started = std::chrono::steady_clock::now();
+    auto progress = [&](double f, const std::string& stage) {
+        if (options.progress) options.progress(std::clamp(f, 0.0, 1.0), stage);
+    };
+    for (const std::string& f : options.formats) {
+        if (f != "ply" && f != "las") {
+            return Status(StatusCode::kInvalidArgument, "export: unknown format '" + f + "' (expected ply, las)");
+        }
+    }
+    auto journal_path = findJournal(source);
+    if (!journal_path.isOk()) return journal_path.status();
+    auto reader = journal::JournalReader::open(*journal_path);
+    if (!reader.isOk()) return reader.status();
+    const journal::JournalSummary& js = reader->summary();
+
+    std::error_code ec;
+    if (!fs::is_directory(target_dir, ec)) {
+        return Status(StatusCode::kNotFound, "export: target " + target_dir + " is not a directory (vanished or not mounted?)");
+    }
+    std::string name = options.scan_name;
+    if (name.empty()) {
+        const fs::path jp(*journal_path);
+        name = jp.filename() == "journal.hsj" ? jp.parent_path().filename().string() : jp.stem().string();
+        if (name.empty()) name = "scan";
+    }
+    const fs::path out_dir = fs::path(target_dir) / name;
+    fs::create_directories(out_dir, ec);
+    if (ec) return Status(StatusCode::kIoError, "export: cannot create " + out_dir.string() + ": " + ec.message());
+
+    progress(0.0, "reading journal");
+    PointSource points(*reader, options.voxel_m);
+    if (!points.status().isOk()) return points.status();
+    const std::uint64_t count = points.count();
+
+    // Free space first: refuse before writing anything rather than fail half-way.
+    std::uint64_t need = 64 * 1024 + js.trajectory.size() * 200;
+    for (const std::string& f : options.formats) need += f == "ply" ? plyBytes(count) : lasBytes(count);
+    const fs::space_info space = fs::space(out_dir, ec);
+    if (!ec && space.available < need) {
+        return Status(StatusCode::kNoSpace, "export: " + target_dir + " has " + std::to_string(space.available >> 20) +
+                                                " MiB free but the export needs " + std::to_string((need >> 20) + 1) +
+                                                " MiB; use a larger stick or --voxel to thin the cloud");
+    }
+
+    ExportReport report;
+    report.directory = out_dir.string();
+    report.points = count;
+    report.journal_points = js.points;
+    report.journal_damage = js.damage;
+    const double total_work = static_cast<double>(std::max<std::uint64_t>(1, count * options.formats.size()));
+    double done_work = 0.0;
+    for (const std::string& format : options.formats) {
+        const std::string path = (out_dir / ("cloud." + format)).string();
+        SafeFileWriter file(path, options.faults);
+        if (Status s = file.open(); !s.isOk()) return s;
+        std::unique_ptr<PointFileWriter> writer = format == "ply" ? makePlyWriter(file) : makeLasWriter(file);
+        if (Status s = writer->begin(count); !s.isOk()) return s;
+        Status failure;
+        if (Status s = points.forEach([&](std::span<const journal::MapPoint> pts) {
+                if (!failure.isOk()) return;
+                failure = writer->write(pts);
+                done_work += static_cast<double>(pts.size());
+                progress(done_work / total_work * 0.95, "writing " + fs::path(path).filename().string());
+            });
+            !s.isOk()) {
+            return s;
+        }
+        if (!failure.isOk()) return failure;
+        progress(done_work / total_work * 0.95, "verifying " + fs::path(path).filename().string());
+        if (Status s = writer->end(); !s.isOk()) return s;
+        report.bounds = writer->bounds();
+        report.files.push_back(path);
+        report.bytes += file.bytesWritten();
+    }
+    const std::pair<std::string, std::string> small_files[] = {
+        {"trajectory.tum", trajectoryTum(js.trajectory)},
+        {"trajectory.csv", trajectoryCsv(js.trajectory)},
+        {"scan.json", metadataJson(js, report, options)},
+    };
+    for (const auto& [file_name, text] : small_files) {
+        const std::string path = (out_dir / file_name).string();
+        if (Status s = writeSmallFile(path, text, options.faults); !s.isOk()) return s;
+        report.files.push_back(path);
+        report.bytes += text.size();
+    }
+    // Flush the whole filesystem (the stick) so that pulling it now loses nothing.
+    if (int fd = ::open(out_dir.c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC); fd >= 0) {
+        ::syncfs(fd);
+        ::close(fd);
+    }
+    progress(1.0, "done");
+    report.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
+    return report;
+}
+
+Result<ExportReport> exportToUsb(const std::string& source, const ExportOptions& options, const SystemPaths& paths) {
+    auto stick = findUsbStick(paths);
+    if (!stick.isOk()) return stick.status();
+    return exportScan(source, stick->mount_point, options);
+}
+
+}  // namespace handscan::exporter

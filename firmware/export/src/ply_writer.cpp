@@ -1,0 +1,66 @@
+#include <cstring>
+#include <vector>
+
+#include "handscan/export/point_formats.hpp"
+
+namespace handscan::exporter {
+namespace {
+
+constexpr std::size_t kPlyRecordBytes = 3 * 4 + 3 + 2 + 8;  // 25
+
+std::string plyHeader(std::uint64_t count) {
+    return "ply\nformat binary_little_endian 1.0\ncomment handscan colourised point cloud, metres, world frame\n"
+           "element vertex " + std::to_string(count) +
+           "\nproperty float x\nproperty float y\nproperty float z\n"
+           "property uchar red\nproperty uchar green\nproperty uchar blue\n"
+           "property ushort intensity\nproperty double time\nend_header\n";
+}
+
+class PlyWriter final : public PointFileWriter {
+public:
+    explicit PlyWriter(SafeFileWriter& file) : file_(file) {}
+    Status begin(std::uint64_t count) override {
+        expected_ = count;
+        const std::string h = plyHeader(count);
+        return file_.write(std::span(reinterpret_cast<const std::uint8_t*>(h.data()), h.size()));
+    }
+    Status write(std::span<const journal::MapPoint> points) override {
+        buf_.resize(points.size() * kPlyRecordBytes);
+        std::uint8_t* o = buf_.data();
+        for (const journal::MapPoint& p : points) {  // x86 and ARM are little-endian: fields copy as is
+            bounds_.add(p.x, p.y, p.z);
+            std::memcpy(o, &p.x, 4);
+            std::memcpy(o + 4, &p.y, 4);
+            std::memcpy(o + 8, &p.z, 4);
+            o[12] = p.r;
+            o[13] = p.g;
+            o[14] = p.b;
+            std::memcpy(o + 15, &p.intensity, 2);
+            std::memcpy(o + 17, &p.t_s, 8);
+            o += kPlyRecordBytes;
+        }
+        written_ += points.size();
+        return file_.write(buf_);
+    }
+    Status end() override {
+        if (written_ != expected_) {
+            return Status(StatusCode::kInvalidArgument, "export " + file_.finalPath() + ": wrote " + std::to_string(written_) +
+                                                            " points but the header says " + std::to_string(expected_));
+        }
+        return file_.commit();
+    }
+
+private:
+    SafeFileWriter& file_;
+    std::vector<std::uint8_t> buf_;
+    std::uint64_t expected_ = 0;
+    std::uint64_t written_ = 0;
+};
+
+}  // namespace
+
+std::unique_ptr<PointFileWriter> makePlyWriter(SafeFileWriter& file) { return std::make_unique<PlyWriter>(file); }
+
+std::uint64_t plyBytes(std::uint64_t points) { return plyHeader(points).size() + points * kPlyRecordBytes; }
+
+}  // namespace handscan::exporter

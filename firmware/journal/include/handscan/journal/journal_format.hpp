@@ -1,0 +1,51 @@
+// On-disk layout of the map journal: one append-only file of self-checking chunks, so that a power
+// cut or kill -9 leaves a readable prefix. Every chunk is
+//
+//   ChunkHeader (40 bytes, little-endian) | payload (payload_bytes)
+//
+// with a CRC32 (zlib) over the payload and another over the header's first 36 bytes. A reader
+// accepts chunks in order until the first one that is truncated or fails a check; everything
+// before it is intact because each chunk is fdatasync'ed before the next is started.
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <span>
+#include <vector>
+
+#include "handscan/journal/map_point.hpp"
+
+namespace handscan::journal {
+
+constexpr std::uint32_t kChunkMagic = 0x434A5348;  // "HSJC" little-endian
+constexpr std::uint16_t kFormatVersion = 1;
+constexpr std::size_t kChunkHeaderBytes = 40;
+constexpr std::size_t kPointRecordBytes = 28;
+constexpr std::size_t kPoseRecordBytes = 64;
+
+enum class ChunkKind : std::uint16_t { kMetadata = 1, kPoints = 2, kTrajectory = 3, kEndOfScan = 4 };
+
+struct ChunkHeader {
+    std::uint32_t magic = kChunkMagic;
+    std::uint16_t version = kFormatVersion;
+    ChunkKind kind = ChunkKind::kPoints;
+    std::uint64_t sequence = 0;       // 0, 1, 2, ... in file order
+    std::uint32_t record_count = 0;
+    std::uint32_t payload_bytes = 0;
+    double t_last_s = 0.0;            // newest time inside (points / poses), for "lost at most"
+    std::uint32_t payload_crc = 0;
+    std::uint32_t header_crc = 0;     // over the 36 bytes before it
+};
+
+std::vector<std::uint8_t> encodeHeader(const ChunkHeader& header);  // fills both CRCs' slots as given
+// Decodes and checks magic, version and header CRC. False when any fails.
+bool decodeHeader(std::span<const std::uint8_t> bytes, ChunkHeader& out);
+
+std::uint32_t crc32(std::span<const std::uint8_t> bytes, std::uint32_t seed = 0);
+
+void encodePoints(std::span<const MapPoint> points, std::vector<std::uint8_t>& out);
+void decodePoints(std::span<const std::uint8_t> payload, std::vector<MapPoint>& out);
+void encodePoses(std::span<const TrajectoryPose> poses, std::vector<std::uint8_t>& out);
+void decodePoses(std::span<const std::uint8_t> payload, std::vector<TrajectoryPose>& out);
+
+}  // namespace handscan::journal

@@ -1,0 +1,171 @@
+#include "handscan/imu/imu_predictor.hpp"
+
+#include <string>
+
+namespace handscan::imu {
+
+ImuPredictor::ImuPredictor(ImuPredictorConfig config, const Eigen::Isometry3d& T_cam_imu)
+    : config_(config),
+      T_imu_body_(T_cam_imu.inverse()),
+      aligner_(config.alignment),
+      bias_estimator_(config.bias) {
+    config_.alignment.gravity_mps2 = config_.gravity_mps2;
+    aligner_ = StaticStartAligner(config_.alignment);
+}
+
+void ImuPredictor::initialize(const NavState& x, const ImuBiases& biases) {
+    history_.clear();
+    bias_estimator_.reset();
+    biases_ = biases;
+    pending_init_ = x;
+    initialized_ = false;
+}
+
+void ImuPredictor::startFrom(const NavState& x, const ImuSample& s) {
+    ImuHistoryEntry e;
+    e.sample = s;
+    e.reading = correctBiases(s, biases_);
+    e.state = x;
+    if (s.t_host > x.t) {
+        // Continue from the given state with the first reading held over the short gap.
+        e.state = integrateStep(x, e.reading, e.reading, toSeconds(s.t_host - x.t), gravity());
+    }
+    e.state.t = s.t_host;
+    history_.push(e);
+    initialized_ = true;
+}
+
+Status ImuPredictor::addImu(const ImuSample& s) {
+    if (!s.gyro_radps_imu.allFinite() || !s.accel_mps2_imu.allFinite()) {
+        ++stats_.rejected_samples;
+        return Status(StatusCode::kInvalidArgument,
+                      "IMU prediction: sample at t=" + std::to_string(s.t_host) +
+                          " ns has a non-finite rate or acceleration; dropped");
+    }
+    if (have_sample_ && s.t_host <= last_sample_t_) {
+        ++stats_.rejected_samples;
+        return Status(StatusCode::kInvalidArgument,
+                      "IMU prediction: sample at t=" + std::to_string(s.t_host) + " ns is not newer than " +
+                          std::to_string(last_sample_t_) + " ns; dropped (check the IMU clock mapping)");
+    }
+    if (have_sample_ && toSeconds(s.t_host - last_sample_t_) > config_.max_gap_s) ++stats_.gaps;
+    have_sample_ = true;
+    last_sample_t_ = s.t_host;
+    ++stats_.samples;
+
+    if (!initialized_) {
+        if (pending_init_) {
+            if (s.t_host >= pending_init_->t) {
+                startFrom(*pending_init_, s);
+                pending_init_.reset();
+            }
+            return Status::ok();
+        }
+        if (auto a = aligner_.add(s)) {
+            alignment_ = a;
+            biases_ = a->biases;
+            NavState x;
+            x.t = s.t_host;
+            x.R_world_imu = a->R_world_imu;
+            startFrom(x, s);
+        }
+        return Status::ok();
+    }
+
+    const ImuHistoryEntry& prev = history_.last();
+    ImuHistoryEntry e;
+    e.sample = s;
+    e.reading = correctBiases(s, biases_);
+    e.state = integrateStep(prev.state, prev.reading, e.reading, toSeconds(s.t_host - prev.sample.t_host),
+                            gravity());
+    e.state.t = s.t_host;
+    history_.push(e);
+    history_.trimBefore(s.t_host - fromSeconds(config_.horizon_s));
+    return Status::ok();
+}
+
+Result<NavState> ImuPredictor::stateAt(TimeNs t) const {
+    return history_.stateAt(t, fromSeconds(config_.max_extrapolation_s), gravity());
+}
+
+Result<Eigen::Isometry3d> ImuPredictor::poseAt(TimeNs t) const {
+    auto x = stateAt(t);
+    if (!x) return x.status();
+    return bodyPose(*x, T_imu_body_);
+}
+
+Result<PoseEstimate> ImuPredictor::predict(TimeNs t) const {
+    auto T = poseAt(t);
+    if (!T) return T.status();
+    PoseEstimate p;
+    p.t_host = t;
+    p.T_world_body = *T;
+    p.source = PoseSource::kImuPrediction;
+    p.solved_dof_mask = 0;  // nothing solved by an exteroceptive module: pure prediction
+    return p;
+}
+
+Status ImuPredictor::correct(TimeNs t, const Eigen::Isometry3d& T_world_body, std::uint8_t solved_dof_mask) {
+    return correct(t, T_world_body, projectorFromMask(solved_dof_mask));
+}
+
+Status ImuPredictor::correct(TimeNs t, const Eigen::Isometry3d& T_world_body, const Matrix6d& solved) {
+    if (!initialized_ || history_.empty() || t < history_.front() || t > history_.back()) {
+        ++stats_.rejected_corrections;
+        return Status(StatusCode::kNotFound,
+                      "IMU prediction: feedback pose at t=" + std::to_string(t) +
+                          " ns is outside the IMU history; it must lie between the oldest and newest sample "
+                          "(raise imu horizon_s if the matcher lags more)");
+    }
+    auto predicted = stateAt(t);
+    if (!predicted) return predicted.status();
+    const Eigen::Isometry3d T_world_imu = T_world_body * T_imu_body_.inverse();
+
+    // The correction in the world frame (rotation, translation), kept only in the solved DOFs.
+    Vector6d delta;
+    delta.head<3>() = logSO3(T_world_imu.linear() * predicted->R_world_imu.transpose());
+    delta.tail<3>() = T_world_imu.translation() - predicted->p_world_imu;
+    delta = solved * delta;
+    NavState x = *predicted;
+    x.R_world_imu = orthonormalize(expSO3(delta.head<3>()) * predicted->R_world_imu);
+    x.p_world_imu += delta.tail<3>();
+
+    FeedbackPose f;
+    f.t = t;
+    f.R_world_imu = x.R_world_imu;
+    f.p_world_imu = x.p_world_imu;
+    f.v_predicted = predicted->v_world_imu;
+    f.solved = solved;
+    auto update = bias_estimator_.add(f, history_, biases_, gravity());
+    Status status = Status::ok();
+    if (update) {
+        biases_ = update->biases;
+        x.v_world_imu = update->v_world_imu_latest;
+    } else {
+        ++stats_.rejected_corrections;
+        status = update.status();  // the pose is still applied; only the biases are kept
+    }
+    ++stats_.corrections;
+    repropagateFrom(x);
+    return status;
+}
+
+void ImuPredictor::repropagateFrom(const NavState& x0) {
+    std::size_t k = history_.indexAtOrBefore(x0.t);
+    NavState x = x0;
+    ImuReading r = history_.readingAt(x0.t, biases_);
+    if (history_[k].sample.t_host == x0.t) {
+        history_[k].state = x0;
+        history_[k].reading = r;
+    }
+    for (++k; k < history_.size(); ++k) {
+        ImuHistoryEntry& e = history_[k];
+        e.reading = correctBiases(e.sample, biases_);
+        e.state = integrateStep(x, r, e.reading, toSeconds(e.sample.t_host - x.t), gravity());
+        e.state.t = e.sample.t_host;
+        x = e.state;
+        r = e.reading;
+    }
+}
+
+}  // namespace handscan::imu

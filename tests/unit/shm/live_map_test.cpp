@@ -1,0 +1,361 @@
+// Functional tests of the live-map region: what the writer publishes is what readers get, the map
+// is append-only per epoch, commands go round trip, and readers follow writers that come and go.
+#include <gtest/gtest.h>
+
+#include <thread>
+
+#include "handscan/shm/live_map_reader.hpp"
+#include "handscan/shm/live_map_writer.hpp"
+#include "handscan/shm/seqlock.hpp"
+#include "handscan/shm/text_field.hpp"
+#include "test_names.hpp"
+
+namespace handscan::shm {
+namespace {
+
+using testing::uniqueRegionName;
+
+WriterOptions smallWriter(const std::string& name, std::size_t capacity = 1000) {
+    WriterOptions o;
+    o.name = name;
+    o.map_capacity_points = capacity;
+    return o;
+}
+
+ReaderOptions fastReader(const std::string& name) {
+    ReaderOptions o;
+    o.name = name;
+    o.recheck_interval_ns = 0;  // look for a replaced region on every poll
+    return o;
+}
+
+std::vector<DisplayPoint> pointsFrom(int first, int n) {
+    std::vector<DisplayPoint> v;
+    for (int i = first; i < first + n; ++i) {
+        DisplayPoint p;
+        p.x_m = static_cast<float>(i);
+        p.r = static_cast<std::uint8_t>(i);
+        v.push_back(p);
+    }
+    return v;
+}
+
+TEST(TextField, TruncatesAndTerminates) {
+    char f[8];
+    setText(f, "abcdefghijk");
+    EXPECT_EQ(getText(f), "abcdefg");
+    setText(f, "ab");
+    EXPECT_EQ(getText(f), "ab");
+    char raw[4] = {'w', 'x', 'y', 'z'};  // a writer that forgot the NUL cannot make us overread
+    EXPECT_EQ(getText(raw), "wxyz");
+}
+
+TEST(SharedRegion, RejectsBadNames) {
+    EXPECT_FALSE(SharedRegion::create("no-slash", 4096).isOk());
+    EXPECT_FALSE(SharedRegion::create("/a/b", 4096).isOk());
+    auto r = SharedRegion::open("/handscan-test-does-not-exist");
+    ASSERT_FALSE(r.isOk());
+    EXPECT_EQ(r.status().code(), StatusCode::kNotFound);
+}
+
+TEST(LiveMap, ReaderWaitsUntilWriterAppears) {
+    const std::string name = uniqueRegionName("wait");
+    LiveMapReader reader(fastReader(name));
+    EXPECT_EQ(reader.poll(), Connection::kWaiting);
+    EXPECT_NE(reader.message().find("waiting for pipeline"), std::string::npos);
+    EXPECT_FALSE(reader.readStatus().has_value());
+    auto writer = LiveMapWriter::create(smallWriter(name));
+    ASSERT_TRUE(writer.isOk()) << writer.status().message();
+    EXPECT_EQ(reader.poll(), Connection::kConnected);
+    EXPECT_EQ(reader.writerNonce(), (*writer)->nonce());
+}
+
+TEST(LiveMap, StatusRoundTrip) {
+    const std::string name = uniqueRegionName("status");
+    auto writer = LiveMapWriter::create(smallWriter(name));
+    ASSERT_TRUE(writer.isOk());
+    StatusBlock s;
+    s.sensor_count = 2;
+    setText(s.sensors[0].name, "hokuyo");
+    s.sensors[0].connected = 1;
+    s.sensors[0].rate_hz = 40.0f;
+    setText(s.sensors[1].name, "xsens");
+    setText(s.sensors[1].last_error, "/dev/ttyUSB0: no data for 2 s: check the cable");
+    s.module_count = 1;
+    setText(s.modules[0].name, "scan-match");
+    s.modules[0].degenerate_dof_mask = 0b101000;
+    s.scan_state = static_cast<std::uint8_t>(ScanState::kScanning);
+    s.elapsed_s = 12.5;
+    s.distance_m = 7.25;
+    s.point_count = 123456;
+    s.free_storage_bytes = 1ull << 34;
+    (*writer)->setStatus(s);
+
+    LiveMapReader reader(fastReader(name));
+    ASSERT_EQ(reader.poll(), Connection::kConnected);
+    auto got = reader.readStatus();
+    ASSERT_TRUE(got.has_value());
+    EXPECT_EQ(got->sensor_count, 2u);
+    EXPECT_EQ(getText(got->sensors[0].name), "hokuyo");
+    EXPECT_EQ(got->sensors[0].rate_hz, 40.0f);
+    EXPECT_EQ(getText(got->sensors[1].last_error), "/dev/ttyUSB0: no data for 2 s: check the cable");
+    EXPECT_EQ(got->modules[0].degenerate_dof_mask, 0b101000);
+    EXPECT_EQ(static_cast<ScanState>(got->scan_state), ScanState::kScanning);
+    EXPECT_EQ(got->elapsed_s, 12.5);
+    EXPECT_EQ(got->point_count, 123456u);
+    EXPECT_EQ(got->free_storage_bytes, 1ull << 34);
+}
+
+TEST(LiveMap, PoseRingKeepsLatestAndSkipsOverwritten) {
+    auto region = SharedRegion::anonymous(regionBytes(16));
+    ASSERT_TRUE(region.isOk());
+    WriterOptions o;
+    o.map_capacity_points = 16;
+    auto writer = LiveMapWriter::attach(*region, o);
+    ASSERT_TRUE(writer.isOk());
+    LiveMapReader reader(*region);
+    EXPECT_FALSE(reader.latestPose().has_value());
+
+    PoseEstimate e;
+    e.t_host = 5;
+    e.T_world_body.translation() = Eigen::Vector3d(1, 2, 3);
+    e.T_world_body.linear() = Eigen::AngleAxisd(0.5, Eigen::Vector3d::UnitZ()).toRotationMatrix();
+    e.source = PoseSource::kVisualOdometry;
+    e.solved_dof_mask = 0b000111;
+    (*writer)->publishPose(e);
+    auto latest = reader.latestPose();
+    ASSERT_TRUE(latest.has_value());
+    EXPECT_EQ(latest->t_ns, 5);
+    EXPECT_DOUBLE_EQ(latest->position_m[1], 2.0);
+    EXPECT_NEAR(latest->orientation_xyzw[2], std::sin(0.25), 1e-12);
+    EXPECT_EQ(latest->vio_dof_mask, 0b000111);  // VIO-solved DOF are green in Figure 14
+    EXPECT_EQ(latest->scan_dof_mask, 0);
+
+    const std::uint64_t total = kPoseRingCapacity * 2 + 10;
+    for (std::uint64_t i = 1; i < total; ++i) {
+        PoseRecord p;
+        p.t_ns = static_cast<std::int64_t>(i) + 5;
+        (*writer)->publishPose(p);
+    }
+    std::uint64_t next = 0;
+    std::vector<PoseRecord> got;
+    reader.readPoses(next, got);
+    EXPECT_EQ(next, total);
+    ASSERT_FALSE(got.empty());
+    EXPECT_LE(got.size(), kPoseRingCapacity);
+    EXPECT_GE(got.size(), kPoseRingCapacity - 8);
+    EXPECT_EQ(got.back().t_ns, static_cast<std::int64_t>(total - 1 + 5));
+    for (std::size_t i = 1; i < got.size(); ++i) EXPECT_EQ(got[i].t_ns, got[i - 1].t_ns + 1);
+    got.clear();
+    reader.readPoses(next, got);
+    EXPECT_TRUE(got.empty());
+}
+
+TEST(LiveMap, MapIsAppendOnlyPerEpochAndResetsOnNewScan) {
+    auto region = SharedRegion::anonymous(regionBytes(100));
+    ASSERT_TRUE(region.isOk());
+    WriterOptions o;
+    o.map_capacity_points = 100;
+    auto writer = LiveMapWriter::attach(*region, o);
+    ASSERT_TRUE(writer.isOk());
+    LiveMapReader reader(*region);
+    MapCursor cursor;
+    MapDelta delta;
+
+    ASSERT_TRUE((*writer)->appendPoints(pointsFrom(0, 30)).isOk());
+    ASSERT_TRUE(reader.readMap(cursor, delta, 20));
+    EXPECT_TRUE(delta.reset);  // first read of a writer
+    ASSERT_EQ(delta.points.size(), 20u);
+    EXPECT_EQ(delta.points[19].x_m, 19.0f);
+    ASSERT_TRUE(reader.readMap(cursor, delta));
+    EXPECT_FALSE(delta.reset);
+    ASSERT_EQ(delta.points.size(), 10u);
+    EXPECT_EQ(delta.points[0].x_m, 20.0f);
+    ASSERT_TRUE(reader.readMap(cursor, delta));
+    EXPECT_TRUE(delta.points.empty());
+
+    // Capacity: the overflow is reported, what fits is kept.
+    Status s = (*writer)->appendPoints(pointsFrom(30, 80));
+    EXPECT_EQ(s.code(), StatusCode::kNoSpace);
+    EXPECT_NE(s.message().find("10 points not shown"), std::string::npos) << s.message();
+    ASSERT_TRUE(reader.readMap(cursor, delta));
+    EXPECT_EQ(delta.points.size(), 70u);
+    EXPECT_EQ(cursor.points, 100u);
+
+    const std::uint64_t epoch = (*writer)->epoch();
+    (*writer)->newScan();
+    EXPECT_EQ((*writer)->epoch(), epoch + 1);
+    ASSERT_TRUE((*writer)->appendPoints(pointsFrom(500, 3)).isOk());
+    ASSERT_TRUE(reader.readMap(cursor, delta));
+    EXPECT_TRUE(delta.reset);
+    EXPECT_EQ(delta.epoch, epoch + 1);
+    ASSERT_EQ(delta.points.size(), 3u);
+    EXPECT_EQ(delta.points[0].x_m, 500.0f);
+}
+
+TEST(LiveMap, TrackIsDecimatedByDistance) {
+    auto region = SharedRegion::anonymous(regionBytes(1));
+    ASSERT_TRUE(region.isOk());
+    WriterOptions o;
+    o.map_capacity_points = 1;
+    o.track_min_step_m = 0.1;
+    o.track_max_interval_s = 100;
+    auto writer = LiveMapWriter::attach(*region, o);
+    ASSERT_TRUE(writer.isOk());
+    for (int i = 0; i < 200; ++i) {  // 1 cm steps at 200 Hz: 2 m
+        PoseRecord p;
+        p.t_ns = i * 5 * kNsPerMs;
+        p.position_m[0] = 0.01 * i;
+        (*writer)->publishPose(p);
+    }
+    LiveMapReader reader(*region);
+    MapCursor cursor;
+    MapDelta delta;
+    ASSERT_TRUE(reader.readMap(cursor, delta));
+    EXPECT_GE(delta.track.size(), 19u);
+    EXPECT_LE(delta.track.size(), 21u);
+    EXPECT_NEAR(delta.track.back().x_m, 1.9f, 0.11f);
+}
+
+TEST(LiveMap, CommandsRoundTripInOrder) {
+    auto region = SharedRegion::anonymous(regionBytes(1));
+    ASSERT_TRUE(region.isOk());
+    WriterOptions o;
+    o.map_capacity_points = 1;
+    auto writer = LiveMapWriter::attach(*region, o);
+    ASSERT_TRUE(writer.isOk());
+    LiveMapReader ui1(*region);
+    LiveMapReader ui2(*region);
+    auto a = ui1.sendCommand(CommandType::kStartScan);
+    auto b = ui2.sendCommand(CommandType::kExport, "/media/usb0");
+    ASSERT_TRUE(a.isOk() && b.isOk());
+    EXPECT_LT(*a, *b);
+    auto ra = ui1.commandResult(*a);
+    ASSERT_TRUE(ra.isOk());
+    EXPECT_EQ(static_cast<CommandState>(ra->state), CommandState::kPending);
+
+    auto c1 = (*writer)->pollCommand();
+    ASSERT_TRUE(c1.has_value());
+    EXPECT_EQ(c1->seq, *a);
+    EXPECT_EQ(c1->type, CommandType::kStartScan);
+    auto c2 = (*writer)->pollCommand();
+    ASSERT_TRUE(c2.has_value());
+    EXPECT_EQ(c2->type, CommandType::kExport);
+    EXPECT_EQ(c2->argument, "/media/usb0");
+    EXPECT_FALSE((*writer)->pollCommand().has_value());  // each command is taken once
+
+    (*writer)->ack(c2->seq, CommandState::kInProgress, "writing scan.ply", 0.25f);
+    auto rb = ui2.commandResult(*b);
+    ASSERT_TRUE(rb.isOk());
+    EXPECT_EQ(static_cast<CommandState>(rb->state), CommandState::kInProgress);
+    EXPECT_FLOAT_EQ(rb->progress, 0.25f);
+    (*writer)->ack(c2->seq, CommandState::kDone, "safe to remove");
+    rb = ui2.commandResult(*b);
+    ASSERT_TRUE(rb.isOk());
+    EXPECT_EQ(static_cast<CommandState>(rb->state), CommandState::kDone);
+    EXPECT_EQ(getText(rb->message), "safe to remove");
+    (*writer)->ack(c1->seq, CommandState::kRejected, "already scanning");
+    EXPECT_EQ(static_cast<CommandState>(ui1.commandResult(*a)->state), CommandState::kRejected);
+}
+
+TEST(LiveMap, CommandSlotHeldByCrashedUiIsSkipped) {
+    auto region = SharedRegion::anonymous(regionBytes(1));
+    ASSERT_TRUE(region.isOk());
+    WriterOptions o;
+    o.map_capacity_points = 1;
+    auto writer = LiveMapWriter::attach(*region, o);
+    ASSERT_TRUE(writer.isOk());
+    auto* h = reinterpret_cast<RegionHeader*>((*region)->data());
+    // A UI died between claiming slot 1 and finishing its request: the lock stays odd forever.
+    h->next_command_seq = 0;
+    h->commands[1].request_lock = 1;
+    LiveMapReader ui(*region);
+    auto seq = ui.sendCommand(CommandType::kStopScan);
+    ASSERT_TRUE(seq.isOk());
+    EXPECT_EQ(*seq, 2u);  // slot 1 skipped
+    auto cmd = (*writer)->pollCommand();
+    ASSERT_TRUE(cmd.has_value());
+    EXPECT_EQ(cmd->type, CommandType::kStopScan);
+}
+
+TEST(LiveMap, ReaderFollowsWriterRestart) {
+    const std::string name = uniqueRegionName("restart");
+    LiveMapReader reader(fastReader(name));
+    MapCursor cursor;
+    MapDelta delta;
+    std::uint64_t first_nonce = 0;
+    {
+        auto w1 = LiveMapWriter::create(smallWriter(name));
+        ASSERT_TRUE(w1.isOk());
+        ASSERT_TRUE((*w1)->appendPoints(pointsFrom(0, 10)).isOk());
+        ASSERT_EQ(reader.poll(), Connection::kConnected);
+        first_nonce = reader.writerNonce();
+        ASSERT_TRUE(reader.readMap(cursor, delta));
+        EXPECT_EQ(delta.points.size(), 10u);
+        auto seq = reader.sendCommand(CommandType::kStartScan);
+        ASSERT_TRUE(seq.isOk());
+    }
+    // The writer went away cleanly: the reader says so and keeps the last map readable.
+    EXPECT_EQ(reader.poll(), Connection::kClosed);
+    EXPECT_NE(reader.message().find("pipeline stopped"), std::string::npos);
+    EXPECT_FALSE(reader.sendCommand(CommandType::kStopScan).isOk());
+
+    auto w2 = LiveMapWriter::create(smallWriter(name));
+    ASSERT_TRUE(w2.isOk());
+    ASSERT_TRUE((*w2)->appendPoints(pointsFrom(100, 4)).isOk());
+    EXPECT_EQ(reader.poll(), Connection::kConnected);
+    EXPECT_NE(reader.writerNonce(), first_nonce);
+    ASSERT_TRUE(reader.readMap(cursor, delta));
+    EXPECT_TRUE(delta.reset);
+    ASSERT_EQ(delta.points.size(), 4u);
+    EXPECT_EQ(delta.points[0].x_m, 100.0f);
+    // The new writer did not inherit the old writer's command.
+    EXPECT_FALSE((*w2)->pollCommand().has_value());
+}
+
+TEST(LiveMap, WriterReplacedWithoutClosingIsFollowed) {
+    // A crashed writer never marks the region closed; its successor replaces the object.
+    const std::string name = uniqueRegionName("crash");
+    WriterOptions o = smallWriter(name);
+    o.unlink_on_close = false;
+    auto w1 = LiveMapWriter::create(o);
+    ASSERT_TRUE(w1.isOk());
+    LiveMapReader reader(fastReader(name));
+    ASSERT_EQ(reader.poll(), Connection::kConnected);
+    const auto nonce1 = reader.writerNonce();
+    auto w2 = LiveMapWriter::create(smallWriter(name));
+    ASSERT_TRUE(w2.isOk());
+    EXPECT_EQ(reader.poll(), Connection::kConnected);
+    EXPECT_EQ(reader.writerNonce(), (*w2)->nonce());
+    EXPECT_NE(reader.writerNonce(), nonce1);
+}
+
+TEST(LiveMap, SilentWriterIsReportedStale) {
+    const std::string name = uniqueRegionName("stale");
+    auto w = LiveMapWriter::create(smallWriter(name));
+    ASSERT_TRUE(w.isOk());
+    ReaderOptions ro = fastReader(name);
+    ro.stale_after_ns = 30 * kNsPerMs;
+    LiveMapReader reader(ro);
+    EXPECT_EQ(reader.poll(), Connection::kConnected);
+    std::this_thread::sleep_for(std::chrono::milliseconds(60));
+    EXPECT_EQ(reader.poll(), Connection::kStale);
+    EXPECT_NE(reader.message().find("not responding"), std::string::npos);
+    (*w)->heartbeat();
+    EXPECT_EQ(reader.poll(), Connection::kConnected);
+}
+
+TEST(LiveMap, OtherLayoutVersionIsRejectedWithReason) {
+    const std::string name = uniqueRegionName("version");
+    auto w = LiveMapWriter::create(smallWriter(name));
+    ASSERT_TRUE(w.isOk());
+    auto raw = SharedRegion::open(name);
+    ASSERT_TRUE(raw.isOk());
+    reinterpret_cast<RegionHeader*>((*raw)->data())->version = kLayoutVersion + 1;
+    LiveMapReader reader(fastReader(name));
+    EXPECT_EQ(reader.poll(), Connection::kIncompatible);
+    EXPECT_NE(reader.message().find("layout version 2"), std::string::npos) << reader.message();
+}
+
+}  // namespace
+}  // namespace handscan::shm

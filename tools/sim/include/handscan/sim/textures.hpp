@@ -1,0 +1,50 @@
+// Procedural textures for the cameras: one tiling 512x512 RGB image per TextureId, generated
+// once (deterministically) with a mip chain, sampled bilinearly at the level that matches a
+// pixel's footprint (so distant surfaces do not alias into fake corners). Surfaces are mapped
+// by triplanar projection: the two world axes most parallel to the triangle, divided by the
+// material's tile size.
+#pragma once
+
+#include <Eigen/Core>
+#include <array>
+#include <cstdint>
+#include <vector>
+
+#include "handscan/sim/world.hpp"
+
+namespace handscan::sim {
+
+class TextureAtlas {
+public:
+    static constexpr int kSize = 512;
+    TextureAtlas();
+    // Shared, built on first use.
+    static const TextureAtlas& instance();
+
+    // RGB in [0, 1] at texture coordinates (u, v) in tiles; `footprint` is the pixel's size in
+    // tiles (chooses the mip level).
+    Eigen::Vector3f rgb(TextureId id, float u, float v, float footprint) const;
+    float grey(TextureId id, float u, float v, float footprint) const;
+
+    // Texture coordinates (in tiles) of world point p on a surface with normal n.
+    static Eigen::Vector2f planarUv(const Eigen::Vector3f& p, const Eigen::Vector3f& n, float scale_m);
+    // Which world axes give (u, v) on a surface with normal n (v is negated when it is z, so
+    // textures stand upright on walls).
+    static void planarAxes(const Eigen::Vector3f& n, int& axis_u, int& axis_v, float& sign_v);
+
+    // Fast path for many pixels on one surface: pick the mip level once, then sample it.
+    struct Level {
+        int size = 0;
+        std::vector<std::array<std::uint8_t, 4>> texels;  // r, g, b, grey (compact: cache-friendly)
+        std::vector<std::uint8_t> grey;                   // grey alone: 4x less cache for mono cameras
+    };
+    const Level& level(TextureId id, float footprint) const;
+    // Bilinear sample of `channels` (1: grey, 3: rgb) into out.
+    static void sampleLevel(const Level& l, float u, float v, int channels, float* out);
+
+private:
+    std::array<float, 4> sample(TextureId id, float u, float v, float footprint) const;
+    std::array<std::vector<Level>, static_cast<std::size_t>(TextureId::kCount)> mips_;
+};
+
+}  // namespace handscan::sim
