@@ -91,6 +91,14 @@ Result<XsensDevice::Reply> XsensDevice::request(MessageId mid, std::span<const s
                     resend = true;
                     break;
                 }
+                if (f->mid == toByte(MessageId::kWakeUp)) {
+                    // The device (re)booted: acknowledging keeps it in config mode, which is
+                    // where we are taking it anyway.
+                    const auto wake_ack = encodeFrame(MessageId::kWakeUpAck);
+                    if (Status s = stream_.writeAll(wake_ack, cfg_.reply_timeout); !s) return s;
+                    note("Xsens " + std::string(step) + ": " + stream_.describe() + " announced itself (WakeUp)");
+                    continue;
+                }
                 // Anything else is left over from before the request (MTData2 while the device
                 // still streams, late acks): skip it.
             }
@@ -165,6 +173,17 @@ void XsensDevice::handleMeasurement(const XbusFrameView& frame, TimeNs t_rx, std
         ++stats_.device_errors;
         auto e = decodeError(frame.payload);
         note("Xsens " + stream_.describe() + " reported Error " + (e.isOk() ? errorText(e->code) : e.status().message()));
+        return;
+    }
+    if (frame.mid == toByte(MessageId::kWakeUp)) {
+        // Restarted (power glitch, watchdog): without a WakeUpAck it measures again with the
+        // stored output configuration, counters and SampleTimeFine from 0. Start the time
+        // mapping afresh instead of treating the jump as a clock fault.
+        ++stats_.restarts;
+        clock_ = ClockMapper(xsensClock());
+        last_counter_.reset();
+        note("Xsens " + stream_.describe() + " restarted (WakeUp) while measuring; resuming with its stored "
+             "configuration. Check the supply if this repeats.");
         return;
     }
     if (frame.mid != toByte(MessageId::kMtData2)) return;

@@ -97,7 +97,7 @@ TEST(XsensPtyHil, RealTimeSamplesGetHostTimesFiveMillisecondsApart) {
     if (!rig.pty) GTEST_SKIP() << rig.skip_reason;
     ASSERT_TRUE(rig.device->configure().isOk());
     const auto samples = rig.collect(100, 5 * kNsPerSec);
-    ASSERT_EQ(samples.size(), 100u);
+    ASSERT_GE(samples.size(), 100u);
     std::vector<double> steps;
     for (std::size_t i = 1; i < samples.size(); ++i) {
         steps.push_back(static_cast<double>(samples[i].t_host - samples[i - 1].t_host));

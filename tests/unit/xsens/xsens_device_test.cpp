@@ -208,6 +208,41 @@ TEST(XsensDevice, DisconnectIsReportedAndConfigureRecovers) {
     expectSamplesMatch(samples, intact(rig.fake, before));
 }
 
+TEST(XsensDevice, RestartMidStreamIsReportedAndMeasurementResumes) {
+    Rig rig;
+    ASSERT_TRUE(rig.device.configure().isOk());
+    auto samples = rig.collect(50);
+    ASSERT_GE(samples.size(), 50u);
+    const std::uint32_t epoch_before = rig.fake.epoch();
+    rig.fake.powerCycle();
+    const auto after = rig.collect(50);
+    ASSERT_GE(after.size(), 50u);
+    EXPECT_EQ(rig.fake.epoch(), epoch_before + 1);
+    EXPECT_EQ(rig.device.stats().restarts, 1u);
+    EXPECT_EQ(rig.device.stats().gaps, 0u);  // a restart is not a loss
+    std::vector<StreamedPacket> truth;
+    for (const auto& p : rig.fake.streamed()) {
+        if (p.epoch == rig.fake.epoch()) truth.push_back(p);
+    }
+    expectSamplesMatch(after, truth);
+    EXPECT_EQ(after.front().packet_counter, 0);
+    // Host time keeps going forward across the restart.
+    EXPECT_GT(after.front().t_host, samples.back().t_host);
+    EXPECT_LT(after.front().t_host - samples.back().t_host, 50 * kNsPerMs);
+    EXPECT_NE(rig.device.problems().back().find("WakeUp"), std::string::npos);
+}
+
+TEST(XsensDevice, ConfigureRightAfterPowerUpAcksTheWakeUp) {
+    FakeXsensConfig fc;
+    fc.streaming_at_start = false;
+    Rig rig(fc);
+    rig.fake.powerCycle();
+    Status s = rig.device.configure();
+    ASSERT_TRUE(s.isOk()) << s.message();
+    EXPECT_EQ(rig.fake.requestsSeen().front(), 0x30);  // GoToConfig caught it before it measured
+    EXPECT_EQ(rig.collect(10).size(), 10u);
+}
+
 TEST(XsensDevice, RawTapSeesEveryByteWithItsReceiveTime) {
     Rig rig;
     ASSERT_TRUE(rig.device.configure().isOk());

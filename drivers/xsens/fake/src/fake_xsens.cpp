@@ -83,6 +83,11 @@ void FakeXsens::handle(std::uint8_t mid, std::span<const std::uint8_t> payload) 
         const auto frame = encodeErrorFrame(code);
         output_.insert(output_.end(), frame.begin(), frame.end());
     };
+    if (awaiting_wakeup_ack_ && (mid == toByte(MessageId::kWakeUpAck) || mid == toByte(MessageId::kGoToConfig))) {
+        awaiting_wakeup_ack_ = false;  // the host caught the device: it stays in config mode
+        measuring_ = false;
+        if (mid == toByte(MessageId::kWakeUpAck)) return;
+    }
     switch (static_cast<MessageId>(mid)) {
         case MessageId::kGoToConfig:
             if (goto_configs_ignored_ < cfg_.ignore_first_goto_configs) {
@@ -144,7 +149,22 @@ void FakeXsens::handle(std::uint8_t mid, std::span<const std::uint8_t> payload) 
     }
 }
 
+void FakeXsens::powerCycle() {
+    parser_.reset();
+    measuring_ = false;
+    awaiting_wakeup_ack_ = true;
+    counter_ = 0;
+    sample_time_fine_ = 0;
+    reply(MessageId::kWakeUp);
+}
+
 bool FakeXsens::emitPacket() {
+    if (awaiting_wakeup_ack_) {
+        // No WakeUpAck in time: measure with the stored configuration.
+        awaiting_wakeup_ack_ = false;
+        measuring_ = true;
+        ++epoch_;
+    }
     if (!measuring_) return false;
     StreamedPacket p;
     p.index = next_index_++;

@@ -5,7 +5,9 @@
 // Acceleration, RateOfTurn, StatusWord, optional DeltaQ/DeltaV) and starts measurement. poll()
 // then hands out ImuSamples whose SampleTimeFine (10 kHz, 32 bit) is mapped to host time by a
 // ClockMapper; packet-counter gaps, checksum failures, resyncs and Error messages are counted
-// and described, never fatal. Every received byte chunk goes to the optional RawTap first.
+// and described, never fatal. A device that restarts mid-stream (WakeUp) is let resume measuring
+// with its stored configuration; its clocks restart, so the time mapping starts afresh. Every
+// received byte chunk goes to the optional RawTap first.
 #pragma once
 
 #include <cstdint>
@@ -43,6 +45,7 @@ struct XsensDeviceStats {
     std::uint64_t incomplete = 0;      // MTData2 without SampleTimeFine / Acceleration / RateOfTurn
     std::uint64_t malformed = 0;       // MTData2 whose items could not be decoded
     std::uint64_t device_errors = 0;   // Error (0x42) messages received
+    std::uint64_t restarts = 0;        // WakeUp seen while measuring (power glitch, reset)
     std::uint64_t checksum_failures = 0;
     std::uint64_t resyncs = 0;
 };

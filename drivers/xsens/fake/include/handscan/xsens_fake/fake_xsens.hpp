@@ -61,7 +61,12 @@ public:
     std::vector<std::uint8_t> takeOutput();
     bool hasOutput() const { return !output_.empty(); }
 
-    bool measuring() const { return measuring_; }
+    // Power cycle / reset: the MTi announces itself with WakeUp and, unless the host answers
+    // WakeUpAck (or GoToConfig) before the next packet is due, starts measuring with the stored
+    // configuration; the packet counter and SampleTimeFine restart from 0.
+    void powerCycle();
+    // Measuring, or about to start (waiting for a WakeUpAck that may never come).
+    bool measuring() const { return measuring_ || awaiting_wakeup_ack_; }
     std::uint16_t rateHz() const { return rate_hz_; }
     int baudrate() const { return baud_; }
     const std::vector<OutputConfigEntry>& outputConfiguration() const { return outputs_; }
@@ -88,6 +93,7 @@ private:
     bool measuring_;
     int goto_configs_ignored_ = 0;
     std::uint32_t epoch_ = 0;
+    bool awaiting_wakeup_ack_ = false;
     std::uint64_t next_index_ = 0;
     std::uint16_t counter_;
     std::uint32_t sample_time_fine_;
