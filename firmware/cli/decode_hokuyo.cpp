@@ -12,6 +12,7 @@
 #include <ostream>
 
 #include "decoder_registry.hpp"
+#include "json_text.hpp"
 #include "handscan/hokuyo/scip_stream_parser.hpp"
 #include "handscan/hokuyo/sensor_parameters.hpp"
 
@@ -21,24 +22,6 @@ namespace {
 using hokuyo::ScipEvent;
 using hokuyo::ScipFault;
 using hokuyo::ScipFrame;
-
-std::string jsonString(std::string_view s) {
-    std::string out = "\"";
-    for (char c : s) {
-        const auto u = static_cast<unsigned char>(c);
-        if (c == '"' || c == '\\') {
-            out += '\\';
-            out += c;
-        } else if (u < 0x20 || u >= 0x7F) {
-            char buf[8];
-            std::snprintf(buf, sizeof buf, "\\u%04x", u);
-            out += buf;
-        } else {
-            out += c;
-        }
-    }
-    return out + "\"";
-}
 
 template <typename T>
 void jsonArray(std::ostream& os, const std::vector<T>& v) {

@@ -12,6 +12,7 @@
 #include <chrono>
 #include <cmath>
 #include <filesystem>
+#include <limits>
 #include <thread>
 
 #include "gl_api.hpp"
@@ -192,7 +193,9 @@ void UiApp::ingest() {
             }
             renderer_.appendPoints(delta_.points);
             renderer_.appendTrack(delta_.track);
-            coverage_.add(delta_.points);
+            const auto pose = reader_.latestPose();
+            coverage_.add(delta_.points, pose ? static_cast<float>(pose->position_m[2]) - 0.5f
+                                              : std::numeric_limits<float>::infinity());
             track_cpu_.insert(track_cpu_.end(), delta_.track.begin(), delta_.track.end());
             if (!delta_.points.empty() || delta_.reset) coverage_dirty_ = true;
         }
@@ -495,7 +498,9 @@ void UiApp::drawCoverage(const ScreenLayout& l) {
         dl->AddCircleFilled(toScreen(static_cast<float>(pose_->position_m[0]), static_cast<float>(pose_->position_m[1])),
                             8.0f, IM_COL32_WHITE);
     }
-    dl->AddText(ImVec2(a.x + 6, a.y + h - 22), IM_COL32_WHITE, "coverage (top-down density, black = not scanned)");
+    const char* legend = "coverage below hip height: black = not scanned";
+    dl->AddText(ImVec2(a.x + w - ImGui::CalcTextSize(legend).x - 8, a.y + h - ImGui::GetTextLineHeight() - 6),
+                IM_COL32_WHITE, legend);
 }
 
 void UiApp::drawView(const ScreenLayout& l) {

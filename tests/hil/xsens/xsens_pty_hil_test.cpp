@@ -142,6 +142,25 @@ TEST(XsensPtyHil, FaultsAreReportedAndCostOnlyTheDamagedPackets) {
     EXPECT_NE(all.find("packet counter jumped"), std::string::npos) << all;
 }
 
+TEST(XsensPtyHil, FactoryDefaultDeviceAt115200IsFoundAndMovedTo921600) {
+    FakeXsensConfig fc;
+    fc.baudrate = 115200;  // as shipped
+    PtyRig rig(fc, {}, PtyXsensOptions{.real_time = false});
+    if (!rig.pty) GTEST_SKIP() << rig.skip_reason;
+    XsensDeviceConfig dc;
+    dc.reply_timeout = 100 * kNsPerMs;
+    dc.set_link_baudrate = [&rig](int baud) { return rig.serial->setBaudrate(baud); };
+    rig.device = std::make_unique<XsensDevice>(*rig.serial, dc);
+    Status s = rig.device->configure();
+    ASSERT_TRUE(s.isOk()) << s.message();
+    EXPECT_EQ(rig.fake.baudrate(), 921600);
+    EXPECT_EQ(rig.serial->describe(), "serial " + rig.pty->slavePath() + " 921600");
+    auto samples = rig.collect(300);
+    rig.drainInto(samples);
+    expectExactly(samples, rig.truth());
+    EXPECT_EQ(rig.device->stats().gaps, 0u);
+}
+
 TEST(XsensPtyHil, HangUpMidStreamIsReportedAsADisconnect) {
     PtyRig rig({}, {}, PtyXsensOptions{.real_time = false});
     if (!rig.pty) GTEST_SKIP() << rig.skip_reason;

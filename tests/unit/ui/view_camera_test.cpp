@@ -87,5 +87,13 @@ TEST(CoverageGrid, GapsStayEmpty) {
     EXPECT_EQ(img.counts[static_cast<std::size_t>(3) * 10 + 7], 9u);  // row 3 = southmost (y in [0,1))
 }
 
+TEST(CoverageGrid, CeilingDoesNotHideFloorGaps) {
+    CoverageGrid g(1.0f);
+    const std::vector<shm::DisplayPoint> pts = {{0.5f, 0.5f, 0.0f, 0, 0, 0, 0}, {1.5f, 0.5f, 3.0f, 0, 0, 0, 0}};
+    g.add(pts, 0.9f);
+    EXPECT_EQ(g.countAt(0.5f, 0.5f), 1u);
+    EXPECT_EQ(g.countAt(1.5f, 0.5f), 0u);  // only the ceiling was seen there: still a gap
+}
+
 }  // namespace
 }  // namespace handscan::ui

@@ -34,6 +34,12 @@ struct XsensDeviceConfig {
     TimeNs reply_timeout = 200 * kNsPerMs;       // wait for an ack before resending
     int attempts = 5;                            // sends per request (GoToConfig while streaming)
     std::function<TimeNs()> clock = monotonicNow;  // host receive time (tests inject a fake)
+    // Serial links: the rate to run at, and how to retune the host side (SerialStream::
+    // setBaudrate). When set, configure() finds a device that talks at another rate (the MTi
+    // ships at 115200) by probing the Xbus rates, then moves it to `baudrate` with SetBaudrate
+    // + Reset. Unset (USB, tests): the link rate is taken as given.
+    int baudrate = 921600;
+    std::function<Status(int baud)> set_link_baudrate;
 };
 
 struct XsensDeviceStats {
@@ -61,6 +67,11 @@ public:
     // stream went away (call configure() again to recover).
     Status poll(std::vector<ImuSample>& out, TimeNs timeout);
 
+    // In config mode: moves device and link to `baud` (SetBaudrate, Reset, retune, GoToConfig).
+    Status switchBaudrate(int baud);
+    // The line rate the link runs at now (the configured one until probing finds another).
+    int linkBaudrate() const { return link_baud_; }
+
     std::uint32_t deviceId() const { return device_id_; }
     const std::string& productCode() const { return product_code_; }
     const std::vector<OutputConfigEntry>& outputConfiguration() const { return output_config_; }
@@ -81,6 +92,7 @@ private:
     };
     Result<Reply> request(MessageId mid, std::span<const std::uint8_t> payload, const char* step);
     Status readSome(TimeNs timeout, TimeNs& t_rx);
+    Status enterConfigMode();
     void handleMeasurement(const XbusFrameView& frame, TimeNs t_rx, std::vector<ImuSample>* out);
     void note(std::string problem);
 
@@ -94,6 +106,7 @@ private:
     std::string product_code_;
     std::vector<OutputConfigEntry> output_config_;
     bool measuring_ = false;
+    int link_baud_ = 0;
     std::optional<std::uint16_t> last_counter_;
     mutable XsensDeviceStats stats_;
     std::vector<std::string> problems_;
