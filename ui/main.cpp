@@ -30,6 +30,8 @@ int main(int argc, char** argv) {
     app.add_option("--camera-target", target, "fixed free camera: look-at point x,y,z in metres");
     app.add_option("--fov", o.fov_y_deg, "vertical field of view, degrees")->capture_default_str();
     app.add_option("--point-size", o.point_size_px, "point size in pixels")->capture_default_str();
+    app.add_option("--max-draw-points", o.max_draw_points, "points drawn per frame (0 = adapt to the renderer's speed)")
+        ->capture_default_str();
     app.add_option("--export-target", o.export_target, "directory passed with the export command");
     app.add_option("--font", o.font_path, "TrueType font")->capture_default_str();
     app.add_option("--screenshot", o.screenshot_path, "render until the map is there, save this PNG and exit");

@@ -14,9 +14,11 @@ const RegisterCommand kInfo{"info", "Show a recording's channels, message counts
                             [](CLI::App& sub) {
     auto file = std::make_shared<std::string>();
     auto json = std::make_shared<bool>(false);
+    auto verify = std::make_shared<bool>(false);
     sub.add_option("REC", *file, "recording (.mcap)")->required()->check(CLI::ExistingFile);
     sub.add_flag("--json", *json, "print one JSON object instead of a table");
-    return std::function<int()>([file, json] {
+    sub.add_flag("--verify", *verify, "also check every CRC (chunks, data section, summary); exit 3 on a mismatch");
+    return std::function<int()>([file, json, verify] {
         auto reader = recording::McapReader::open(*file);
         if (!reader) {
             log().error("{}", reader.status().message());
@@ -33,12 +35,18 @@ const RegisterCommand kInfo{"info", "Show a recording's channels, message counts
             log().error("{}", summary.status().message());
             return 1;
         }
+        if (*verify) {
+            if (Status s = recording::checkRecordingCrcs(**reader, *summary); !s) {
+                log().error("{}", s.message());
+                return 1;
+            }
+        }
         if (*json) {
             recording::printSummaryJson(*summary, std::cout);
         } else {
             recording::printSummaryText(*summary, std::cout);
         }
-        return 0;
+        return summary->crc_checked && !summary->crc_problems.empty() ? 3 : 0;
     });
 }};
 

@@ -13,9 +13,9 @@ void CoverageGrid::clear() {
     max_ix_ = max_iy_ = -1;
 }
 
-void CoverageGrid::add(std::span<const shm::DisplayPoint> points) {
+void CoverageGrid::add(std::span<const shm::DisplayPoint> points, float max_z_m) {
     for (const shm::DisplayPoint& p : points) {
-        if (!std::isfinite(p.x_m) || !std::isfinite(p.y_m)) continue;
+        if (!std::isfinite(p.x_m) || !std::isfinite(p.y_m) || !(p.z_m <= max_z_m)) continue;
         const auto ix = static_cast<std::int32_t>(std::floor(p.x_m / cell_m_));
         const auto iy = static_cast<std::int32_t>(std::floor(p.y_m / cell_m_));
         if (cells_.empty()) {

@@ -147,16 +147,18 @@ void MapRenderer::appendPoints(std::span<const shm::DisplayPoint> pts) {
 
 void MapRenderer::appendTrack(std::span<const shm::TrackPoint> track) { track_.append(track.data(), track.size()); }
 
-void MapRenderer::bindVertexArrays() {
-    if (points_gen_ != points_.generation() && points_.buffer()) {
+void MapRenderer::bindVertexArrays(std::size_t stride) {
+    if ((points_gen_ != points_.generation() || stride_ != stride) && points_.buffer()) {
+        const auto bytes = static_cast<GLsizei>(stride * sizeof(shm::DisplayPoint));
         glBindVertexArray(points_vao_);
         glBindBuffer(GL_ARRAY_BUFFER, points_.buffer());
         glEnableVertexAttribArray(0);
-        glVertexAttribPointer(0, 3, GL_FLOAT, GL_FALSE, sizeof(shm::DisplayPoint), nullptr);
+        glVertexAttribPointer(0, 3, GL_FLOAT, GL_FALSE, bytes, nullptr);
         glEnableVertexAttribArray(1);
-        glVertexAttribPointer(1, 4, GL_UNSIGNED_BYTE, GL_TRUE, sizeof(shm::DisplayPoint),
+        glVertexAttribPointer(1, 4, GL_UNSIGNED_BYTE, GL_TRUE, bytes,
                               reinterpret_cast<void*>(offsetof(shm::DisplayPoint, r)));
         points_gen_ = points_.generation();
+        stride_ = stride;
     }
     if (track_gen_ != track_.generation() && track_.buffer()) {
         glBindVertexArray(track_vao_);
@@ -170,8 +172,12 @@ void MapRenderer::bindVertexArrays() {
     glBindVertexArray(0);
 }
 
-void MapRenderer::draw(const Eigen::Matrix4f& view_proj, ColourMode mode, float point_size_px) {
-    bindVertexArrays();
+void MapRenderer::draw(const Eigen::Matrix4f& view_proj, ColourMode mode, float point_size_px,
+                       std::size_t max_points) {
+    const std::size_t n = points_.count();
+    const std::size_t stride = max_points > 0 && n > max_points ? (n + max_points - 1) / max_points : 1;
+    bindVertexArrays(stride);
+    last_drawn_ = n / stride;
     glEnable(GL_DEPTH_TEST);
     glEnable(GL_PROGRAM_POINT_SIZE);
     if (points_.count() > 0) {
@@ -181,7 +187,7 @@ void MapRenderer::draw(const Eigen::Matrix4f& view_proj, ColourMode mode, float 
         glUniform2f(point_program_.uniform("u_z_range"), min_z_, max_z_);
         glUniform1f(point_program_.uniform("u_point_size"), point_size_px);
         glBindVertexArray(points_vao_);
-        glDrawArrays(GL_POINTS, 0, static_cast<GLsizei>(points_.count()));
+        glDrawArrays(GL_POINTS, 0, static_cast<GLsizei>(last_drawn_));
     }
     glUseProgram(line_program_.id());
     glUniformMatrix4fv(line_program_.uniform("u_view_proj"), 1, GL_FALSE, view_proj.data());

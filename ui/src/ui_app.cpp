@@ -12,6 +12,7 @@
 #include <chrono>
 #include <cmath>
 #include <filesystem>
+#include <limits>
 #include <thread>
 
 #include "gl_api.hpp"
@@ -117,6 +118,7 @@ private:
     ImFont* font_big_ = nullptr;
     FrameFacts facts_;
     bool status_seen_ = false;
+    std::size_t draw_budget_ = 2'000'000;
 };
 
 UiApp::~UiApp() {
@@ -191,7 +193,9 @@ void UiApp::ingest() {
             }
             renderer_.appendPoints(delta_.points);
             renderer_.appendTrack(delta_.track);
-            coverage_.add(delta_.points);
+            const auto pose = reader_.latestPose();
+            coverage_.add(delta_.points, pose ? static_cast<float>(pose->position_m[2]) - 0.5f
+                                              : std::numeric_limits<float>::infinity());
             track_cpu_.insert(track_cpu_.end(), delta_.track.begin(), delta_.track.end());
             if (!delta_.points.empty() || delta_.reset) coverage_dirty_ = true;
         }
@@ -494,7 +498,9 @@ void UiApp::drawCoverage(const ScreenLayout& l) {
         dl->AddCircleFilled(toScreen(static_cast<float>(pose_->position_m[0]), static_cast<float>(pose_->position_m[1])),
                             8.0f, IM_COL32_WHITE);
     }
-    dl->AddText(ImVec2(a.x + 6, a.y + h - 22), IM_COL32_WHITE, "coverage (top-down density, black = not scanned)");
+    const char* legend = "coverage below hip height: black = not scanned";
+    dl->AddText(ImVec2(a.x + w - ImGui::CalcTextSize(legend).x - 8, a.y + h - ImGui::GetTextLineHeight() - 6),
+                IM_COL32_WHITE, legend);
 }
 
 void UiApp::drawView(const ScreenLayout& l) {
@@ -518,7 +524,7 @@ void UiApp::drawView(const ScreenLayout& l) {
     facts_.framebuffer_h = fbh;
     facts_.view_px = Rect{static_cast<float>(vx), static_cast<float>(fbh - vy_gl - vh), static_cast<float>(vw),
                           static_cast<float>(vh)};
-    facts_.points_drawn = renderer_.pointCount();
+    facts_.points_drawn = renderer_.pointCount();  // screenshots draw every point
     facts_.track_points = renderer_.trackCount();
     facts_.epoch = cursor_.epoch;
     if (coverage_view_ || vw <= 0 || vh <= 0) return;
@@ -527,7 +533,8 @@ void UiApp::drawView(const ScreenLayout& l) {
     glScissor(vx, vy_gl, vw, vh);
     const Eigen::Matrix4f vp = camera_.projection(static_cast<float>(vw) / static_cast<float>(vh)) * camera_.view();
     facts_.view_proj = vp;
-    renderer_.draw(vp, colour_, o_.point_size_px);
+    const bool full = !o_.screenshot_path.empty();
+    renderer_.draw(vp, colour_, o_.point_size_px, full ? 0 : o_.max_draw_points > 0 ? o_.max_draw_points : draw_budget_);
     glDisable(GL_SCISSOR_TEST);
     glViewport(0, 0, fbw, fbh);
 }
@@ -599,6 +606,10 @@ int UiApp::run() {
             if (elapsed > o_.timeout_s) return finishScreenshot(true);
         }
         glfwSwapBuffers(window_);
+        // Adapt the number of points drawn so that touch input stays responsive (~25 Hz).
+        const double frame_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - frame_start).count();
+        if (frame_s > 0.06) draw_budget_ = std::max<std::size_t>(100'000, static_cast<std::size_t>(draw_budget_ * 0.7));
+        if (frame_s < 0.03 && draw_budget_ < renderer_.pointCount()) draw_budget_ = draw_budget_ * 5 / 4 + 1;
         if (o_.max_seconds > 0 && elapsed > o_.max_seconds) break;
         if (!screenshot) std::this_thread::sleep_until(frame_start + std::chrono::milliseconds(16));  // <= 60 Hz without vsync
     }

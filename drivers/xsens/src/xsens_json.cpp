@@ -62,11 +62,11 @@ void intFields(std::ostream& out, const std::vector<XdiField>& fields, int eleme
 }
 
 std::string utcIso(const std::vector<XdiField>& f) {
-    // ns, year, month, day, hour, minute, second, flags (see xdi.cpp)
-    char buf[48];
-    std::snprintf(buf, sizeof buf, "%04d-%02d-%02dT%02d:%02d:%02d.%09dZ", static_cast<int>(f[1].value),
-                  static_cast<int>(f[2].value), static_cast<int>(f[3].value), static_cast<int>(f[4].value),
-                  static_cast<int>(f[5].value), static_cast<int>(f[6].value), static_cast<int>(f[0].value));
+    // ns, year, month, day, hour, minute, second, flags (see xdi.cpp); all unsigned, ns < 2^32.
+    auto n = [&](std::size_t i) { return static_cast<long long>(f[i].value); };
+    char buf[96];
+    std::snprintf(buf, sizeof buf, "%04lld-%02lld-%02lldT%02lld:%02lld:%02lld.%09lldZ", n(1), n(2), n(3), n(4), n(5),
+                  n(6), n(0));
     return buf;
 }
 

@@ -102,10 +102,7 @@ bool Recorder::drainOnce() {
         bool ok = !write_failed_.load(std::memory_order_relaxed);
         if (ok) {
             if (Status s = writer_->write(item.tap->channel_id_, item.packet.t, item.packet.bytes); !s) {
-                log().error("recorder: {} (further messages are dropped)", s.message());
-                std::lock_guard<std::mutex> lock(status_mutex_);
-                status_ = s;
-                write_failed_.store(true, std::memory_order_relaxed);
+                fail(s);
                 ok = false;
             }
         }
@@ -119,9 +116,29 @@ bool Recorder::drainOnce() {
     return true;
 }
 
+void Recorder::fail(const Status& s) {
+    if (write_failed_.exchange(true)) return;  // the first error is the one to report
+    log().error("recorder: {} (further messages are dropped)", s.message());
+    std::lock_guard<std::mutex> lock(status_mutex_);
+    status_ = s;
+}
+
 void Recorder::run() {
+    TimeNs last_data = monotonicNow();
+    bool unflushed = false;
     while (running_.load(std::memory_order_acquire)) {
-        if (!drainOnce()) std::this_thread::sleep_for(std::chrono::nanoseconds(options_.idle_sleep_ns));
+        if (drainOnce()) {
+            last_data = monotonicNow();
+            unflushed = true;
+            continue;
+        }
+        // Idle: close the open chunk once it has waited a chunk duration.
+        if (unflushed && options_.mcap.chunk_duration_ns > 0 &&
+            monotonicNow() - last_data >= options_.mcap.chunk_duration_ns) {
+            unflushed = false;
+            if (Status s = writer_->flush(); !s) fail(s);
+        }
+        std::this_thread::sleep_for(std::chrono::nanoseconds(options_.idle_sleep_ns));
     }
     while (drainOnce()) {
     }

@@ -100,6 +100,31 @@ TEST(Recorder, FullQueueDropsAndCountsWithoutBlocking) {
     std::remove(path.c_str());
 }
 
+// Devices go quiet: the open chunk reaches the disk after a chunk duration, while recording
+// goes on (a power cut now would not lose it).
+TEST(Recorder, QuietDevicesGetTheirLastChunkWritten) {
+    const std::string path = ::testing::TempDir() + "/recorder_idle.mcap";
+    RecorderOptions o;
+    o.mcap.chunk_duration_ns = 50 * kNsPerMs;
+    o.idle_sleep_ns = kNsPerMs;
+    auto rec = Recorder::create(path, o);
+    ASSERT_TRUE(rec);
+    auto tap = (*rec)->addChannel(channels::kGpioEvents);
+    ASSERT_TRUE(tap);
+    ASSERT_TRUE((*rec)->start());
+    for (int i = 0; i < 3; ++i) (*tap)->onRaw(monotonicNow(), messageBytes(0, i, 13));
+    // Poll the file as a crash-recovery reader would see it, for up to 5 s.
+    std::size_t seen = 0;
+    for (int k = 0; k < 500 && seen < 3; ++k) {
+        std::this_thread::sleep_for(std::chrono::milliseconds(10));
+        auto r = McapReader::open(path);
+        if (r) seen = test::readAll(**r).size();
+    }
+    EXPECT_EQ(seen, 3u);
+    ASSERT_TRUE((*rec)->stop());
+    std::remove(path.c_str());
+}
+
 TEST(Recorder, UnwritableDirectoryIsAClearError) {
     auto rec = Recorder::create("/nonexistent-dir/rec.mcap");
     ASSERT_FALSE(rec);

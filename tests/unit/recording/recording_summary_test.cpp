@@ -75,9 +75,12 @@ TEST(RecordingSummary, CountsRatesAndGaps) {
               std::string::npos)
         << json.str();
     EXPECT_NE(json.str().find("\"truncated\":false,\"recovered\":false"), std::string::npos);
+    ASSERT_TRUE(checkRecordingCrcs(**r, *s));
+    EXPECT_EQ(s->crc_problems, "");
     std::ostringstream text;
     printSummaryText(*s, text);
     EXPECT_NE(text.str().find("office.mcap: "), std::string::npos);
+    EXPECT_NE(text.str().find("CRC check: every CRC matches"), std::string::npos);
     EXPECT_NE(text.str().find("/laser/scans"), std::string::npos);
     EXPECT_EQ(text.str().find("TRUNCATED"), std::string::npos);
 }
@@ -96,9 +99,13 @@ TEST(RecordingSummary, TruncatedFileIsFlaggedAndCountsWhatSurvived) {
     EXPECT_GT(s->messages, 0u);
     ASSERT_EQ(s->dropped.size(), 1u);
     EXPECT_EQ(s->dropped[0].offset, chunks[3].offset);
+    ASSERT_TRUE(checkRecordingCrcs(**r, *s));
+    EXPECT_TRUE(s->crc_checked);
+    EXPECT_NE(s->crc_problems.find("no Data End record (file cut short)"), std::string::npos) << s->crc_problems;
     std::ostringstream text;
     printSummaryText(*s, text);
     EXPECT_NE(text.str().find("TRUNCATED"), std::string::npos);
+    EXPECT_NE(text.str().find("CRC check: cut.mcap: "), std::string::npos) << text.str();
     std::ostringstream json;
     printSummaryJson(*s, json);
     EXPECT_NE(json.str().find("\"truncated\":true,\"recovered\":true,\"dropped\":[{\"offset\":" +

@@ -136,3 +136,21 @@ TEST(XsensJson, ControlMessagesUnknownItemsAndSiUnits) {
 
 }  // namespace
 }  // namespace handscan::xsens
+
+namespace handscan::xsens {
+namespace {
+
+// Found by fuzz_xbus_parser: a UtcTime with nanoseconds >= 2^31 overflowed an int conversion.
+TEST(XsensJson, UtcTimeWithHugeNanosecondsIsPrintedNotUndefined) {
+    MtData2Builder b;
+    const std::vector<std::uint8_t> utc{0xFF, 0xFF, 0xFF, 0xFF, 0x07, 0xE3, 1, 20, 13, 47, 24, 0x37};
+    b.raw(xdi::kUtcTime, utc);
+    XsensJsonDecoder decoder;
+    std::ostringstream out;
+    decoder.feed(0, b.frame(), out);
+    EXPECT_NE(out.str().find(R"("ns":4294967295,)"), std::string::npos) << out.str();
+    EXPECT_NE(out.str().find(R"("iso":"2019-01-20T13:47:24.4294967295Z")"), std::string::npos) << out.str();
+}
+
+}  // namespace
+}  // namespace handscan::xsens

@@ -4,6 +4,7 @@
 #pragma once
 
 #include <cstdint>
+#include <limits>
 #include <span>
 #include <unordered_map>
 #include <vector>
@@ -23,7 +24,9 @@ struct CoverageImage {
 class CoverageGrid {
 public:
     explicit CoverageGrid(float cell_m = 0.25f, int max_cells_per_side = 1024);
-    void add(std::span<const shm::DisplayPoint> points);
+    // Counts points at or below max_z_m (the UI passes the device height minus 0.5 m, so that
+    // ceilings do not hide gaps in the floor).
+    void add(std::span<const shm::DisplayPoint> points, float max_z_m = std::numeric_limits<float>::infinity());
     void clear();
     std::size_t occupiedCells() const { return cells_.size(); }
     std::uint32_t countAt(float x_m, float y_m) const;

@@ -60,8 +60,11 @@ public:
     void appendTrack(std::span<const shm::TrackPoint> track);
     void setDevice(const std::optional<shm::PoseRecord>& pose) { device_ = pose; }
 
-    // Draws into the current viewport. `view_proj` = projection * view.
-    void draw(const Eigen::Matrix4f& view_proj, ColourMode mode, float point_size_px);
+    // Draws into the current viewport. `view_proj` = projection * view. With more points than
+    // `max_points` (0 = no limit), every k-th point is drawn so that a slow (software) renderer
+    // stays interactive; the decimation is uniform because it strides through append order.
+    void draw(const Eigen::Matrix4f& view_proj, ColourMode mode, float point_size_px, std::size_t max_points = 0);
+    std::size_t lastDrawnPoints() const { return last_drawn_; }
 
     std::size_t pointCount() const { return points_.count(); }
     std::size_t pointCapacity() const { return points_.capacity(); }
@@ -71,13 +74,15 @@ public:
     float maxZ() const { return max_z_; }
 
 private:
-    void bindVertexArrays();
+    void bindVertexArrays(std::size_t stride);
     GrowingVertexBuffer points_;
     GrowingVertexBuffer track_;
     GlProgram point_program_;
     GlProgram line_program_;
     unsigned points_vao_ = 0, track_vao_ = 0, device_vao_ = 0, device_vbo_ = 0;
     std::uint64_t points_gen_ = ~0ull, track_gen_ = ~0ull;
+    std::size_t stride_ = 1;  // points per drawn point in points_vao_
+    std::size_t last_drawn_ = 0;
     std::optional<shm::PoseRecord> device_;
     float min_z_ = 0.0f, max_z_ = 3.0f;
     bool have_z_ = false;

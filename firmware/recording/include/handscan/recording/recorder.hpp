@@ -7,6 +7,9 @@
 // the message is dropped and counted; counters() reports per channel what was written and what
 // was dropped. stop() drains what is queued and finishes the file.
 //
+// When every driver goes quiet, the open chunk is written out after mcap.chunk_duration_ns, so
+// the last messages before a stall are on disk too.
+//
 // One producer thread per tap (the SpscQueue's contract). Call stop() once the drivers have
 // stopped; bytes offered after stop() are counted as dropped.
 #pragma once
@@ -26,8 +29,16 @@
 
 namespace handscan::recording {
 
+// The recorder syncs every closed chunk to the storage device (done on the writer thread, never
+// on a driver's): a power cut then loses at most the open chunk, not the page cache's ~30 s.
+inline McapWriterOptions recorderWriterDefaults() {
+    McapWriterOptions o;
+    o.sync_each_chunk = true;
+    return o;
+}
+
 struct RecorderOptions {
-    McapWriterOptions mcap;
+    McapWriterOptions mcap = recorderWriterDefaults();
     std::size_t queue_messages = 2048;         // per channel
     std::size_t queue_bytes = 64u << 20;       // per channel: bounds memory when images back up
     TimeNs idle_sleep_ns = 2 * kNsPerMs;       // writer thread's nap when every queue is empty
@@ -66,6 +77,8 @@ private:
     void run();
     // Moves everything queued into the file; false when nothing was queued.
     bool drainOnce();
+    // Records the first write error; from then on messages are dropped and counted.
+    void fail(const Status& s);
 
     RecorderOptions options_;
     std::unique_ptr<McapWriter> writer_;

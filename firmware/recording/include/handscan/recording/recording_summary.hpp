@@ -46,6 +46,9 @@ struct RecordingSummary {
     bool indexed = false;    // read through the summary index
     bool truncated = false;  // no valid footer: cut short, recovered by a linear scan
     std::vector<DroppedRegion> dropped;
+    // Filled by checkRecordingCrcs(): every chunk, data-section and summary CRC.
+    bool crc_checked = false;
+    std::string crc_problems;  // empty when every CRC matched
 
     TimeNs duration() const { return end - start; }
 };
@@ -53,6 +56,9 @@ struct RecordingSummary {
 // Reads every message once. `progress` (optional) gets the fraction of the time span done.
 [[nodiscard]] Result<RecordingSummary> summarizeRecording(McapReader& reader,
                                                           const std::function<void(double)>& progress = {});
+
+// Runs McapReader::verify() and records the outcome in `s`; false on an I/O error.
+[[nodiscard]] Status checkRecordingCrcs(McapReader& reader, RecordingSummary& s);
 
 void printSummaryText(const RecordingSummary& s, std::ostream& out);
 void printSummaryJson(const RecordingSummary& s, std::ostream& out);
