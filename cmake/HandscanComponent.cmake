@@ -4,6 +4,11 @@
 # and, for folders that group components such as drivers/, two levels deep).
 function(handscan_add_component_dirs)
   foreach(top IN LISTS ARGN)
+    # A top folder that is one component itself (ui/) owns its CMakeLists.txt.
+    if(EXISTS ${CMAKE_SOURCE_DIR}/${top}/CMakeLists.txt)
+      add_subdirectory(${CMAKE_SOURCE_DIR}/${top} ${CMAKE_BINARY_DIR}/${top})
+      continue()
+    endif()
     file(GLOB children LIST_DIRECTORIES true RELATIVE ${CMAKE_SOURCE_DIR}
          ${CMAKE_SOURCE_DIR}/${top}/*)
     list(SORT children)
@@ -72,4 +77,19 @@ function(handscan_benchmark name)
       HANDSCAN_SHARED_DATA_DIR="${HANDSCAN_SHARED_DATA_DIR}"
       HANDSCAN_TEST_DATA_DIR="${HANDSCAN_TEST_DATA_DIR}")
   handscan_set_warnings(${name})
+endfunction()
+
+# handscan_fuzz_target(fuzz_<name> SOURCES ... LIBS ...): a libFuzzer executable, built only with
+# HANDSCAN_FUZZ=ON (clang). tools/fuzz finds it through build/fuzz/fuzz_targets/<name>.path and
+# seeds it from tests/data/fuzz/<name>/.
+function(handscan_fuzz_target name)
+  cmake_parse_arguments(ARG "" "" "SOURCES;LIBS" ${ARGN})
+  if(NOT HANDSCAN_FUZZ)
+    return()
+  endif()
+  add_executable(${name} ${ARG_SOURCES})
+  target_link_libraries(${name} PRIVATE ${ARG_LIBS})
+  target_link_options(${name} PRIVATE -fsanitize=fuzzer)
+  handscan_set_warnings(${name})
+  file(GENERATE OUTPUT ${CMAKE_BINARY_DIR}/fuzz_targets/${name}.path CONTENT "$<TARGET_FILE:${name}>\n")
 endfunction()

@@ -17,7 +17,7 @@ namespace {
 
 struct EvalOptions {
     std::string gt, est, plot, map, mesh;
-    double max_gap_s = 0.1;
+    double max_gap_s = 0.25;
 };
 
 int fail(const Status& s) {

@@ -29,6 +29,13 @@ std::size_t frameBytes(const ScipFrame& f) {
 
 }  // namespace
 
+HokuyoDeviceConfig hokuyoDeviceConfig(const HokuyoConfig& config) {
+    HokuyoDeviceConfig c;
+    c.reply_timeout_ns = std::max<TimeNs>(fromSeconds(config.connect_timeout_s), 100 * kNsPerMs);
+    c.backoff_max_ns = std::max(fromSeconds(config.reconnect_max_backoff_s), c.backoff_initial_ns);
+    return c;
+}
+
 HokuyoDevice::HokuyoDevice(transport::ByteStream& link, HokuyoDeviceConfig config, RawTap* tap,
                            Clock now, Sleep sleep)
     : link_(link),

@@ -33,7 +33,7 @@ constexpr std::array<IntFieldInfo, 1> kPressure{{{"value", IntType::kU32, 1.0, "
 constexpr std::array<IntFieldInfo, 2> kFrameRange{{{"start", IntType::kU16}, {"end", IntType::kU16}}};
 
 constexpr std::array<IntFieldInfo, 8> kUtc{{
-    {"ns", IntType::kU32, 1e-9, "s"},
+    {"ns", IntType::kU32},  // nanoseconds within the second
     {"year", IntType::kU16},
     {"month", IntType::kU8},
     {"day", IntType::kU8},

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <array>
+#include <cstdio>
 
 #include "handscan/core/log.hpp"
 
@@ -21,7 +22,8 @@ ClockMapperConfig xsensClock() {
 }  // namespace
 
 XsensDevice::XsensDevice(transport::ByteStream& stream, XsensDeviceConfig config, RawTap* tap)
-    : stream_(stream), cfg_(std::move(config)), tap_(tap), clock_(xsensClock()), rx_(kReadChunk) {}
+    : stream_(stream), cfg_(std::move(config)), tap_(tap), clock_(xsensClock()), rx_(kReadChunk),
+      link_baud_(cfg_.baudrate) {}
 
 std::vector<OutputConfigEntry> XsensDevice::outputConfigurationFor(const XsensDeviceConfig& config) {
     const std::uint16_t hz = config.output_rate_hz;
@@ -91,6 +93,14 @@ Result<XsensDevice::Reply> XsensDevice::request(MessageId mid, std::span<const s
                     resend = true;
                     break;
                 }
+                if (f->mid == toByte(MessageId::kWakeUp)) {
+                    // The device (re)booted: acknowledging keeps it in config mode, which is
+                    // where we are taking it anyway.
+                    const auto wake_ack = encodeFrame(MessageId::kWakeUpAck);
+                    if (Status s = stream_.writeAll(wake_ack, cfg_.reply_timeout); !s) return s;
+                    note("Xsens " + std::string(step) + ": " + stream_.describe() + " announced itself (WakeUp)");
+                    continue;
+                }
                 // Anything else is left over from before the request (MTData2 while the device
                 // still streams, late acks): skip it.
             }
@@ -108,14 +118,78 @@ Result<XsensDevice::Reply> XsensDevice::request(MessageId mid, std::span<const s
                       " ms; check power, cable, port and baud rate (MTi default 115200, configured 921600?)"};
 }
 
+Status XsensDevice::enterConfigMode() {
+    // The device may be streaming since power-up: GoToConfig is resent until acked.
+    auto r = request(MessageId::kGoToConfig, {}, "entering config mode");
+    if (r || r.status().code() != StatusCode::kTimeout || !cfg_.set_link_baudrate) return r.status();
+    // Silence at this rate: the device may talk at another one (factory default 115200).
+    const int tried = link_baud_;
+    const int saved_attempts = cfg_.attempts;
+    cfg_.attempts = 2;
+    Status found = r.status();
+    for (int baud : {115200, 921600, 460800, 230400, 57600, 38400, 19200, 9600}) {
+        if (baud == tried) continue;
+        if (Status s = cfg_.set_link_baudrate(baud); !s) {
+            found = s;
+            break;
+        }
+        link_baud_ = baud;
+        parser_.reset();
+        auto probe = request(MessageId::kGoToConfig, {}, "probing the baud rate");
+        if (probe) {
+            note("Xsens " + stream_.describe() + ": device found at " + std::to_string(baud) + " baud, not " +
+                 std::to_string(tried));
+            found = Status::ok();
+            break;
+        }
+    }
+    cfg_.attempts = saved_attempts;
+    if (!found && cfg_.set_link_baudrate(tried)) link_baud_ = tried;
+    if (!found) {
+        return Status{StatusCode::kTimeout, "Xsens entering config mode: no answer from " + stream_.describe() +
+                                                " at any Xbus baud rate (9600 ... 921600); check power, cable and "
+                                                "port (" + r.status().message() + ")"};
+    }
+    return found;
+}
+
+Status XsensDevice::switchBaudrate(int baud) {
+    const auto id = baudrateId(baud);
+    if (!id) {
+        return {StatusCode::kInvalidArgument,
+                "Xsens: " + std::to_string(baud) + " baud is not an Xbus rate; use 921600, 460800, 230400 or 115200"};
+    }
+    if (!cfg_.set_link_baudrate) {
+        return {StatusCode::kUnsupported, "Xsens: " + stream_.describe() + " has no line rate to change"};
+    }
+    const std::uint8_t payload = *id;
+    if (auto r = request(MessageId::kSetBaudrate, std::span(&payload, 1), "setting the baud rate"); !r) {
+        return r.status();
+    }
+    // The new rate takes effect when the device restarts; the ResetAck still comes at the old one.
+    if (auto r = request(MessageId::kReset, {}, "resetting to apply the baud rate"); !r) return r.status();
+    if (Status s = cfg_.set_link_baudrate(baud); !s) return s;
+    link_baud_ = baud;
+    parser_.reset();
+    // It reboots (WakeUp, which request() acknowledges) and must be caught in config mode again.
+    if (auto r = request(MessageId::kGoToConfig, {}, "entering config mode after the baud change"); !r) {
+        return r.status();
+    }
+    log().info("Xsens {} now at {} baud", stream_.describe(), baud);
+    return Status::ok();
+}
+
 Status XsensDevice::configure() {
     measuring_ = false;
     if (!stream_.isOpen()) {
         if (Status s = stream_.open(); !s) return s;
     }
     parser_.reset();
-    // 1. Config mode. The device may be streaming since power-up: GoToConfig is resent until acked.
-    if (auto r = request(MessageId::kGoToConfig, {}, "entering config mode"); !r) return r.status();
+    // 1. Config mode, at the right line rate.
+    if (Status s = enterConfigMode(); !s) return s;
+    if (cfg_.set_link_baudrate && link_baud_ != cfg_.baudrate) {
+        if (Status s = switchBaudrate(cfg_.baudrate); !s) return s;
+    }
     // 2. Identity.
     auto did = request(MessageId::kReqDid, {}, "reading the device id");
     if (!did) return did.status();
@@ -165,6 +239,17 @@ void XsensDevice::handleMeasurement(const XbusFrameView& frame, TimeNs t_rx, std
         ++stats_.device_errors;
         auto e = decodeError(frame.payload);
         note("Xsens " + stream_.describe() + " reported Error " + (e.isOk() ? errorText(e->code) : e.status().message()));
+        return;
+    }
+    if (frame.mid == toByte(MessageId::kWakeUp)) {
+        // Restarted (power glitch, watchdog): without a WakeUpAck it measures again with the
+        // stored output configuration, counters and SampleTimeFine from 0. Start the time
+        // mapping afresh instead of treating the jump as a clock fault.
+        ++stats_.restarts;
+        clock_ = ClockMapper(xsensClock());
+        last_counter_.reset();
+        note("Xsens " + stream_.describe() + " restarted (WakeUp) while measuring; resuming with its stored "
+             "configuration. Check the supply if this repeats.");
         return;
     }
     if (frame.mid != toByte(MessageId::kMtData2)) return;

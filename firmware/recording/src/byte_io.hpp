@@ -2,6 +2,7 @@
 // (every read reports failure instead of running past the end, so truncated input is safe).
 #pragma once
 
+#include <bit>
 #include <cstdint>
 #include <cstring>
 #include <span>
@@ -19,6 +20,10 @@ public:
     void u16(std::uint16_t v) { le(v, 2); }
     void u32(std::uint32_t v) { le(v, 4); }
     void u64(std::uint64_t v) { le(v, 8); }
+    void i32(std::int32_t v) { le(static_cast<std::uint32_t>(v), 4); }
+    void i64(std::int64_t v) { le(static_cast<std::uint64_t>(v), 8); }
+    void f32(float v) { le(std::bit_cast<std::uint32_t>(v), 4); }
+    void f64(double v) { le(std::bit_cast<std::uint64_t>(v), 8); }
     void bytes(std::span<const std::uint8_t> b) { out_.insert(out_.end(), b.begin(), b.end()); }
     void string(std::string_view s) {
         u32(static_cast<std::uint32_t>(s.size()));
@@ -51,6 +56,24 @@ public:
         std::uint64_t u = 0;
         if (!le(u)) return false;
         v = static_cast<std::int64_t>(u);
+        return true;
+    }
+    bool i32(std::int32_t& v) {
+        std::uint32_t u = 0;
+        if (!le(u)) return false;
+        v = static_cast<std::int32_t>(u);
+        return true;
+    }
+    bool f32(float& v) {
+        std::uint32_t u = 0;
+        if (!le(u)) return false;
+        v = std::bit_cast<float>(u);
+        return true;
+    }
+    bool f64(double& v) {
+        std::uint64_t u = 0;
+        if (!le(u)) return false;
+        v = std::bit_cast<double>(u);
         return true;
     }
     bool bytes(std::size_t n, std::span<const std::uint8_t>& out) {

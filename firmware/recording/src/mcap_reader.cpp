@@ -32,9 +32,9 @@ using detail::ByteReader;
 using detail::ChunkRef;
 using detail::RecordScanner;
 
-// No chunk we write is anywhere near this; a larger declared size means a corrupt header, and
-// must not make us allocate it.
-constexpr std::uint64_t kMaxChunkBytes = 4ull << 30;
+// Our chunks are ~1 MiB (one 1600x1200 YUYV frame is 3.7 MiB); other writers use a few MiB. A
+// larger declared size means a corrupt header, and must not make us allocate it.
+constexpr std::uint64_t kMaxChunkBytes = 256ull << 20;
 
 std::string at(std::uint64_t offset) { return "at byte " + std::to_string(offset); }
 
@@ -111,6 +111,43 @@ Status decodeChunk(std::span<const std::uint8_t> content, std::uint64_t offset, 
     return Status::ok();
 }
 
+// Looks from `from` on for the next whole Chunk record whose CRC verifies: after a damaged
+// region (blocks of zeros a power cut left behind, a corrupt length) the scan resumes there
+// instead of losing the rest of the file. A candidate must have a consistent chunk header
+// before it is decompressed and checked, so the search is cheap and false matches impossible
+// in practice (they would also need a matching CRC32).
+Result<std::optional<std::uint64_t>> findNextChunk(detail::ByteSource& src, std::uint64_t from) {
+    constexpr std::size_t kWindow = 1u << 20;
+    constexpr std::size_t kHead = kRecordPrefixSize + 36 + 4 + 8;  // up to records_size with "zstd"
+    const std::uint64_t size = src.size();
+    std::vector<std::uint8_t> win;
+    std::vector<std::uint8_t> content;
+    std::vector<std::uint8_t> records;
+    for (std::uint64_t base = from; base + kRecordPrefixSize + 40 <= size; base += kWindow) {
+        const std::size_t n = static_cast<std::size_t>(std::min<std::uint64_t>(kWindow + kHead, size - base));
+        if (Status s = src.readAt(base, n, win); !s) return s;
+        for (std::size_t i = 0; i < std::min(kWindow, n); ++i) {
+            if (win[i] != static_cast<std::uint8_t>(Opcode::kChunk) || i + kHead > n) continue;
+            const std::uint64_t q = base + i;
+            ByteReader r(std::span<const std::uint8_t>(win).subspan(i + 1));
+            std::uint64_t len = 0, start = 0, end = 0, usize = 0, records_size = 0;
+            std::uint32_t crc = 0, complen = 0;
+            (void)(r.u64(len) && r.u64(start) && r.u64(end) && r.u64(usize) && r.u32(crc) && r.u32(complen));
+            if (len < 40 || len > size - q - kRecordPrefixSize || start > end || usize > kMaxChunkBytes ||
+                (complen != 0 && complen != 4)) {
+                continue;
+            }
+            std::span<const std::uint8_t> name;
+            (void)(r.bytes(complen, name) && r.u64(records_size));
+            if ((complen == 4 && !std::equal(name.begin(), name.end(), "zstd")) || len != 40 + complen + records_size) continue;
+            if (Status s = src.readAt(q + kRecordPrefixSize, static_cast<std::size_t>(len), content); !s) return s;
+            ChunkHeader ch;
+            if (decodeChunk(content, q, ch, records)) return std::optional<std::uint64_t>(q);
+        }
+    }
+    return std::optional<std::uint64_t>();
+}
+
 }  // namespace
 
 // ---------------------------------------------------------------------------------------------
@@ -137,6 +174,16 @@ Result<std::unique_ptr<McapReader>> McapReader::fromBuffer(std::vector<std::uint
 
 std::uint64_t McapReader::fileSize() const { return source_->size(); }
 std::size_t McapReader::chunkCount() const { return chunks_.size(); }
+
+std::pair<TimeNs, TimeNs> McapReader::timeRange() const {
+    if (chunks_.empty()) return {0, 0};
+    std::pair<TimeNs, TimeNs> r{chunks_.front().start, chunks_.front().end};
+    for (const auto& c : chunks_) {
+        r.first = std::min(r.first, c.start);
+        r.second = std::max(r.second, c.end);
+    }
+    return r;
+}
 
 const Channel* McapReader::channel(std::uint16_t id) const {
     const auto it = channel_by_id_.find(id);
@@ -226,7 +273,8 @@ Status McapReader::load() {
             return Status::ok();
         }
         if (s.code() == StatusCode::kIoError) return s;
-        drop(footer.summary_start, footer_offset - std::min(footer_offset, footer.summary_start),
+        const std::uint64_t summary_at = std::min(footer_offset, footer.summary_start);
+        drop(summary_at, footer_offset - summary_at,
              "summary unusable (" + s.message() + "); recovered by scanning the data section");
         channels_.clear();
         channel_by_id_.clear();
@@ -272,7 +320,8 @@ Status McapReader::readIndexed(const Footer& footer, std::uint64_t footer_offset
                 if (!detail::parseChunkIndex(rec->content, ci)) {
                     return {StatusCode::kProtocolError, "malformed Chunk Index " + at(where)};
                 }
-                if (ci.chunk_start_offset + ci.chunk_length > footer.summary_start || ci.chunk_length < kRecordPrefixSize) {
+                if (ci.chunk_length < kRecordPrefixSize || ci.chunk_length > footer.summary_start ||
+                    ci.chunk_start_offset > footer.summary_start - ci.chunk_length) {
                     return {StatusCode::kProtocolError, "Chunk Index " + at(where) + " points outside the data section"};
                 }
                 indexes.push_back(std::move(ci));
@@ -325,10 +374,21 @@ Status McapReader::scanLinear() {
 
     while (pos < size && !reached_end) {
         auto prefix = readPrefix(*source_, pos, buf);
-        if (!prefix) {
-            if (prefix.status().code() != StatusCode::kTruncated) return prefix.status();
-            drop(pos, size - pos, prefix.status().message());
-            break;
+        // Opcode 0 is no record: zero-filled blocks (a power cut on a delayed-allocation file
+        // system) or garbage. Either that or a length past the end: resume at the next chunk.
+        if (!prefix || prefix->op == 0) {
+            if (!prefix && prefix.status().code() != StatusCode::kTruncated) return prefix.status();
+            const std::string why = prefix ? "invalid record (opcode 0x00) " + at(pos) + ": zero-filled or corrupt data"
+                                           : prefix.status().message();
+            auto next = findNextChunk(*source_, pos + 1);
+            if (!next) return next.status();
+            if (!*next) {
+                drop(pos, size - pos, why);
+                break;
+            }
+            drop(pos, **next - pos, why + "; resumed at the chunk at byte " + std::to_string(**next));
+            pos = **next;
+            continue;
         }
         const std::uint8_t op = prefix->op;
         const std::uint64_t len = prefix->len;

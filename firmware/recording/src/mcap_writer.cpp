@@ -221,18 +221,27 @@ Status McapWriter::closeChunk() {
     if (c.messages == 0) return Status::ok();
     if (Status s = c.compressor.compress(c.records, c.compressed); !s) return failed_ = s;
 
+    // Data that does not compress (random noise, already-compressed MJPEG buffers) is stored as
+    // is: smaller, and the reader skips a useless decompression.
+    std::span<const std::uint8_t> payload = c.compressed;
+    std::string compression = c.compressor.compression();
+    if (!compression.empty() && c.compressed.size() >= c.records.size()) {
+        payload = c.records;
+        compression.clear();
+    }
+
     ChunkIndex ci;
     ci.message_start_time = c.start;
     ci.message_end_time = c.end;
     ci.chunk_start_offset = offset_;
-    ci.compression = c.compressor.compression();
-    ci.compressed_size = c.compressed.size();
+    ci.compression = std::move(compression);
+    ci.compressed_size = payload.size();
     ci.uncompressed_size = c.records.size();
 
     // Chunk record: fixed fields, then the (compressed) records written straight from their buffer.
     c.scratch.clear();
     ByteWriter w(c.scratch);
-    const std::uint64_t content_size = 8 + 8 + 8 + 4 + 4 + ci.compression.size() + 8 + c.compressed.size();
+    const std::uint64_t content_size = 8 + 8 + 8 + 4 + 4 + ci.compression.size() + 8 + payload.size();
     w.u8(static_cast<std::uint8_t>(Opcode::kChunk));
     w.u64(content_size);
     w.u64(static_cast<std::uint64_t>(c.start));
@@ -240,14 +249,17 @@ Status McapWriter::closeChunk() {
     w.u64(c.records.size());
     w.u32(crc32(c.records));
     w.string(ci.compression);
-    w.u64(c.compressed.size());
+    w.u64(payload.size());
     if (Status s = emit(c.scratch); !s) return s;
-    if (Status s = emit(c.compressed); !s) return s;
+    if (Status s = emit(payload); !s) return s;
     ci.chunk_length = kRecordPrefixSize + content_size;
 
     // Message Index records, one per channel present in the chunk.
     c.scratch.clear();
     for (auto& [channel_id, entries] : c.index) {
+        // In log-time order, as readers that seek by time expect (arrivals can be out of order).
+        std::stable_sort(entries.begin(), entries.end(),
+                         [](const MessageIndexEntry& a, const MessageIndexEntry& b) { return a.log_time < b.log_time; });
         ci.message_index_offsets[channel_id] = offset_ + c.scratch.size();
         detail::writeMessageIndex(w, MessageIndex{channel_id, std::move(entries)});
     }

@@ -1,8 +1,6 @@
 // The pipeline's side of the live-map region.
 #include "handscan/shm/live_map_writer.hpp"
 
-#include <unistd.h>
-
 #include <Eigen/Geometry>
 #include <algorithm>
 #include <atomic>
@@ -20,7 +18,7 @@ std::uint64_t freshNonce() {
     std::random_device rd;
     const std::uint64_t r = (static_cast<std::uint64_t>(rd()) << 32) ^ rd();
     const std::uint64_t n = r ^ static_cast<std::uint64_t>(monotonicNow()) ^
-                            (static_cast<std::uint64_t>(::getpid()) << 48);
+                            (SharedRegion::currentProcessId() << 48);
     return n == 0 ? 1 : n;  // 0 means "no writer seen yet" to readers
 }
 
@@ -82,7 +80,7 @@ LiveMapWriter::LiveMapWriter(std::shared_ptr<SharedRegion> region, const WriterO
     atomicWord(h.map_capacity_points).store(capacity_, std::memory_order_relaxed);
     atomicWord(h.points_offset).store(sizeof(RegionHeader), std::memory_order_relaxed);
     atomicWord(h.writer_nonce).store(nonce_, std::memory_order_relaxed);
-    atomicWord(h.writer_pid).store(static_cast<std::uint64_t>(::getpid()), std::memory_order_relaxed);
+    atomicWord(h.writer_pid).store(SharedRegion::currentProcessId(), std::memory_order_relaxed);
     atomicWord(h.writer_started_ns).store(monotonicNow(), std::memory_order_relaxed);
     atomicWord(h.heartbeat_ns).store(monotonicNow(), std::memory_order_relaxed);
     atomicWord(h.writer_state).store(static_cast<std::uint64_t>(WriterState::kRunning), std::memory_order_relaxed);

@@ -102,6 +102,8 @@ Result<SharedRegion::Identity> SharedRegion::identityOf(const std::string& name)
 
 void SharedRegion::unlink(const std::string& name) { ::shm_unlink(name.c_str()); }
 
+std::uint64_t SharedRegion::currentProcessId() { return static_cast<std::uint64_t>(::getpid()); }
+
 Result<std::shared_ptr<SharedRegion>> SharedRegion::anonymous(std::size_t bytes) {
     void* p = ::mmap(nullptr, bytes, PROT_READ | PROT_WRITE, MAP_SHARED | MAP_ANONYMOUS, -1, 0);
     if (p == MAP_FAILED) return Status{StatusCode::kIoError, "mmap(anonymous, " + std::to_string(bytes) + "): " + errnoText(errno)};

@@ -6,6 +6,10 @@
 
 namespace handscan::fusion {
 
+namespace {
+constexpr TimeNs kVisualHistory = 5 * kNsPerSec;
+}  // namespace
+
 void TransformIntegrator::setScanPose(const PoseEstimate& scan) {
     scan_ = scan;
     // Keep one VIO pose at or before the scan time for interpolation, drop the older ones.
@@ -15,10 +19,9 @@ void TransformIntegrator::setScanPose(const PoseEstimate& scan) {
 void TransformIntegrator::setVisualPose(const PoseEstimate& vio) {
     if (!vio_.empty() && vio.t_host <= vio_.back().t_host) return;  // out of order: ignore
     vio_.push_back(vio);
-    // Without a scan anchor only the newest two are needed.
-    if (!scan_) {
-        while (vio_.size() > 2) vio_.pop_front();
-    }
+    // A scan pose refers to its sweep's time, which the matcher reports up to a couple of sweeps
+    // late: keep the VIO poses of the last kVisualHistory so the increment can start there.
+    while (vio_.size() > 2 && vio_[1].t_host < vio.t_host - kVisualHistory) vio_.pop_front();
 }
 
 std::optional<Eigen::Isometry3d> TransformIntegrator::visualPoseAt(TimeNs t) const {

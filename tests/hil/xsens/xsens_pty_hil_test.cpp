@@ -97,7 +97,7 @@ TEST(XsensPtyHil, RealTimeSamplesGetHostTimesFiveMillisecondsApart) {
     if (!rig.pty) GTEST_SKIP() << rig.skip_reason;
     ASSERT_TRUE(rig.device->configure().isOk());
     const auto samples = rig.collect(100, 5 * kNsPerSec);
-    ASSERT_EQ(samples.size(), 100u);
+    ASSERT_GE(samples.size(), 100u);
     std::vector<double> steps;
     for (std::size_t i = 1; i < samples.size(); ++i) {
         steps.push_back(static_cast<double>(samples[i].t_host - samples[i - 1].t_host));
@@ -140,6 +140,25 @@ TEST(XsensPtyHil, FaultsAreReportedAndCostOnlyTheDamagedPackets) {
     EXPECT_NE(all.find("setting the outputs: device answered SetOutputConfiguration with Error"), std::string::npos)
         << all;
     EXPECT_NE(all.find("packet counter jumped"), std::string::npos) << all;
+}
+
+TEST(XsensPtyHil, FactoryDefaultDeviceAt115200IsFoundAndMovedTo921600) {
+    FakeXsensConfig fc;
+    fc.baudrate = 115200;  // as shipped
+    PtyRig rig(fc, {}, PtyXsensOptions{.real_time = false});
+    if (!rig.pty) GTEST_SKIP() << rig.skip_reason;
+    XsensDeviceConfig dc;
+    dc.reply_timeout = 100 * kNsPerMs;
+    dc.set_link_baudrate = [&rig](int baud) { return rig.serial->setBaudrate(baud); };
+    rig.device = std::make_unique<XsensDevice>(*rig.serial, dc);
+    Status s = rig.device->configure();
+    ASSERT_TRUE(s.isOk()) << s.message();
+    EXPECT_EQ(rig.fake.baudrate(), 921600);
+    EXPECT_EQ(rig.serial->describe(), "serial " + rig.pty->slavePath() + " 921600");
+    auto samples = rig.collect(300);
+    rig.drainInto(samples);
+    expectExactly(samples, rig.truth());
+    EXPECT_EQ(rig.device->stats().gaps, 0u);
 }
 
 TEST(XsensPtyHil, HangUpMidStreamIsReportedAsADisconnect) {

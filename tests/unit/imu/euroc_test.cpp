@@ -228,5 +228,59 @@ TEST(Euroc, OneSecondPredictionFromDifferentiatedGroundTruthOfV1_01) {
     EXPECT_LT(percentile(stats.pos_m, 0.95), 2.8 * sigma);
 }
 
+// Section 4.2 on real data: the biases of a real ADIS16448 recovered from pose feedback alone.
+// Ground-truth poses at 1 Hz stand in for the scan matcher (arriving 0.3 s late, like a sweep
+// match); the predictor starts with zero biases.
+TEST(Euroc, BiasesFromOneHertzPoseFeedbackOnV1_02) {
+    const std::string dir = eurocDir() + "/V1_02_medium_40s/mav0";
+    if (!std::filesystem::exists(dir)) GTEST_SKIP() << dir << " absent";
+    const auto imu = testing::readEurocImu(dir + "/imu0/data.csv");
+    const auto gt = testing::readEurocGroundTruth(dir + "/gt0/data.csv");
+    ImuPredictor predictor({}, Eigen::Isometry3d::Identity());
+    predictor.initialize(gt[0].state, {});
+    std::size_t next_imu = 0;
+    auto feedUntil = [&](TimeNs t) {
+        for (; next_imu < imu.size() && imu[next_imu].t_host <= t; ++next_imu) {
+            if (imu[next_imu].t_host < gt[0].state.t) continue;
+            ASSERT_TRUE(predictor.addImu(imu[next_imu]).isOk());
+        }
+    };
+    std::vector<double> pred_err;  // 1 s prediction error just before each feedback
+    std::vector<double> v_err;     // velocity error right after each feedback
+    TimeNs next_feedback = gt[0].state.t + kNsPerSec;
+    int corrections = 0;
+    for (const auto& g : gt) {
+        if (g.state.t < next_feedback) continue;
+        if (g.state.t + 300 * kNsPerMs > imu.back().t_host) break;
+        feedUntil(g.state.t + 300 * kNsPerMs);
+        if (corrections >= 20) {  // after convergence: how good is the 1 s prediction now?
+            pred_err.push_back((predictor.stateAt(g.state.t)->p_world_imu - g.state.p_world_imu).norm());
+        }
+        const Status s = predictor.correct(g.state.t, g.state.T_world_imu(), kAllDofs);
+        ASSERT_TRUE(s.isOk()) << s.message();
+        ++corrections;
+        if (corrections > 20) v_err.push_back((predictor.stateAt(g.state.t)->v_world_imu - g.state.v_world_imu).norm());
+        next_feedback = g.state.t + kNsPerSec;
+    }
+    ASSERT_GE(corrections, 30);
+    const ImuBiases& b = predictor.biases();
+    const ImuBiases& truth = gt.back().biases;  // constant over the file
+    std::printf("V1_02 biases from 1 Hz feedback (%d): gyro (%.4f %.4f %.4f) vs GT (%.4f %.4f %.4f) rad/s; accel "
+                "(%.3f %.3f %.3f) vs GT (%.3f %.3f %.3f) m/s^2; 1 s prediction error after convergence rms %.4f m; velocity error after feedback (converged) rms %.4f m/s\n",
+                corrections, b.gyro_radps.x(), b.gyro_radps.y(), b.gyro_radps.z(), truth.gyro_radps.x(),
+                truth.gyro_radps.y(), truth.gyro_radps.z(), b.accel_mps2.x(), b.accel_mps2.y(), b.accel_mps2.z(),
+                truth.accel_mps2.x(), truth.accel_mps2.y(), truth.accel_mps2.z(), rms(pred_err), rms(v_err));
+    // Gyro: the window sees ~6 s of rotation with ~0.1 deg feedback noise -> ~3e-4 rad/s.
+    EXPECT_LT((b.gyro_radps - truth.gyro_radps).norm(), 2e-3);
+    // Accel: 6 s window, 1 mm / 0.1 deg feedback; the GT estimator's own bias is uncertain too.
+    EXPECT_LT((b.accel_mps2 - truth.accel_mps2).norm(), 0.05);
+    // 1 s predictions from the feedback-corrected state. Not a noise-model bound but a regression
+    // guard: the velocity the window solves at its newest pose is the weak part (measured 3-6 cm/s
+    // rms against the ground truth's, vs ~2 cm/s for the ground truth's own), which doubles the
+    // 1 s error of the ground-truth-started windows (3.0 cm rms) to ~6.6 cm.
+    EXPECT_LT(rms(pred_err), 0.09);
+    EXPECT_LT(rms(v_err), 0.06);
+}
+
 }  // namespace
 }  // namespace handscan::imu

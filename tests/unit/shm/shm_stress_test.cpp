@@ -3,6 +3,7 @@
 // order). Two variants: separate processes over a named region with the writer restarting once
 // (fork), and threads over one mapping (run under ThreadSanitizer by tools/test).
 #include <gtest/gtest.h>
+#include <signal.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -85,6 +86,71 @@ TEST(ShmStress, ForkedWriterRestartsWhileForkedReadersRead) {
         EXPECT_EQ(st.nonces_seen, 2u);  // followed the restarted writer
     }
     SharedRegion::unlink(name);
+}
+
+TEST(ShmStress, WriterCarriesOnWhenAReaderIsKilled) {
+    const std::string name = testing::uniqueRegionName("killed");
+    WriterOptions wo;
+    wo.name = name;
+    wo.map_capacity_points = 100000;
+    auto writer = LiveMapWriter::create(wo);
+    ASSERT_TRUE(writer.isOk());
+    const pid_t child = ::fork();
+    ASSERT_GE(child, 0);
+    if (child == 0) {
+        // A UI hammering commands and reads until it is killed, at any instruction.
+        ReaderOptions ro;
+        ro.name = name;
+        LiveMapReader reader(ro);
+        MapCursor cursor;
+        MapDelta delta;
+        for (;;) {
+            reader.poll();
+            (void)reader.readMap(cursor, delta);
+            (void)reader.readStatus();
+            (void)reader.sendCommand(CommandType::kStopScan, "from the reader that will be killed");
+        }
+    }
+    const auto writeFor = [&](std::chrono::milliseconds d) {
+        std::uint64_t commands = 0;
+        const auto end = std::chrono::steady_clock::now() + d;
+        std::vector<DisplayPoint> chunk(100);
+        PoseRecord pose;
+        StatusBlock block;
+        while (std::chrono::steady_clock::now() < end) {
+            ++pose.t_ns;
+            (*writer)->publishPose(pose);
+            (*writer)->setStatus(block);
+            if (!(*writer)->appendPoints(chunk).isOk()) (*writer)->newScan();
+            while (auto cmd = (*writer)->pollCommand()) {
+                (*writer)->ack(cmd->seq, CommandState::kDone, "ok");
+                ++commands;
+            }
+        }
+        return commands;
+    };
+    EXPECT_GT(writeFor(300ms), 0u);  // the child's commands arrive
+    ASSERT_EQ(::kill(child, SIGKILL), 0);
+    int status = 0;
+    ASSERT_EQ(::waitpid(child, &status, 0), child);
+    writeFor(50ms);  // the writer does not care
+
+    // A new UI still gets its command through, even if the killed one left a slot half-written.
+    ReaderOptions ro;
+    ro.name = name;
+    LiveMapReader fresh(ro);
+    ASSERT_EQ(fresh.poll(), Connection::kConnected);
+    auto seq = fresh.sendCommand(CommandType::kStartScan);
+    ASSERT_TRUE(seq.isOk()) << seq.status().message();
+    std::optional<Command> got;
+    for (int i = 0; i < 100 && !(got && got->seq == *seq); ++i) got = (*writer)->pollCommand();
+    ASSERT_TRUE(got.has_value());
+    EXPECT_EQ(got->seq, *seq);
+    EXPECT_EQ(got->type, CommandType::kStartScan);
+    (*writer)->ack(*seq, CommandState::kDone, "scanning");
+    auto r = fresh.commandResult(*seq);
+    ASSERT_TRUE(r.isOk());
+    EXPECT_EQ(static_cast<CommandState>(r->state), CommandState::kDone);
 }
 
 TEST(ShmStress, ThreadsOnOneMapping) {

@@ -208,6 +208,84 @@ TEST(XsensDevice, DisconnectIsReportedAndConfigureRecovers) {
     expectSamplesMatch(samples, intact(rig.fake, before));
 }
 
+TEST(XsensDevice, RestartMidStreamIsReportedAndMeasurementResumes) {
+    Rig rig;
+    ASSERT_TRUE(rig.device.configure().isOk());
+    auto samples = rig.collect(50);
+    ASSERT_GE(samples.size(), 50u);
+    const std::uint32_t epoch_before = rig.fake.epoch();
+    rig.fake.powerCycle();
+    const auto after = rig.collect(50);
+    ASSERT_GE(after.size(), 50u);
+    EXPECT_EQ(rig.fake.epoch(), epoch_before + 1);
+    EXPECT_EQ(rig.device.stats().restarts, 1u);
+    EXPECT_EQ(rig.device.stats().gaps, 0u);  // a restart is not a loss
+    std::vector<StreamedPacket> truth;
+    for (const auto& p : rig.fake.streamed()) {
+        if (p.epoch == rig.fake.epoch()) truth.push_back(p);
+    }
+    expectSamplesMatch(after, truth);
+    EXPECT_EQ(after.front().packet_counter, 0);
+    // Host time keeps going forward across the restart.
+    EXPECT_GT(after.front().t_host, samples.back().t_host);
+    EXPECT_LT(after.front().t_host - samples.back().t_host, 50 * kNsPerMs);
+    EXPECT_NE(rig.device.problems().back().find("WakeUp"), std::string::npos);
+}
+
+TEST(XsensDevice, ConfigureRightAfterPowerUpAcksTheWakeUp) {
+    FakeXsensConfig fc;
+    fc.streaming_at_start = false;
+    Rig rig(fc);
+    rig.fake.powerCycle();
+    Status s = rig.device.configure();
+    ASSERT_TRUE(s.isOk()) << s.message();
+    EXPECT_EQ(rig.fake.requestsSeen().front(), 0x30);  // GoToConfig caught it before it measured
+    EXPECT_EQ(rig.collect(10).size(), 10u);
+}
+
+TEST(XsensDevice, FindsAFactoryDefaultDeviceAndMovesItTo921600) {
+    for (int device_baud : {115200, 460800}) {
+        FakeXsensConfig fc;
+        fc.baudrate = device_baud;
+        XsensDeviceConfig dc;
+        Rig rig(fc, {}, dc);
+        // The host side of the link starts at the configured 921600.
+        XsensDeviceConfig with_link = rig.withClock(dc);
+        with_link.set_link_baudrate = [&rig](int baud) { return rig.stream.setLinkBaudrate(baud); };
+        XsensDevice device(rig.stream, with_link);
+        Status s = device.configure();
+        ASSERT_TRUE(s.isOk()) << device_baud << ": " << s.message();
+        EXPECT_EQ(rig.fake.baudrate(), 921600);
+        EXPECT_EQ(rig.stream.linkBaudrate(), 921600);
+        EXPECT_EQ(device.linkBaudrate(), 921600);
+        const auto& seen = rig.fake.requestsSeen();
+        EXPECT_NE(std::find(seen.begin(), seen.end(), 0x18), seen.end());  // SetBaudrate
+        EXPECT_NE(std::find(seen.begin(), seen.end(), 0x40), seen.end());  // Reset
+        bool noted = false;
+        for (const auto& p : device.problems()) noted |= p.find("found at " + std::to_string(device_baud)) != std::string::npos;
+        EXPECT_TRUE(noted);
+        std::vector<ImuSample> out;
+        for (int i = 0; i < 1000 && out.size() < 20; ++i) ASSERT_TRUE(device.poll(out, 10 * kNsPerMs).isOk());
+        ASSERT_GE(out.size(), 20u);
+        std::vector<StreamedPacket> truth;
+        for (const auto& p : rig.fake.streamed()) {
+            if (p.epoch == rig.fake.epoch()) truth.push_back(p);
+        }
+        expectSamplesMatch(out, truth);
+        EXPECT_EQ(device.stats().gaps, 0u);
+    }
+}
+
+TEST(XsensDevice, WrongRateWithoutProbingFailsClearly) {
+    FakeXsensConfig fc;
+    fc.baudrate = 115200;
+    Rig rig(fc);
+    Status s = rig.device.configure();
+    ASSERT_FALSE(s.isOk());
+    EXPECT_EQ(s.code(), StatusCode::kTimeout);
+    EXPECT_NE(s.message().find("baud"), std::string::npos) << s.message();
+}
+
 TEST(XsensDevice, RawTapSeesEveryByteWithItsReceiveTime) {
     Rig rig;
     ASSERT_TRUE(rig.device.configure().isOk());

@@ -24,7 +24,7 @@ std::vector<PosePair> associate(const Trajectory& gt, const Trajectory& est, dou
         if (b.t_s <= a.t_s || e.t_s <= a.t_s) {
             p.gt = e.t_s <= a.t_s ? a.T : b.T;
         } else {
-            if (b.t_s - a.t_s > max_gap_s) continue;
+            if (b.t_s - a.t_s > max_gap_s + 1e-9) continue;  // tolerance: times in text round
             p.gt = interpolate(a.T, b.T, (e.t_s - a.t_s) / (b.t_s - a.t_s));
         }
         out.push_back(p);

@@ -24,7 +24,7 @@ std::vector<Eigen::Vector3f> cameraRays(const CameraIntrinsics& cam) {
                 // Kalibr pinhole-equi: theta_d = theta (1 + k1 theta^2 + k2 theta^4 + k3 theta^6 + k4 theta^8).
                 const double theta_d = std::hypot(mx, my);
                 double th = theta_d;
-                for (int it = 0; it < 20; ++it) {
+                for (int it = 0; it < 8; ++it) {
                     const double t2 = th * th;
                     const double f = th * (1 + t2 * (coeff(0) + t2 * (coeff(1) + t2 * (coeff(2) + t2 * coeff(3))))) - theta_d;
                     const double df = 1 + t2 * (3 * coeff(0) + t2 * (5 * coeff(1) + t2 * (7 * coeff(2) + t2 * 9 * coeff(3))));
@@ -57,10 +57,21 @@ CameraRenderer::CameraRenderer(const CameraIntrinsics& intrinsics, const CameraR
     : intr_(intrinsics), cfg_(config), rc_(raycaster), rng_(rng), w_(intrinsics.resolution[0]),
       h_(intrinsics.resolution[1]), channels_(config.colour ? 3 : 1) {
     if (w_ <= 1 || h_ <= 1) throw std::invalid_argument("camera resolution must be at least 2x2");
-    dirs_ = cameraRays(intr_);
+    const double sc = std::clamp(cfg_.render_scale, 0.1, 1.0);
+    rw_ = std::max(2, static_cast<int>(std::lround(w_ * sc)));
+    rh_ = std::max(2, static_cast<int>(std::lround(h_ * sc)));
+    CameraIntrinsics shading = intr_;
+    if (rw_ != w_ || rh_ != h_) {
+        // Same lens, fewer pixels: scale focal lengths and principal point (pixel-centre convention).
+        const double sx = static_cast<double>(rw_) / w_, sy = static_cast<double>(rh_) / h_;
+        shading.intrinsics = {intr_.intrinsics[0] * sx, intr_.intrinsics[1] * sy, (intr_.intrinsics[2] + 0.5) * sx - 0.5,
+                              (intr_.intrinsics[3] + 0.5) * sy - 0.5};
+        shading.resolution = {rw_, rh_};
+    }
+    dirs_ = cameraRays(shading);
     vignette_.resize(dirs_.size());
     for (std::size_t i = 0; i < dirs_.size(); ++i) vignette_[i] = std::pow(std::max(dirs_[i].z(), 0.05f), 1.5f);
-    pixel_angle_ = static_cast<float>(1.0 / intr_.intrinsics[0]);
+    pixel_angle_ = static_cast<float>(1.0 / shading.intrinsics[0]);
     // Group triangles by (plane, material): a grid cell whose corners share a group is planar.
     const World& w = rc_.world();
     plane_id_.resize(w.triangles.size());
@@ -110,7 +121,11 @@ void CameraRenderer::radiance(const Eigen::Isometry3d& T, std::vector<float>& ra
     const Eigen::Matrix3f R = T.linear().cast<float>();
     const Eigen::Vector3f o = T.translation().cast<float>();
     const int G = std::max(1, cfg_.coarse);
-    rad.assign(static_cast<std::size_t>(w_) * h_ * channels_, 0.0f);
+    const World& world = rc_.world();
+    const TextureAtlas& atlas = TextureAtlas::instance();
+    const Eigen::Vector3f light_dir = Eigen::Vector3f(0.3f, 0.2f, 0.93f).normalized();
+    const float illum = static_cast<float>(cfg_.illumination);
+    rad.assign(static_cast<std::size_t>(rw_) * rh_ * channels_, 0.0f);
     const float sky[3] = {0.75f * static_cast<float>(cfg_.illumination), 0.8f * static_cast<float>(cfg_.illumination),
                           0.9f * static_cast<float>(cfg_.illumination)};
     auto setSky = [&](std::size_t p) {
@@ -118,15 +133,15 @@ void CameraRenderer::radiance(const Eigen::Isometry3d& T, std::vector<float>& ra
     };
     // 1. Coarse grid of rays.
     std::vector<int> gx, gy;
-    for (int x = 0; x < w_ - 1; x += G) gx.push_back(x);
-    gx.push_back(w_ - 1);
-    for (int y = 0; y < h_ - 1; y += G) gy.push_back(y);
-    gy.push_back(h_ - 1);
+    for (int x = 0; x < rw_ - 1; x += G) gx.push_back(x);
+    gx.push_back(rw_ - 1);
+    for (int y = 0; y < rh_ - 1; y += G) gy.push_back(y);
+    gy.push_back(rh_ - 1);
     const std::size_t nx = gx.size(), ny = gy.size();
     rays_.resize(nx * ny);
     for (std::size_t j = 0; j < ny; ++j)
         for (std::size_t i = 0; i < nx; ++i) {
-            const std::size_t p = static_cast<std::size_t>(gy[j]) * w_ + gx[i];
+            const std::size_t p = static_cast<std::size_t>(gy[j]) * rw_ + gx[i];
             rays_[j * nx + i] = Ray{o, R * dirs_[p], 1e4f};
         }
     std::vector<RayHit> grid(rays_.size());
@@ -147,24 +162,49 @@ void CameraRenderer::radiance(const Eigen::Isometry3d& T, std::vector<float>& ra
             const bool none_hit = !a.hit() && !b.hit() && !c.hit() && !d.hit();
             if (all_hit && plane_id_[a.triangle] == plane_id_[b.triangle] &&
                 plane_id_[a.triangle] == plane_id_[c.triangle] && plane_id_[a.triangle] == plane_id_[d.triangle]) {
+                // One surface: material, light, texture axes and mip level are the cell's.
                 const Eigen::Vector4f& pl = planes_[a.triangle];
                 const Eigen::Vector3f n = pl.head<3>();
                 const float num = pl.w() - n.dot(o);
+                const Material& m = world.materials[world.triangle_material[a.triangle]];
+                const Eigen::Vector3f dir_a = rays_[j * nx + i].dir;
+                const float cos_inc = std::abs(n.dot(dir_a));
+                const Eigen::Vector3f nf = n.dot(dir_a) > 0 ? Eigen::Vector3f(-n) : n;
+                const float light = (0.55f + 0.45f * std::max(0.0f, nf.dot(light_dir))) * illum;
+                float k[3];
+                if (channels_ == 1) {
+                    k[0] = light * (0.299f * m.colour[0] + 0.587f * m.colour[1] + 0.114f * m.colour[2]);
+                } else {
+                    for (int ch = 0; ch < 3; ++ch) k[ch] = light * m.colour[static_cast<std::size_t>(ch)];
+                }
+                int au, av;
+                float sv;
+                TextureAtlas::planarAxes(n, au, av, sv);
+                const float inv_scale = 1.0f / m.texture_scale_m;
+                const float t_mid = 0.25f * (a.t + b.t + c.t + d.t);
+                const TextureAtlas::Level& level =
+                    atlas.level(m.texture, t_mid * pixel_angle_ * inv_scale / std::max(cos_inc, 0.25f));
                 for (int y = y0; y < y1; ++y)
                     for (int x = x0; x < x1; ++x) {
-                        const std::size_t p = static_cast<std::size_t>(y) * w_ + x;
+                        const std::size_t p = static_cast<std::size_t>(y) * rw_ + x;
                         const Eigen::Vector3f dir = R * dirs_[p];
                         const float den = n.dot(dir);
-                        const float t = std::abs(den) > 1e-9f ? num / den : a.t;
-                        shade(p, o, dir, t > 0 ? t : a.t, a.triangle, &rad[p * channels_]);
+                        float t = std::abs(den) > 1e-9f ? num / den : a.t;
+                        if (!(t > 0)) t = a.t;
+                        const Eigen::Vector3f q = o + t * dir;
+                        float tex[3];
+                        TextureAtlas::sampleLevel(level, q[au] * inv_scale, sv * q[av] * inv_scale, channels_, tex);
+                        float* out = &rad[p * channels_];
+                        const float vig = vignette_[p];
+                        for (int ch = 0; ch < channels_; ++ch) out[ch] = tex[ch] * k[ch] * vig;
                     }
             } else if (none_hit) {
                 for (int y = y0; y < y1; ++y)
-                    for (int x = x0; x < x1; ++x) setSky(static_cast<std::size_t>(y) * w_ + x);
+                    for (int x = x0; x < x1; ++x) setSky(static_cast<std::size_t>(y) * rw_ + x);
             } else {
                 for (int y = y0; y < y1; ++y)
                     for (int x = x0; x < x1; ++x) {
-                        const std::size_t p = static_cast<std::size_t>(y) * w_ + x;
+                        const std::size_t p = static_cast<std::size_t>(y) * rw_ + x;
                         traced.push_back(p);
                         pixel_rays.push_back(Ray{o, R * dirs_[p], 1e4f});
                     }
@@ -190,25 +230,48 @@ void CameraRenderer::render(double t_start, const std::function<Eigen::Isometry3
     if (samples == 1) {
         radiance(pose(t_start + 0.5 * cfg_.exposure_s), rad_);
     } else {
-        acc_.assign(static_cast<std::size_t>(w_) * h_ * channels_, 0.0f);
+        acc_.assign(static_cast<std::size_t>(rw_) * rh_ * channels_, 0.0f);
         for (int s = 0; s < samples; ++s) {
             radiance(pose(t_start + cfg_.exposure_s * (s + 0.5) / samples), rad_);
             for (std::size_t i = 0; i < acc_.size(); ++i) acc_[i] += rad_[i] / static_cast<float>(samples);
         }
         rad_.swap(acc_);
     }
+    if (rw_ != w_ || rh_ != h_) {
+        // Bilinear upsampling of the shaded image to the sensor's resolution.
+        full_.resize(static_cast<std::size_t>(w_) * h_ * channels_);
+        const float sx = static_cast<float>(rw_) / static_cast<float>(w_), sy = static_cast<float>(rh_) / static_cast<float>(h_);
+        for (int y = 0; y < h_; ++y) {
+            const float fy = std::clamp((static_cast<float>(y) + 0.5f) * sy - 0.5f, 0.0f, static_cast<float>(rh_ - 1));
+            const int y0 = std::min(static_cast<int>(fy), rh_ - 2);
+            const float ty = fy - static_cast<float>(y0);
+            for (int x = 0; x < w_; ++x) {
+                const float fx = std::clamp((static_cast<float>(x) + 0.5f) * sx - 0.5f, 0.0f, static_cast<float>(rw_ - 1));
+                const int x0 = std::min(static_cast<int>(fx), rw_ - 2);
+                const float tx = fx - static_cast<float>(x0);
+                const std::size_t i00 = (static_cast<std::size_t>(y0) * rw_ + x0) * channels_;
+                const std::size_t i10 = i00 + channels_, i01 = i00 + static_cast<std::size_t>(rw_) * channels_, i11 = i01 + channels_;
+                float* o = &full_[(static_cast<std::size_t>(y) * w_ + x) * channels_];
+                for (int c = 0; c < channels_; ++c) {
+                    o[c] = (rad_[i00 + c] * (1 - tx) + rad_[i10 + c] * tx) * (1 - ty) + (rad_[i01 + c] * (1 - tx) + rad_[i11 + c] * tx) * ty;
+                }
+            }
+        }
+        rad_.swap(full_);
+    }
     // Exposure, shot + read noise, 8 bits.
-    const float scale = static_cast<float>(255.0 * cfg_.exposure_s / cfg_.reference_exposure_s);
-    const float read2 = static_cast<float>(cfg_.read_noise_dn * cfg_.read_noise_dn);
-    const float shot = static_cast<float>(cfg_.shot_noise_gain);
+    const float scale = static_cast<float>(255.0 * cfg_.gain * cfg_.exposure_s / cfg_.reference_exposure_s);
+    // Noise sigma per signal level (read noise + shot noise), tabulated.
+    float sigma[257];
+    for (int d = 0; d <= 256; ++d) sigma[d] = static_cast<float>(std::sqrt(cfg_.read_noise_dn * cfg_.read_noise_dn + cfg_.shot_noise_gain * d));
     out.resize(rad_.size());
     std::uint64_t bits = 0;
     for (std::size_t i = 0; i < rad_.size(); ++i) {
         if ((i & 3) == 0) bits = rng_.next();
-        const float dn = rad_[i] * scale;
+        const float dn = std::min(rad_[i] * scale, 300.0f);
         const float g = gauss_table_[(bits >> (16 * (i & 3))) & 0xFFFF];
-        const float v = dn + g * std::sqrt(read2 + shot * std::max(dn, 0.0f));
-        out[i] = static_cast<std::uint8_t>(std::clamp(std::lround(v), 0L, 255L));
+        const float v = dn + g * sigma[std::clamp(static_cast<int>(dn), 0, 256)] + 0.5f;
+        out[i] = static_cast<std::uint8_t>(std::clamp(static_cast<int>(std::floor(v)), 0, 255));
     }
     pixels_ += static_cast<std::uint64_t>(w_) * h_;
 }

@@ -94,9 +94,11 @@ void CameraStream::frame(std::int64_t k, const std::vector<std::uint8_t>& pixels
     info.flags = kFlagMapped | kFlagTimestampMonotonic | (cfg_.start_of_exposure ? kFlagTstampSrcSoe : 0u);
     info.bytesused = static_cast<std::uint32_t>(packed_.size());
     info.t_exposure_start = t0;
+    info.exposure_ns = fromSeconds(cfg_.exposure_s);
+    info.readout_ns = fromSeconds(readout);
+    info.t_dequeue_ns = hostNs(host_start_, t0 + cfg_.exposure_s + readout + cfg_.clock.delay(rng_));
     last_ = info;
-    const double t_dq = t0 + cfg_.exposure_s + readout + cfg_.clock.delay(rng_);
-    out.push_back({hostNs(host_start_, t_dq), cfg_.channel, encodeCameraRecord(info, cfg_, packed_)});
+    out.push_back({info.t_dequeue_ns, cfg_.channel, encodeCameraRecord(info, cfg_, packed_)});
 }
 
 }  // namespace handscan::sim

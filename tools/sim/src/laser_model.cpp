@@ -67,7 +67,7 @@ LaserScanTruth LaserModel::scan(double t0, const std::function<Eigen::Isometry3d
             out.ranges_mm[k] = static_cast<std::uint32_t>(mm);
         }
         // Intensity (arbitrary units as the UTM reports them, saturating at close range).
-        const double intensity = 200.0 + 9000.0 * m.reflectivity * cos_inc * std::min(1.0, 4.0 / std::max(r * r, 1e-3));
+        const double intensity = 200.0 + 9000.0 * m.reflectivity * cos_inc * std::min(1.0, 3.0 / std::max(r, 1e-3));
         out.intensities[k] = static_cast<std::uint32_t>(
             std::clamp(intensity * (1.0 + rng_.gauss(0.03)), 0.0, 16000.0));  // 3-char field max 262143
     }

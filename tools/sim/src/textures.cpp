@@ -184,24 +184,36 @@ Image generate(TextureId id) {
 }  // namespace
 
 TextureAtlas::TextureAtlas() {
+    auto toByte = [](float v) { return static_cast<std::uint8_t>(std::clamp(v, 0.0f, 1.0f) * 255.0f + 0.5f); };
     for (std::size_t i = 0; i < mips_.size(); ++i) {
         auto& chain = mips_[i];
-        chain.push_back({N, generate(static_cast<TextureId>(i))});
-        while (chain.back().size > 1) {  // box-filtered mip chain
-            const Level& prev = chain.back();
-            Level next{prev.size / 2, {}};
-            next.texels.resize(static_cast<std::size_t>(next.size) * next.size);
-            for (int y = 0; y < next.size; ++y)
-                for (int x = 0; x < next.size; ++x) {
-                    std::array<float, 4> s{};
+        // Box-filtered mip chain, filtered in float and stored as bytes.
+        Image level = generate(static_cast<TextureId>(i));
+        int size = N;
+        for (;;) {
+            Level l{size, {}, {}};
+            l.texels.resize(level.size());
+            l.grey.resize(level.size());
+            for (std::size_t k = 0; k < level.size(); ++k) {
+                for (int c = 0; c < 4; ++c) l.texels[k][static_cast<std::size_t>(c)] = toByte(level[k][static_cast<std::size_t>(c)]);
+                l.grey[k] = l.texels[k][3];
+            }
+            chain.push_back(std::move(l));
+            if (size == 1) break;
+            const int half = size / 2;
+            Image next(static_cast<std::size_t>(half) * half);
+            for (int y = 0; y < half; ++y)
+                for (int x = 0; x < half; ++x) {
+                    std::array<float, 4> sum{};
                     for (int dy = 0; dy < 2; ++dy)
                         for (int dx = 0; dx < 2; ++dx) {
-                            const auto& t = prev.texels[static_cast<std::size_t>(2 * y + dy) * prev.size + 2 * x + dx];
-                            for (int c = 0; c < 4; ++c) s[c] += 0.25f * t[c];
+                            const auto& t = level[static_cast<std::size_t>(2 * y + dy) * size + 2 * x + dx];
+                            for (int c = 0; c < 4; ++c) sum[c] += 0.25f * t[c];
                         }
-                    next.texels[static_cast<std::size_t>(y) * next.size + x] = s;
+                    next[static_cast<std::size_t>(y) * half + x] = sum;
                 }
-            chain.push_back(std::move(next));
+            level = std::move(next);
+            size = half;
         }
     }
 }
@@ -211,20 +223,19 @@ const TextureAtlas& TextureAtlas::instance() {
     return atlas;
 }
 
-std::array<float, 4> TextureAtlas::sample(TextureId id, float u, float v, float footprint) const {
+const TextureAtlas::Level& TextureAtlas::level(TextureId id, float footprint) const {
     const auto& chain = mips_[static_cast<std::size_t>(id)];
-    const float texels = std::max(footprint * N, 1.0f);
-    const int level = std::min(static_cast<int>(std::log2(texels)), static_cast<int>(chain.size()) - 1);
-    const Level& l = chain[static_cast<std::size_t>(level)];
-    const float x = (u - std::floor(u)) * l.size - 0.5f, y = (v - std::floor(v)) * l.size - 0.5f;
-    const int x0 = static_cast<int>(std::floor(x)), y0 = static_cast<int>(std::floor(y));
-    const float fx = x - x0, fy = y - y0;
-    const auto& a = texel(l, x0, y0);
-    const auto& b = texel(l, x0 + 1, y0);
-    const auto& c = texel(l, x0, y0 + 1);
-    const auto& d = texel(l, x0 + 1, y0 + 1);
-    std::array<float, 4> out;
-    for (int k = 0; k < 4; ++k) out[k] = (a[k] * (1 - fx) + b[k] * fx) * (1 - fy) + (c[k] * (1 - fx) + d[k] * fx) * fy;
+    const float texels = footprint * N;
+    // Mip level = floor(log2(texels per pixel)), from the float's exponent.
+    const int lv = texels < 2.0f ? 0 : std::min(std::ilogb(texels), static_cast<int>(chain.size()) - 1);
+    return chain[static_cast<std::size_t>(lv)];
+}
+
+std::array<float, 4> TextureAtlas::sample(TextureId id, float u, float v, float footprint) const {
+    std::array<float, 4> out{};
+    const Level& l = level(id, footprint);
+    sampleLevel(l, u, v, 3, out.data());
+    sampleLevel(l, u, v, 1, out.data() + 3);
     return out;
 }
 
@@ -235,12 +246,23 @@ Eigen::Vector3f TextureAtlas::rgb(TextureId id, float u, float v, float footprin
 
 float TextureAtlas::grey(TextureId id, float u, float v, float footprint) const { return sample(id, u, v, footprint)[3]; }
 
-Eigen::Vector2f TextureAtlas::planarUv(const Eigen::Vector3f& p, const Eigen::Vector3f& n, float scale_m) {
+void TextureAtlas::planarAxes(const Eigen::Vector3f& n, int& axis_u, int& axis_v, float& sign_v) {
     const Eigen::Vector3f a = n.cwiseAbs();
+    if (a.z() >= a.x() && a.z() >= a.y()) {
+        axis_u = 0, axis_v = 1, sign_v = 1.0f;
+    } else if (a.x() >= a.y()) {
+        axis_u = 1, axis_v = 2, sign_v = -1.0f;
+    } else {
+        axis_u = 0, axis_v = 2, sign_v = -1.0f;
+    }
+}
+
+Eigen::Vector2f TextureAtlas::planarUv(const Eigen::Vector3f& p, const Eigen::Vector3f& n, float scale_m) {
+    int au, av;
+    float sv;
+    planarAxes(n, au, av, sv);
     const float inv = 1.0f / scale_m;
-    if (a.z() >= a.x() && a.z() >= a.y()) return {p.x() * inv, p.y() * inv};
-    if (a.x() >= a.y()) return {p.y() * inv, -p.z() * inv};
-    return {p.x() * inv, -p.z() * inv};
+    return {p[au] * inv, sv * p[av] * inv};
 }
 
 }  // namespace handscan::sim

@@ -36,6 +36,7 @@ FakeXsens::FakeXsens(FakeXsensConfig config, FakeXsensFaults faults)
     : cfg_(std::move(config)),
       faults_(std::move(faults)),
       rate_hz_(cfg_.default_rate_hz),
+      baud_(cfg_.baudrate),
       measuring_(cfg_.streaming_at_start),
       counter_(cfg_.first_packet_counter),
       sample_time_fine_(cfg_.first_sample_time_fine) {
@@ -83,6 +84,11 @@ void FakeXsens::handle(std::uint8_t mid, std::span<const std::uint8_t> payload) 
         const auto frame = encodeErrorFrame(code);
         output_.insert(output_.end(), frame.begin(), frame.end());
     };
+    if (awaiting_wakeup_ack_ && (mid == toByte(MessageId::kWakeUpAck) || mid == toByte(MessageId::kGoToConfig))) {
+        awaiting_wakeup_ack_ = false;  // the host caught the device: it stays in config mode
+        measuring_ = false;
+        if (mid == toByte(MessageId::kWakeUpAck)) return;
+    }
     switch (static_cast<MessageId>(mid)) {
         case MessageId::kGoToConfig:
             if (goto_configs_ignored_ < cfg_.ignore_first_goto_configs) {
@@ -103,9 +109,10 @@ void FakeXsens::handle(std::uint8_t mid, std::span<const std::uint8_t> payload) 
             reply(MessageId::kProductCode, encodeProductCode(cfg_.product_code));
             return;
         case MessageId::kWakeUp: reply(MessageId::kWakeUpAck); return;
+        case MessageId::kWakeUpAck: return;  // late (the device was caught by GoToConfig already)
         case MessageId::kReset:
             reply(MessageId::kResetAck);
-            measuring_ = cfg_.streaming_at_start;
+            switch_after_take_ = true;  // reboot once the ack is on the wire
             return;
         case MessageId::kSetBaudrate: {
             if (measuring_) return error(ErrorCode::kInvalidMessage);
@@ -116,7 +123,7 @@ void FakeXsens::handle(std::uint8_t mid, std::span<const std::uint8_t> payload) 
             }
             auto baud = baudrateFromId(payload[0]);
             if (!baud) return error(ErrorCode::kInvalidBaudrate);
-            baud_ = *baud;  // takes effect after a reset on a real MTi
+            pending_baud_ = *baud;  // takes effect at the next reset, as on a real MTi
             reply(MessageId::kSetBaudrateAck);
             return;
         }
@@ -144,7 +151,22 @@ void FakeXsens::handle(std::uint8_t mid, std::span<const std::uint8_t> payload) 
     }
 }
 
+void FakeXsens::powerCycle() {
+    parser_.reset();
+    measuring_ = false;
+    awaiting_wakeup_ack_ = true;
+    counter_ = 0;
+    sample_time_fine_ = 0;
+    reply(MessageId::kWakeUp);
+}
+
 bool FakeXsens::emitPacket() {
+    if (awaiting_wakeup_ack_) {
+        // No WakeUpAck in time: measure with the stored configuration.
+        awaiting_wakeup_ack_ = false;
+        measuring_ = true;
+        ++epoch_;
+    }
     if (!measuring_) return false;
     StreamedPacket p;
     p.index = next_index_++;
@@ -206,7 +228,21 @@ bool FakeXsens::emitPacket() {
 std::vector<std::uint8_t> FakeXsens::takeOutput() {
     std::vector<std::uint8_t> out;
     out.swap(output_);
+    if (switch_after_take_) {
+        switch_after_take_ = false;
+        if (pending_baud_ != 0) baud_ = pending_baud_;
+        pending_baud_ = 0;
+        powerCycle();
+    }
     return out;
+}
+
+void FakeXsens::garble(std::vector<std::uint8_t>& bytes) {
+    // A receiver at the wrong rate samples bit soup; keep it deterministic and free of preambles.
+    for (auto& b : bytes) {
+        const auto g = static_cast<std::uint8_t>(b * 7 + 3);
+        b = g == kPreamble ? 0x00 : g;
+    }
 }
 
 }  // namespace handscan::xsens

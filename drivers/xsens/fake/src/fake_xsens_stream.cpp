@@ -6,7 +6,6 @@ namespace handscan::xsens {
 
 Status FakeXsensStream::open() {
     open_ = true;
-    disconnect_after_.reset();
     return Status::ok();
 }
 
@@ -14,8 +13,10 @@ Result<std::size_t> FakeXsensStream::read(std::span<std::uint8_t> buffer, TimeNs
     if (!open_) return Status{StatusCode::kDisconnected, "fake-xsens: link is down"};
     if (pending_.empty()) {
         // Replies first; otherwise the next packet if it is due within the timeout.
+        const bool mismatched = link_baud_ != device_.baudrate();
         if (device_.hasOutput()) {
             pending_ = device_.takeOutput();
+            if (mismatched) FakeXsens::garble(pending_);
         } else if (device_.measuring()) {
             const TimeNs period = kNsPerSec / device_.rateHz();
             if (next_packet_ < clock_.now) next_packet_ = clock_.now + period;
@@ -24,6 +25,7 @@ Result<std::size_t> FakeXsensStream::read(std::span<std::uint8_t> buffer, TimeNs
                 next_packet_ += period;
                 device_.emitPacket();
                 pending_ = device_.takeOutput();
+                if (mismatched) FakeXsens::garble(pending_);
             }
         }
         if (pending_.empty()) {
@@ -36,6 +38,7 @@ Result<std::size_t> FakeXsensStream::read(std::span<std::uint8_t> buffer, TimeNs
         if (*disconnect_after_ == 0) {
             open_ = false;
             pending_.clear();
+            disconnect_after_.reset();  // one drop per call
             return Status{StatusCode::kDisconnected, "fake-xsens: link dropped"};
         }
         n = std::min(n, *disconnect_after_);
@@ -48,7 +51,7 @@ Result<std::size_t> FakeXsensStream::read(std::span<std::uint8_t> buffer, TimeNs
 
 Status FakeXsensStream::writeAll(std::span<const std::uint8_t> data, TimeNs /*timeout*/) {
     if (!open_) return Status{StatusCode::kDisconnected, "fake-xsens: link is down"};
-    device_.receive(data);
+    if (link_baud_ == device_.baudrate()) device_.receive(data);  // else the device hears noise
     return Status::ok();
 }
 

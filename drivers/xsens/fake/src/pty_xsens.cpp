@@ -33,6 +33,27 @@ PtyXsens::PtyXsens(FakeXsens& device, PtyXsensOptions options) : device_(device)
 
 PtyXsens::~PtyXsens() { hangUp(); }
 
+namespace {
+
+// The host's line rate as its SerialStream set it (pty termios are shared by both ends).
+int hostBaudrate(int master) {
+    termios tio{};
+    if (::tcgetattr(master, &tio) != 0) return 0;
+    switch (::cfgetospeed(&tio)) {
+        case B9600: return 9600;
+        case B19200: return 19200;
+        case B38400: return 38400;
+        case B57600: return 57600;
+        case B115200: return 115200;
+        case B230400: return 230400;
+        case B460800: return 460800;
+        case B921600: return 921600;
+        default: return 0;
+    }
+}
+
+}  // namespace
+
 void PtyXsens::hangUp() {
     stop_ = true;
     if (thread_.joinable()) thread_.join();
@@ -60,8 +81,8 @@ void PtyXsens::run() {
         if (!pending.empty()) wait_ms = std::min(wait_ms, 1);
         if (::poll(&p, 1, wait_ms) > 0 && (p.revents & POLLIN) != 0) {
             const ssize_t n = ::read(master_, buf, sizeof buf);
-            if (n > 0) {
-                std::lock_guard lock(mutex_);
+            std::lock_guard lock(mutex_);
+            if (n > 0 && hostBaudrate(master_) == device_.baudrate()) {  // else the device hears noise
                 device_.receive(std::span<const std::uint8_t>(buf, static_cast<std::size_t>(n)));
             }
         } else if ((p.revents & POLLHUP) != 0) {
@@ -71,7 +92,9 @@ void PtyXsens::run() {
         // 2. Device -> host: replies at once, packets when due.
         {
             std::lock_guard lock(mutex_);
+            const bool mismatched = hostBaudrate(master_) != device_.baudrate();
             auto out = device_.takeOutput();
+            if (mismatched) FakeXsens::garble(out);
             pending.insert(pending.end(), out.begin(), out.end());
             if (device_.measuring() && !paused_) {
                 const TimeNs t = monotonicNow();
@@ -83,12 +106,14 @@ void PtyXsens::run() {
                         next_packet += period;
                     }
                     out = device_.takeOutput();
+                    if (mismatched) FakeXsens::garble(out);
                     pending.insert(pending.end(), out.begin(), out.end());
                 } else {
                     // As fast as the host reads: keep about one pty buffer's worth in flight.
                     while (pending.size() < 4096) {
                         device_.emitPacket();
                         out = device_.takeOutput();
+                        if (mismatched) FakeXsens::garble(out);
                         pending.insert(pending.end(), out.begin(), out.end());
                     }
                 }

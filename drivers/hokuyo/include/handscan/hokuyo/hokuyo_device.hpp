@@ -17,6 +17,7 @@
 #include <string>
 #include <vector>
 
+#include "handscan/core/config.hpp"
 #include "handscan/core/raw_tap.hpp"
 #include "handscan/core/samples.hpp"
 #include "handscan/hokuyo/scan_timestamper.hpp"
@@ -37,6 +38,9 @@ struct HokuyoDeviceConfig {
     int cluster = 1;
     ScanTimingConfig timing;
 };
+
+// The device settings of config/device.yaml's `hokuyo:` section (host/port go to the TcpStream).
+HokuyoDeviceConfig hokuyoDeviceConfig(const HokuyoConfig& config);
 
 struct HokuyoDeviceStats {
     std::uint64_t scans = 0;              // LaserScans handed out

@@ -5,7 +5,9 @@
 // Acceleration, RateOfTurn, StatusWord, optional DeltaQ/DeltaV) and starts measurement. poll()
 // then hands out ImuSamples whose SampleTimeFine (10 kHz, 32 bit) is mapped to host time by a
 // ClockMapper; packet-counter gaps, checksum failures, resyncs and Error messages are counted
-// and described, never fatal. Every received byte chunk goes to the optional RawTap first.
+// and described, never fatal. A device that restarts mid-stream (WakeUp) is let resume measuring
+// with its stored configuration; its clocks restart, so the time mapping starts afresh. Every
+// received byte chunk goes to the optional RawTap first.
 #pragma once
 
 #include <cstdint>
@@ -32,6 +34,12 @@ struct XsensDeviceConfig {
     TimeNs reply_timeout = 200 * kNsPerMs;       // wait for an ack before resending
     int attempts = 5;                            // sends per request (GoToConfig while streaming)
     std::function<TimeNs()> clock = monotonicNow;  // host receive time (tests inject a fake)
+    // Serial links: the rate to run at, and how to retune the host side (SerialStream::
+    // setBaudrate). When set, configure() finds a device that talks at another rate (the MTi
+    // ships at 115200) by probing the Xbus rates, then moves it to `baudrate` with SetBaudrate
+    // + Reset. Unset (USB, tests): the link rate is taken as given.
+    int baudrate = 921600;
+    std::function<Status(int baud)> set_link_baudrate;
 };
 
 struct XsensDeviceStats {
@@ -43,6 +51,7 @@ struct XsensDeviceStats {
     std::uint64_t incomplete = 0;      // MTData2 without SampleTimeFine / Acceleration / RateOfTurn
     std::uint64_t malformed = 0;       // MTData2 whose items could not be decoded
     std::uint64_t device_errors = 0;   // Error (0x42) messages received
+    std::uint64_t restarts = 0;        // WakeUp seen while measuring (power glitch, reset)
     std::uint64_t checksum_failures = 0;
     std::uint64_t resyncs = 0;
 };
@@ -57,6 +66,11 @@ public:
     // Reads for at most `timeout`, appends every complete sample to `out`. kDisconnected when the
     // stream went away (call configure() again to recover).
     Status poll(std::vector<ImuSample>& out, TimeNs timeout);
+
+    // In config mode: moves device and link to `baud` (SetBaudrate, Reset, retune, GoToConfig).
+    Status switchBaudrate(int baud);
+    // The line rate the link runs at now (the configured one until probing finds another).
+    int linkBaudrate() const { return link_baud_; }
 
     std::uint32_t deviceId() const { return device_id_; }
     const std::string& productCode() const { return product_code_; }
@@ -78,6 +92,7 @@ private:
     };
     Result<Reply> request(MessageId mid, std::span<const std::uint8_t> payload, const char* step);
     Status readSome(TimeNs timeout, TimeNs& t_rx);
+    Status enterConfigMode();
     void handleMeasurement(const XbusFrameView& frame, TimeNs t_rx, std::vector<ImuSample>* out);
     void note(std::string problem);
 
@@ -91,6 +106,7 @@ private:
     std::string product_code_;
     std::vector<OutputConfigEntry> output_config_;
     bool measuring_ = false;
+    int link_baud_ = 0;
     std::optional<std::uint16_t> last_counter_;
     mutable XsensDeviceStats stats_;
     std::vector<std::string> problems_;

@@ -20,6 +20,7 @@
 #include <span>
 #include <string>
 #include <string_view>
+#include <utility>
 #include <vector>
 
 #include "handscan/core/status.hpp"
@@ -97,6 +98,8 @@ public:
     // From the summary of an indexed file; absent after a linear scan.
     const std::optional<Statistics>& statistics() const { return statistics_; }
     std::size_t chunkCount() const;
+    // Earliest and latest log time over the readable chunks ({0, 0} when there are none).
+    std::pair<TimeNs, TimeNs> timeRange() const;
 
     // True when the summary index was used; false after a linear (recovery) scan.
     bool indexed() const { return indexed_; }

@@ -31,6 +31,7 @@ public:
     // Identity of the object currently behind `name`, kNotFound if there is none.
     static Result<Identity> identityOf(const std::string& name);
     static void unlink(const std::string& name);
+    static std::uint64_t currentProcessId();
     // A zero-filled MAP_SHARED|MAP_ANONYMOUS mapping (shared across fork(), no name).
     static Result<std::shared_ptr<SharedRegion>> anonymous(std::size_t bytes);
 

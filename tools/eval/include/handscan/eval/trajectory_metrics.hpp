@@ -23,7 +23,7 @@ struct PosePair {
 };
 
 // Pairs est poses with interpolated gt; gt gaps longer than max_gap_s are not interpolated over.
-std::vector<PosePair> associate(const Trajectory& gt, const Trajectory& est, double max_gap_s = 0.1);
+std::vector<PosePair> associate(const Trajectory& gt, const Trajectory& est, double max_gap_s = 0.25);
 
 // The rigid transform T with T * est ~ gt in least squares over the positions (Umeyama 1991).
 Eigen::Isometry3d alignSE3(const std::vector<PosePair>& pairs);

@@ -34,6 +34,9 @@ struct V4l2FrameInfo {
     std::uint32_t flags = 0;   // V4L2_BUF_FLAG_* (timestamp type/source)
     std::uint32_t bytesused = 0;
     double t_exposure_start = 0.0;  // simulation time
+    TimeNs exposure_ns = 0;
+    TimeNs readout_ns = 0;          // end of exposure to the last line transferred
+    TimeNs t_dequeue_ns = 0;        // host time the driver dequeues the buffer
 };
 
 class CameraStream {
@@ -60,7 +63,9 @@ private:
 void rgbToYuyv(const std::vector<std::uint8_t>& rgb, int width, int height, std::vector<std::uint8_t>& out);
 void rgbToMjpeg(const std::vector<std::uint8_t>& rgb, int width, int height, int quality, std::vector<std::uint8_t>& out);
 
-// The recording payload of one buffer (the camera codec's V4L2 buffer record).
+// The recording payload of one buffer (the camera codec's V4L2 buffer record), and whether this
+// build has that codec (drivers/camera).
+bool cameraRecordsAvailable();
 std::vector<std::uint8_t> encodeCameraRecord(const V4l2FrameInfo& info, const CameraStreamConfig& config,
                                              const std::vector<std::uint8_t>& data);
 

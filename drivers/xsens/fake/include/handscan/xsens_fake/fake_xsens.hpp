@@ -27,6 +27,9 @@ struct FakeXsensConfig {
     std::uint32_t first_sample_time_fine = 0xFFFFF000u;  // wraps 2^32 after ~410 ms at 10 kHz
     std::uint16_t default_rate_hz = 100;           // before any SetOutputConfiguration
     int ignore_first_goto_configs = 0;             // "busy" device: drops this many GoToConfig
+    // Line rate at power-up. A real MTi-20 ships at 115200; tests start at the driver's 921600
+    // unless they exercise baud-rate probing and switching.
+    int baudrate = 921600;
 };
 
 struct FakeXsensFaults {
@@ -61,9 +64,19 @@ public:
     std::vector<std::uint8_t> takeOutput();
     bool hasOutput() const { return !output_.empty(); }
 
-    bool measuring() const { return measuring_; }
+    // Power cycle / reset: the MTi announces itself with WakeUp and, unless the host answers
+    // WakeUpAck (or GoToConfig) before the next packet is due, starts measuring with the stored
+    // configuration; the packet counter and SampleTimeFine restart from 0.
+    void powerCycle();
+    // Measuring, or about to start (waiting for a WakeUpAck that may never come).
+    bool measuring() const { return measuring_ || awaiting_wakeup_ack_; }
     std::uint16_t rateHz() const { return rate_hz_; }
+    // The line rate the device talks at now. SetBaudrate takes effect at the next Reset, after
+    // the ResetAck has gone out at the old rate (takeOutput() applies it).
     int baudrate() const { return baud_; }
+    // Transport adapters call this with the host's line rate: bytes crossing a mismatched link
+    // arrive as garbage (device -> host) or not at all (host -> device), as on a real UART.
+    static void garble(std::vector<std::uint8_t>& bytes);
     const std::vector<OutputConfigEntry>& outputConfiguration() const { return outputs_; }
     const std::vector<StreamedPacket>& streamed() const { return streamed_; }
     std::uint32_t epoch() const { return epoch_; }
@@ -84,10 +97,13 @@ private:
     std::vector<std::uint8_t> output_;
     std::vector<OutputConfigEntry> outputs_;
     std::uint16_t rate_hz_;
-    int baud_ = 115200;
+    int baud_ = 921600;
+    int pending_baud_ = 0;        // set by SetBaudrate, applied at Reset
+    bool switch_after_take_ = false;
     bool measuring_;
     int goto_configs_ignored_ = 0;
     std::uint32_t epoch_ = 0;
+    bool awaiting_wakeup_ack_ = false;
     std::uint64_t next_index_ = 0;
     std::uint16_t counter_;
     std::uint32_t sample_time_fine_;

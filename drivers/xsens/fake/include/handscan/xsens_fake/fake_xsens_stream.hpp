@@ -29,8 +29,15 @@ public:
 
     // Largest chunk one read() returns (a serial driver hands out arbitrary pieces).
     void setMaxChunk(std::size_t n) { max_chunk_ = n; }
-    // After this many more bytes the link drops (kDisconnected) until open() is called again.
+    // After this many more bytes the link drops once (kDisconnected) until open() is called again.
     void disconnectAfter(std::size_t bytes) { disconnect_after_ = bytes; }
+    // The host side's line rate (what SerialStream::setBaudrate would set); a mismatch with the
+    // device's rate garbles the link.
+    Status setLinkBaudrate(int baud) {
+        link_baud_ = baud;
+        return Status::ok();
+    }
+    int linkBaudrate() const { return link_baud_; }
     // Constant delay between a packet's sample instant and its arrival at the host.
     void setLatency(TimeNs latency) { latency_ = latency; }
 
@@ -43,6 +50,7 @@ private:
     TimeNs next_packet_ = 0;
     TimeNs latency_ = 2 * kNsPerMs;
     bool open_ = false;
+    int link_baud_ = 921600;
 };
 
 }  // namespace handscan::xsens

@@ -1,0 +1,54 @@
+// `handscan info REC.mcap`: channels, message counts, rates, durations and gaps of a recording,
+// and whether it was cut short and recovered. `--json` for scripts and tests.
+#include <iostream>
+
+#include "command_registry.hpp"
+#include "handscan/core/log.hpp"
+#include "handscan/recording/mcap_reader.hpp"
+#include "handscan/recording/recording_summary.hpp"
+
+namespace handscan::cli {
+namespace {
+
+const RegisterCommand kInfo{"info", "Show a recording's channels, message counts, rates, duration and gaps",
+                            [](CLI::App& sub) {
+    auto file = std::make_shared<std::string>();
+    auto json = std::make_shared<bool>(false);
+    auto verify = std::make_shared<bool>(false);
+    sub.add_option("REC", *file, "recording (.mcap)")->required()->check(CLI::ExistingFile);
+    sub.add_flag("--json", *json, "print one JSON object instead of a table");
+    sub.add_flag("--verify", *verify, "also check every CRC (chunks, data section, summary); exit 3 on a mismatch");
+    return std::function<int()>([file, json, verify] {
+        auto reader = recording::McapReader::open(*file);
+        if (!reader) {
+            log().error("{}", reader.status().message());
+            return 1;
+        }
+        // Reading every message of a large recording takes a while: show progress on a terminal.
+        std::unique_ptr<Progress> progress;
+        if ((*reader)->fileSize() > (64u << 20)) progress = std::make_unique<Progress>("reading " + *file, 1.0);
+        auto summary = recording::summarizeRecording(**reader, [&](double f) {
+            if (progress) progress->update(f);
+        });
+        if (progress) progress->finish();
+        if (!summary) {
+            log().error("{}", summary.status().message());
+            return 1;
+        }
+        if (*verify) {
+            if (Status s = recording::checkRecordingCrcs(**reader, *summary); !s) {
+                log().error("{}", s.message());
+                return 1;
+            }
+        }
+        if (*json) {
+            recording::printSummaryJson(*summary, std::cout);
+        } else {
+            recording::printSummaryText(*summary, std::cout);
+        }
+        return summary->crc_checked && !summary->crc_problems.empty() ? 3 : 0;
+    });
+}};
+
+}  // namespace
+}  // namespace handscan::cli

@@ -1,0 +1,161 @@
+#include "handscan/recording/recording_summary.hpp"
+
+#include <algorithm>
+#include <cinttypes>
+#include <cstdio>
+#include <map>
+
+namespace handscan::recording {
+namespace {
+
+void finishChannel(ChannelSummary& c, std::vector<TimeNs>& periods) {
+    if (c.messages < 2) return;
+    c.rate_hz = static_cast<double>(c.messages - 1) / toSeconds(c.last - c.first);
+    const auto mid = periods.begin() + static_cast<std::ptrdiff_t>(periods.size() / 2);
+    std::nth_element(periods.begin(), mid, periods.end());
+    c.median_period_ns = *mid;
+    for (TimeNs p : periods) {
+        if (p > ChannelSummary::kGapFactor * c.median_period_ns) ++c.gaps;
+    }
+}
+
+std::string jsonString(const std::string& s) {
+    std::string out = "\"";
+    for (char ch : s) {
+        const auto u = static_cast<unsigned char>(ch);
+        if (ch == '"' || ch == '\\') {
+            out += '\\';
+            out += ch;
+        } else if (u < 0x20) {
+            char buf[8];
+            std::snprintf(buf, sizeof buf, "\\u%04x", u);
+            out += buf;
+        } else {
+            out += ch;
+        }
+    }
+    return out + "\"";
+}
+
+std::string fmt(const char* format, double v) {
+    char buf[64];
+    std::snprintf(buf, sizeof buf, format, v);
+    return buf;
+}
+
+}  // namespace
+
+Result<RecordingSummary> summarizeRecording(McapReader& reader, const std::function<void(double)>& progress) {
+    RecordingSummary s;
+    s.name = reader.name();
+    s.file_size = reader.fileSize();
+    s.library = reader.header().library;
+    s.profile = reader.header().profile;
+    s.chunks = reader.chunkCount();
+    s.indexed = reader.indexed();
+    s.truncated = reader.truncated();
+
+    std::map<std::uint16_t, std::size_t> index;
+    for (const auto& ch : reader.channels()) {
+        index[ch.id] = s.channels.size();
+        ChannelSummary c;
+        c.id = ch.id;
+        c.topic = ch.topic;
+        c.message_encoding = ch.message_encoding;
+        s.channels.push_back(std::move(c));
+    }
+    std::vector<std::vector<TimeNs>> periods(s.channels.size());
+    const auto [t0, t1] = reader.timeRange();
+    std::uint64_t n = 0;
+    const Status st = reader.forEachMessage({}, [&](const RecordedMessage& m) {
+        const std::size_t i = index.at(m.channel->id);
+        ChannelSummary& c = s.channels[i];
+        if (c.messages == 0) {
+            c.first = m.log_time;
+        } else {
+            const TimeNs dt = m.log_time - c.last;  // >= 0: messages come in log-time order
+            periods[i].push_back(dt);
+            if (dt > c.largest_gap_ns) {
+                c.largest_gap_ns = dt;
+                c.largest_gap_after = c.last;
+            }
+        }
+        c.last = m.log_time;
+        ++c.messages;
+        c.bytes += m.data.size();
+        if (s.messages == 0) s.start = m.log_time;
+        s.end = m.log_time;
+        ++s.messages;
+        if (progress && (++n & 0x3FF) == 0 && t1 > t0) progress(toSeconds(m.log_time - t0) / toSeconds(t1 - t0));
+    });
+    if (!st) return st;
+    for (std::size_t i = 0; i < s.channels.size(); ++i) finishChannel(s.channels[i], periods[i]);
+    s.dropped = reader.dropped();
+    return s;
+}
+
+Status checkRecordingCrcs(McapReader& reader, RecordingSummary& s) {
+    const Status v = reader.verify();
+    if (!v && v.code() == StatusCode::kIoError) return v;
+    s.crc_checked = true;
+    s.crc_problems = v ? "" : v.message();
+    return Status::ok();
+}
+
+void printSummaryText(const RecordingSummary& s, std::ostream& out) {
+    out << s.name << ": " << s.file_size << " bytes, " << s.messages << " messages in " << s.chunks << " chunks, "
+        << fmt("%.3f", toSeconds(s.duration())) << " s";
+    if (!s.library.empty()) out << " (written by " << s.library << ")";
+    out << "\n";
+    if (s.truncated) {
+        out << "TRUNCATED: no footer (recording cut short, e.g. a power cut); recovered "
+            << "every complete chunk by scanning\n";
+    } else if (!s.indexed) {
+        out << "no summary index: read by scanning\n";
+    }
+    for (const auto& d : s.dropped) out << "dropped " << d.length << " bytes at " << d.offset << ": " << d.reason << "\n";
+    if (s.crc_checked) out << "CRC check: " << (s.crc_problems.empty() ? "every CRC matches" : s.crc_problems) << "\n";
+    out << "start " << fmt("%.6f", toSeconds(s.start)) << " s, end " << fmt("%.6f", toSeconds(s.end)) << " s (host clock)\n";
+    char line[512];
+    std::snprintf(line, sizeof line, "%-18s %-28s %9s %9s %12s %10s %11s %6s\n", "topic", "encoding", "messages",
+                  "rate Hz", "duration s", "first s", "max gap ms", "gaps");
+    out << line;
+    for (const auto& c : s.channels) {
+        std::snprintf(line, sizeof line, "%-18s %-28s %9" PRIu64 " %9.2f %12.3f %10.3f %11.2f %6" PRIu64 "\n",
+                      c.topic.c_str(), c.message_encoding.c_str(), c.messages, c.rate_hz, toSeconds(c.duration()),
+                      toSeconds(c.first - s.start), static_cast<double>(c.largest_gap_ns) * 1e-6, c.gaps);
+        out << line;
+    }
+}
+
+void printSummaryJson(const RecordingSummary& s, std::ostream& out) {
+    out << "{\"file\":" << jsonString(s.name) << ",\"file_size\":" << s.file_size
+        << ",\"library\":" << jsonString(s.library) << ",\"profile\":" << jsonString(s.profile)
+        << ",\"messages\":" << s.messages << ",\"chunks\":" << s.chunks << ",\"start_ns\":" << s.start
+        << ",\"end_ns\":" << s.end << ",\"duration_s\":" << fmt("%.9f", toSeconds(s.duration()))
+        << ",\"indexed\":" << (s.indexed ? "true" : "false") << ",\"truncated\":" << (s.truncated ? "true" : "false")
+        << ",\"recovered\":" << (s.truncated || !s.dropped.empty() ? "true" : "false") << ",\"dropped\":[";
+    for (std::size_t i = 0; i < s.dropped.size(); ++i) {
+        const auto& d = s.dropped[i];
+        out << (i ? "," : "") << "{\"offset\":" << d.offset << ",\"length\":" << d.length
+            << ",\"reason\":" << jsonString(d.reason) << "}";
+    }
+    out << "]";
+    if (s.crc_checked) {
+        out << ",\"crc_ok\":" << (s.crc_problems.empty() ? "true" : "false")
+            << ",\"crc_problems\":" << jsonString(s.crc_problems);
+    }
+    out << ",\"channels\":[";
+    for (std::size_t i = 0; i < s.channels.size(); ++i) {
+        const auto& c = s.channels[i];
+        out << (i ? "," : "") << "{\"id\":" << c.id << ",\"topic\":" << jsonString(c.topic)
+            << ",\"message_encoding\":" << jsonString(c.message_encoding) << ",\"messages\":" << c.messages
+            << ",\"bytes\":" << c.bytes << ",\"rate_hz\":" << fmt("%.6f", c.rate_hz) << ",\"first_ns\":" << c.first
+            << ",\"last_ns\":" << c.last << ",\"duration_s\":" << fmt("%.9f", toSeconds(c.duration()))
+            << ",\"median_period_ns\":" << c.median_period_ns << ",\"largest_gap_ns\":" << c.largest_gap_ns
+            << ",\"largest_gap_after_ns\":" << c.largest_gap_after << ",\"gaps\":" << c.gaps << "}";
+    }
+    out << "]}\n";
+}
+
+}  // namespace handscan::recording
