@@ -240,7 +240,8 @@ DeviceConfig loadDeviceConfig(const std::string& path) {
     DeviceConfig c;
     c.source_file = path;
     if (auto n = v.section(root, "", "hokuyo"); n.IsDefined()) {
-        v.onlyKeys(n, "hokuyo", {"host", "port", "connect_timeout_s", "reconnect_max_backoff_s"});
+        v.onlyKeys(n, "hokuyo", {"host", "port", "connect_timeout_s", "reconnect_max_backoff_s", "frame_latency_ms"});
+        v.number(n, "hokuyo", "frame_latency_ms", c.hokuyo.frame_latency_ms, 0.0, 100.0);
         v.text(n, "hokuyo", "host", c.hokuyo.host);
         v.integer(n, "hokuyo", "port", c.hokuyo.port, 1, 65535);
         v.number(n, "hokuyo", "connect_timeout_s", c.hokuyo.connect_timeout_s, 0.01, 60.0);

@@ -82,6 +82,7 @@ Status SafeFileWriter::patchHeader(std::span<const std::uint8_t> header) {
 
 Status SafeFileWriter::write(std::span<const std::uint8_t> bytes) {
     if (fd_ < 0) return Status(StatusCode::kIoError, "export " + final_path_ + ": not open");
+    if (bytes.empty()) return Status::ok();  // zlib's crc32 restarts from 0 on a null buffer
     crc_ = static_cast<std::uint32_t>(::crc32_z(crc_, bytes.data(), bytes.size()));
     while (!bytes.empty()) {
         const std::size_t n = std::min(bytes.size(), kBufferBytes - buffer_.size());

@@ -41,6 +41,7 @@ double peakRssMiB() {
 lio::LioConfig lioConfig(const ReplayOptions& o, const DeviceConfig& device) {
     lio::LioConfig c;
     c.laser_enabled = o.use_laser;
+    c.imu_feedback = o.imu_feedback;
     c.assembler.boundary = device.motor.sweep_boundary == "full" ? scan::SweepBoundary::kFullRevolution
                                                                  : scan::SweepBoundary::kHalfRevolution;
     c.odometry.max_threads = 1;  // replay is deterministic: sweeps are matched in order
@@ -72,11 +73,15 @@ Result<ReplayReport> runReplay(const ReplayOptions& o) {
     if (!o.dump_sweeps_dir.empty()) fs::create_directories(o.dump_sweeps_dir, ec);
 
     lio::LaserInertialOdometry pipeline(lioConfig(o, device), calibration);
-    HokuyoStreamDecoder hokuyo;
+    hokuyo::ScanTimingConfig timing;
+    timing.extra_latency_ns = fromSeconds(device.hokuyo.frame_latency_ms * 1e-3);
+    HokuyoStreamDecoder hokuyo(timing);
     XsensStreamDecoder xsens;
     EncoderStreamConfig enc_cfg;
     enc_cfg.node_id = static_cast<std::uint8_t>(device.motor.encoder_node_id);
     enc_cfg.unwrapper.units_per_revolution = static_cast<std::uint32_t>(device.motor.encoder_counts_per_rev);
+    // Our encoder is single-turn: its position (6004h) wraps after one revolution (6002h = 6001h).
+    enc_cfg.unwrapper.total_range = enc_cfg.unwrapper.units_per_revolution;
     enc_cfg.tpdo_period_ns = device.motor.tpdo_period_ms * kNsPerMs;
     EncoderStreamDecoder encoder(enc_cfg);
 

@@ -76,6 +76,8 @@ void ReplayOutputs::addSweep(const lio::RegisteredSweep& s) {
     sum.total_ms = s.result.total_ms;
     sum.associations = s.result.match.associations;
     sum.rms_m = s.result.match.rms_m;
+    sum.T_world_body = s.result.pose.T_world_body;
+    sum.T_world_prior = s.result.T_world_prior;
     sweeps_.push_back(sum);
 }
 
@@ -130,7 +132,11 @@ Result<std::string> ReplayOutputs::writeStats(const StatsInputs& in) const {
            << ", \"degenerate_directions\": " << 6 - std::popcount(static_cast<unsigned>(s.solved_mask & 0x3F))
            << ", \"solved_dof_mask\": " << static_cast<int>(s.solved_mask) << ", \"points\": " << s.points
            << ", \"edges\": " << s.edges << ", \"planars\": " << s.planars << ", \"associations\": " << s.associations
-           << ", \"rms_m\": " << s.rms_m << ", \"total_ms\": " << s.total_ms << "}";
+           << ", \"rms_m\": " << s.rms_m << ", \"total_ms\": " << s.total_ms;
+        const Eigen::Quaterniond q(s.T_world_body.linear());
+        const Eigen::Vector3d t = s.T_world_body.translation(), tp = s.T_world_prior.translation();
+        os << ", \"pose_xyz_qxyzw\": [" << t.x() << ", " << t.y() << ", " << t.z() << ", " << q.x() << ", " << q.y() << ", "
+           << q.z() << ", " << q.w() << "], \"prior_xyz\": [" << tp.x() << ", " << tp.y() << ", " << tp.z() << "]}";
     }
     os << "\n  ]\n}\n";
     const std::string path = (fs::path(dir_) / "stats.json").string();

@@ -25,6 +25,8 @@ struct SweepSummary {
     double total_ms = 0.0;
     int associations = 0;
     double rms_m = 0.0;
+    Eigen::Isometry3d T_world_body = Eigen::Isometry3d::Identity();   // refined, at t_start
+    Eigen::Isometry3d T_world_prior = Eigen::Isometry3d::Identity();
 };
 
 struct StatsInputs {

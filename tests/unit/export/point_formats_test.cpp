@@ -109,6 +109,16 @@ TEST_F(ExportTest, TrajectoryAndMetadataFiles) {
     EXPECT_NE(js.find("\"points\": 5,"), std::string::npos) << js;
 }
 
+TEST_F(ExportTest, EmptyScanExportsValidEmptyFiles) {
+    const std::string journal = makeJournal(0);
+    auto r = exportScan(journal, dir_.string(), {{"ply", "las"}, 0.0, "out", {}, {}});
+    ASSERT_TRUE(r.isOk()) << r.status().message();
+    EXPECT_EQ(r->points, 0u);
+    const auto las = readFile((dir_ / "out" / "cloud.las").string());
+    ASSERT_EQ(las.size(), 375u);
+    EXPECT_EQ(at<std::uint64_t>(las, 247), 0u);
+}
+
 TEST_F(ExportTest, UnknownFormatRejected) {
     const std::string journal = makeJournal(1);
     auto r = exportScan(journal, dir_.string(), {{"e57"}, 0.0, "out", {}, {}});

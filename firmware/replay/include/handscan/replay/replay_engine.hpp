@@ -21,6 +21,10 @@ struct ReplayOptions {
     bool fast = false;                 // as fast as possible instead of recorded pace
     double speed = 1.0;                // pace multiplier without --fast
     bool use_laser = true;             // --modules imu: IMU prediction only
+    // Scan-matching poses correct the IMU predictor's biases and velocity (section 4.2). Off by
+    // default for now: on simulated walks the feedback loop diverges within seconds (see the
+    // issue notes); without it the matcher's prior is the IMU's relative motion per sweep.
+    bool imu_feedback = false;
     std::string dump_sweeps_dir;       // each assembled sweep as PLY (x y z intensity t)
     std::string device_config;         // default: <config dir>/device.yaml
     std::string calibration;           // default: <config dir>/calibration.yaml

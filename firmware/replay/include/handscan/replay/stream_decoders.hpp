@@ -33,6 +33,7 @@ struct StreamCounters {
 // LaserScan with per-step host times from the 24-bit millisecond clock.
 class HokuyoStreamDecoder {
 public:
+    explicit HokuyoStreamDecoder(hokuyo::ScanTimingConfig timing = {}) : timestamper_(timing) {}
     void feed(TimeNs t_rx, std::span<const std::uint8_t> bytes, std::vector<LaserScan>& out);
     StreamCounters counters() const;
     const std::optional<hokuyo::SensorParameters>& parameters() const { return params_; }

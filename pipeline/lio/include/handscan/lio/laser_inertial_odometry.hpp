@@ -1,0 +1,91 @@
+// LaserInertialOdometry: the laser + IMU configuration of the paper's pipeline, wired end to end
+// on samples (pure computation; the daemon and `handscan replay` feed it). Per sample:
+//   IMU (200 Hz)      -> IMU prediction (section 4), and a 200 Hz integrated pose out (section 7)
+//   encoder + scans   -> sweep assembly with the predicted motion at every step's time (6.1)
+//   each sweep        -> scan matching against the voxel map with the predicted prior (6.1-6.3),
+//                        degenerate directions held from the prediction (section 8),
+//                        feedback to the IMU predictor in the solved DOFs only (4.2)
+// The visual-inertial module (a later issue) slots in between: its poses go to the transform
+// integrator and replace the IMU prior of the matcher (eq. 22).
+#pragma once
+
+#include <Eigen/Geometry>
+#include <algorithm>
+#include <memory>
+#include <optional>
+#include <vector>
+
+#include "handscan/core/config.hpp"
+#include "handscan/core/samples.hpp"
+#include "handscan/fusion/transform_integrator.hpp"
+#include "handscan/imu/imu_predictor.hpp"
+#include "handscan/scan/laser_odometry.hpp"
+#include "handscan/scan/sweep_assembler.hpp"
+
+namespace handscan::lio {
+
+struct LioConfig {
+    imu::ImuPredictorConfig imu;
+    scan::SweepAssemblerConfig assembler;
+    scan::LaserOdometryConfig odometry;
+    bool laser_enabled = true;   // false: IMU prediction only (--modules imu)
+    bool imu_feedback = true;    // scan-matching poses correct the IMU predictor (section 4.2)
+};
+
+// A registered sweep: its points in the world with their own times, after the match.
+struct RegisteredSweep {
+    scan::Sweep sweep;                 // as assembled (body frame at its start), for --dump-sweeps
+    scan::SweepResult result;
+    std::vector<Eigen::Vector3f> points_world;
+    std::vector<float> intensities;
+    std::vector<TimeNs> times;
+};
+
+struct LioStats {
+    std::uint64_t imu_samples = 0;
+    std::uint64_t scans = 0;
+    std::uint64_t encoder_samples = 0;
+    std::uint64_t sweeps = 0;
+    std::uint64_t unplaced_sweeps = 0;   // assembled without a motion estimate (before alignment)
+    std::uint64_t rejected = 0;       // samples a module refused (out of order, not finite)
+    std::uint64_t poses_out = 0;
+};
+
+class LaserInertialOdometry {
+public:
+    LaserInertialOdometry(const LioConfig& config, const Calibration& calibration);
+    ~LaserInertialOdometry();
+
+    void addImu(const ImuSample& sample);
+    void addEncoder(const EncoderSample& sample);
+    void addScan(const LaserScan& scan);
+    // End of input: assembles and matches the last partial sweep.
+    void finish();
+
+    // The 200 Hz integrated poses produced since the last call (one per IMU sample once aligned).
+    std::vector<PoseEstimate> takePoses();
+    // Registered sweeps since the last call, in order.
+    std::vector<RegisteredSweep> takeSweeps();
+
+    bool aligned() const { return predictor_.initialized(); }
+    const imu::ImuPredictor& predictor() const { return predictor_; }
+    const scan::LaserOdometry& odometry() const { return *odometry_; }
+    const scan::SweepAssemblerStats& assemblerStats() const { return assembler_->stats(); }
+    const LioStats& stats() const { return stats_; }
+
+private:
+    void processSweeps();
+    void matchSweep(const scan::Sweep& sweep);
+
+    LioConfig config_;
+    imu::ImuPredictor predictor_;
+    fusion::TransformIntegrator integrator_;
+    std::unique_ptr<scan::SweepAssembler> assembler_;
+    std::unique_ptr<scan::LaserOdometry> odometry_;
+    std::vector<PoseEstimate> poses_;
+    std::vector<RegisteredSweep> sweeps_;
+    TimeNs last_unknown_pose_t_ = 0;
+    LioStats stats_;
+};
+
+}  // namespace handscan::lio
