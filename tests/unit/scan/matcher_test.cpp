@@ -98,6 +98,20 @@ TEST(ScanMatcher, CorridorHoldsTheAlongTrackDirectionAtThePrior) {
     EXPECT_LT(poseError(B, r.T_world_body).rot_deg, 0.15);
 }
 
+TEST(ScanMatcher, TheSolvedSubspaceInWorldAxesFollowsTheCorridorNotTheBody) {
+    // Yawed 40 deg inside the corridor, its axis (world x) is a mix of body x and z; in world
+    // axes, the IMU predictor's feedback convention, exactly tx is unsolved.
+    const auto scene = testing::corridor();
+    const auto B = testing::pose(0.0, 0.7, 0.0, 1.0, 0.0, 0.0);
+    const auto guess = B * testing::pose(0.0, 0.01, 0.0, 0.05, 0.0, 0.05);
+    const MatchResult r = matchRoom(scene, Eigen::Isometry3d::Identity(), B, guess, weakPrior(guess));
+    ASSERT_EQ(r.degeneracy.well_conditioned, 5) << r.degeneracy.eigenvalues.transpose();
+    const Matrix6d P_world = bodyToWorldAxes(r.degeneracy.projection, r.T_world_body.linear());
+    EXPECT_EQ(maskFromProjector(P_world), kAllDof & ~kTx);
+    EXPECT_NEAR(P_world(3, 3), 0.0, 0.02);        // world x: not in the solved subspace
+    EXPECT_NEAR(r.degeneracy.projection(3, 3), 1.0 - std::pow(std::cos(0.7), 2), 0.05);  // body x: partly
+}
+
 TEST(ScanMatcher, APlaneAloneSolvesOnlyTiltAndHeight) {
     const auto scene = testing::floorOnly();
     const auto A = Eigen::Isometry3d::Identity();
@@ -208,6 +222,10 @@ TEST_F(OdometryWalk, ParallelMatchersDeliverEverySweepInOrder) {
     const std::vector<SweepResult> results = lo.drain();
     ASSERT_EQ(results.size(), sweeps.size());
     EXPECT_EQ(lo.droppedSweeps(), 0U);
+    // Sweeps arrived faster than one matcher finishes them: the second one took its share (6.4).
+    int on_second = 0;
+    for (const SweepResult& r : results) on_second += r.matcher_thread == 1 ? 1 : 0;
+    EXPECT_GT(on_second, 0);
     for (std::size_t i = 0; i < results.size(); ++i) {
         EXPECT_EQ(results[i].sweep_index, sweeps[i].index);
         if (i > 0) {
@@ -215,6 +233,24 @@ TEST_F(OdometryWalk, ParallelMatchersDeliverEverySweepInOrder) {
         }
     }
     EXPECT_TRUE(lo.poll().empty());
+}
+
+TEST_F(OdometryWalk, SynchronousRunsAreBitForBitRepeatable) {
+    // `handscan replay --fast` relies on this: same sweeps, same poses, same map.
+    std::vector<Eigen::Isometry3d> truth;
+    const auto sweeps = walk(testing::pose(0.002, 0, 0, 0.01, 0, 0), truth);
+    LaserOdometry a;
+    LaserOdometry b;
+    for (const Sweep& s : sweeps) {
+        const SweepResult ra = a.process(s);
+        const SweepResult rb = b.process(s);
+        EXPECT_EQ(ra.pose.T_world_body.matrix(), rb.pose.T_world_body.matrix());
+        EXPECT_EQ(ra.pose.solved_dof_mask, rb.pose.solved_dof_mask);
+    }
+    const auto pa = a.mapPoints();
+    const auto pb = b.mapPoints();
+    ASSERT_EQ(pa.size(), pb.size());
+    for (std::size_t i = 0; i < pa.size(); ++i) ASSERT_EQ(pa[i], pb[i]);
 }
 
 }  // namespace
