@@ -49,6 +49,8 @@ TEST(ScanMatcher, RecoversAPerturbedPoseInABoxRoom) {
     const MatchResult r = matchRoom(scene, A, B, guess, weakPrior(guess));
     ASSERT_TRUE(r.enough_matches);
     const PoseError e = poseError(B, r.T_world_body);
+    std::printf("box room: matched %.2f cm %.3f deg from truth (start 10-15 cm, 2.5 deg off)\n", e.trans_m * 100,
+                e.rot_deg);
     EXPECT_LT(e.trans_m, 0.01) << "rot " << e.rot_deg << " deg, " << r.edge_matches << " edges, "
                                << r.plane_matches << " planes";
     EXPECT_LT(e.rot_deg, 0.1);
@@ -204,6 +206,8 @@ TEST_F(OdometryWalk, CorrectsDriftingOdometry) {
     }
     // Sweep-to-map registration keeps the pose within a couple of cm while the odometry drifts
     // by decimetres; the points inside each sweep are still smeared by the drift's rate.
+    std::printf("walk: %zu half-revolution sweeps, odometry off by up to %.1f cm; matched worst %.2f cm %.3f deg\n",
+                sweeps.size(), odom_t * 100, worst_t * 100, worst_r);
     EXPECT_GT(odom_t, 0.1);
     EXPECT_LT(worst_t, 0.03);
     EXPECT_LT(worst_r, 0.3);
