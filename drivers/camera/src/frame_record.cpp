@@ -71,6 +71,7 @@ Result<FrameRecordView> decodeFrameRecord(std::span<const std::uint8_t> b) {
         return bad("size " + std::to_string(h.width) + "x" + std::to_string(h.height) + " outside 1..16384");
     }
     if (h.bytesused > kMaxFramePayload) return bad("bytesused " + std::to_string(h.bytesused) + " over 64 MiB");
+    if (h.stride > kMaxFrameStride) return bad("stride " + std::to_string(h.stride) + " over " + std::to_string(kMaxFrameStride));
     const std::uint64_t min_stride = minStride(h.fourcc, h.width);
     if (min_stride > 0) {
         if (h.stride < min_stride) return bad(transport::fourccName(h.fourcc) + " stride " + std::to_string(h.stride) + " < " + std::to_string(min_stride));

@@ -95,6 +95,7 @@ Status parseId(std::string_view digits, CanFrame& f, std::string_view text) {
             f.id = id;
         }
     } else {
+        if (id > transport::kCanSffMask) return bad("identifier", "11-bit identifier above 7FF", text);
         f.id = id;
     }
     return Status::ok();

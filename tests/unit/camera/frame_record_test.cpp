@@ -84,6 +84,10 @@ TEST(FrameRecord, RejectsTruncatedAndInconsistentRecords) {
     h.width = 0;
     EXPECT_FALSE(decodeFrameRecord(encodeFrameRecord(h, payload)));
     h = greyHeader();
+    h.height = 1;
+    h.stride = 0x11000000;  // found by fuzz_v4l2_record: a huge stride with one line
+    EXPECT_FALSE(decodeFrameRecord(encodeFrameRecord(h, payload)));
+    h = greyHeader();
     h.fourcc = transport::fourcc('R', 'G', 'G', 'B');
     auto unknown = decodeFrameRecord(encodeFrameRecord(h, payload));
     ASSERT_FALSE(unknown);

@@ -57,10 +57,21 @@ CameraRenderer::CameraRenderer(const CameraIntrinsics& intrinsics, const CameraR
     : intr_(intrinsics), cfg_(config), rc_(raycaster), rng_(rng), w_(intrinsics.resolution[0]),
       h_(intrinsics.resolution[1]), channels_(config.colour ? 3 : 1) {
     if (w_ <= 1 || h_ <= 1) throw std::invalid_argument("camera resolution must be at least 2x2");
-    dirs_ = cameraRays(intr_);
+    const double sc = std::clamp(cfg_.render_scale, 0.1, 1.0);
+    rw_ = std::max(2, static_cast<int>(std::lround(w_ * sc)));
+    rh_ = std::max(2, static_cast<int>(std::lround(h_ * sc)));
+    CameraIntrinsics shading = intr_;
+    if (rw_ != w_ || rh_ != h_) {
+        // Same lens, fewer pixels: scale focal lengths and principal point (pixel-centre convention).
+        const double sx = static_cast<double>(rw_) / w_, sy = static_cast<double>(rh_) / h_;
+        shading.intrinsics = {intr_.intrinsics[0] * sx, intr_.intrinsics[1] * sy, (intr_.intrinsics[2] + 0.5) * sx - 0.5,
+                              (intr_.intrinsics[3] + 0.5) * sy - 0.5};
+        shading.resolution = {rw_, rh_};
+    }
+    dirs_ = cameraRays(shading);
     vignette_.resize(dirs_.size());
     for (std::size_t i = 0; i < dirs_.size(); ++i) vignette_[i] = std::pow(std::max(dirs_[i].z(), 0.05f), 1.5f);
-    pixel_angle_ = static_cast<float>(1.0 / intr_.intrinsics[0]);
+    pixel_angle_ = static_cast<float>(1.0 / shading.intrinsics[0]);
     // Group triangles by (plane, material): a grid cell whose corners share a group is planar.
     const World& w = rc_.world();
     plane_id_.resize(w.triangles.size());
@@ -114,7 +125,7 @@ void CameraRenderer::radiance(const Eigen::Isometry3d& T, std::vector<float>& ra
     const TextureAtlas& atlas = TextureAtlas::instance();
     const Eigen::Vector3f light_dir = Eigen::Vector3f(0.3f, 0.2f, 0.93f).normalized();
     const float illum = static_cast<float>(cfg_.illumination);
-    rad.assign(static_cast<std::size_t>(w_) * h_ * channels_, 0.0f);
+    rad.assign(static_cast<std::size_t>(rw_) * rh_ * channels_, 0.0f);
     const float sky[3] = {0.75f * static_cast<float>(cfg_.illumination), 0.8f * static_cast<float>(cfg_.illumination),
                           0.9f * static_cast<float>(cfg_.illumination)};
     auto setSky = [&](std::size_t p) {
@@ -122,15 +133,15 @@ void CameraRenderer::radiance(const Eigen::Isometry3d& T, std::vector<float>& ra
     };
     // 1. Coarse grid of rays.
     std::vector<int> gx, gy;
-    for (int x = 0; x < w_ - 1; x += G) gx.push_back(x);
-    gx.push_back(w_ - 1);
-    for (int y = 0; y < h_ - 1; y += G) gy.push_back(y);
-    gy.push_back(h_ - 1);
+    for (int x = 0; x < rw_ - 1; x += G) gx.push_back(x);
+    gx.push_back(rw_ - 1);
+    for (int y = 0; y < rh_ - 1; y += G) gy.push_back(y);
+    gy.push_back(rh_ - 1);
     const std::size_t nx = gx.size(), ny = gy.size();
     rays_.resize(nx * ny);
     for (std::size_t j = 0; j < ny; ++j)
         for (std::size_t i = 0; i < nx; ++i) {
-            const std::size_t p = static_cast<std::size_t>(gy[j]) * w_ + gx[i];
+            const std::size_t p = static_cast<std::size_t>(gy[j]) * rw_ + gx[i];
             rays_[j * nx + i] = Ray{o, R * dirs_[p], 1e4f};
         }
     std::vector<RayHit> grid(rays_.size());
@@ -175,7 +186,7 @@ void CameraRenderer::radiance(const Eigen::Isometry3d& T, std::vector<float>& ra
                     atlas.level(m.texture, t_mid * pixel_angle_ * inv_scale / std::max(cos_inc, 0.25f));
                 for (int y = y0; y < y1; ++y)
                     for (int x = x0; x < x1; ++x) {
-                        const std::size_t p = static_cast<std::size_t>(y) * w_ + x;
+                        const std::size_t p = static_cast<std::size_t>(y) * rw_ + x;
                         const Eigen::Vector3f dir = R * dirs_[p];
                         const float den = n.dot(dir);
                         float t = std::abs(den) > 1e-9f ? num / den : a.t;
@@ -189,11 +200,11 @@ void CameraRenderer::radiance(const Eigen::Isometry3d& T, std::vector<float>& ra
                     }
             } else if (none_hit) {
                 for (int y = y0; y < y1; ++y)
-                    for (int x = x0; x < x1; ++x) setSky(static_cast<std::size_t>(y) * w_ + x);
+                    for (int x = x0; x < x1; ++x) setSky(static_cast<std::size_t>(y) * rw_ + x);
             } else {
                 for (int y = y0; y < y1; ++y)
                     for (int x = x0; x < x1; ++x) {
-                        const std::size_t p = static_cast<std::size_t>(y) * w_ + x;
+                        const std::size_t p = static_cast<std::size_t>(y) * rw_ + x;
                         traced.push_back(p);
                         pixel_rays.push_back(Ray{o, R * dirs_[p], 1e4f});
                     }
@@ -219,12 +230,34 @@ void CameraRenderer::render(double t_start, const std::function<Eigen::Isometry3
     if (samples == 1) {
         radiance(pose(t_start + 0.5 * cfg_.exposure_s), rad_);
     } else {
-        acc_.assign(static_cast<std::size_t>(w_) * h_ * channels_, 0.0f);
+        acc_.assign(static_cast<std::size_t>(rw_) * rh_ * channels_, 0.0f);
         for (int s = 0; s < samples; ++s) {
             radiance(pose(t_start + cfg_.exposure_s * (s + 0.5) / samples), rad_);
             for (std::size_t i = 0; i < acc_.size(); ++i) acc_[i] += rad_[i] / static_cast<float>(samples);
         }
         rad_.swap(acc_);
+    }
+    if (rw_ != w_ || rh_ != h_) {
+        // Bilinear upsampling of the shaded image to the sensor's resolution.
+        full_.resize(static_cast<std::size_t>(w_) * h_ * channels_);
+        const float sx = static_cast<float>(rw_) / static_cast<float>(w_), sy = static_cast<float>(rh_) / static_cast<float>(h_);
+        for (int y = 0; y < h_; ++y) {
+            const float fy = std::clamp((static_cast<float>(y) + 0.5f) * sy - 0.5f, 0.0f, static_cast<float>(rh_ - 1));
+            const int y0 = std::min(static_cast<int>(fy), rh_ - 2);
+            const float ty = fy - static_cast<float>(y0);
+            for (int x = 0; x < w_; ++x) {
+                const float fx = std::clamp((static_cast<float>(x) + 0.5f) * sx - 0.5f, 0.0f, static_cast<float>(rw_ - 1));
+                const int x0 = std::min(static_cast<int>(fx), rw_ - 2);
+                const float tx = fx - static_cast<float>(x0);
+                const std::size_t i00 = (static_cast<std::size_t>(y0) * rw_ + x0) * channels_;
+                const std::size_t i10 = i00 + channels_, i01 = i00 + static_cast<std::size_t>(rw_) * channels_, i11 = i01 + channels_;
+                float* o = &full_[(static_cast<std::size_t>(y) * w_ + x) * channels_];
+                for (int c = 0; c < channels_; ++c) {
+                    o[c] = (rad_[i00 + c] * (1 - tx) + rad_[i10 + c] * tx) * (1 - ty) + (rad_[i01 + c] * (1 - tx) + rad_[i11 + c] * tx) * ty;
+                }
+            }
+        }
+        rad_.swap(full_);
     }
     // Exposure, shot + read noise, 8 bits.
     const float scale = static_cast<float>(255.0 * cfg_.gain * cfg_.exposure_s / cfg_.reference_exposure_s);

@@ -231,29 +231,6 @@ const TextureAtlas::Level& TextureAtlas::level(TextureId id, float footprint) co
     return chain[static_cast<std::size_t>(lv)];
 }
 
-void TextureAtlas::sampleLevel(const Level& l, float u, float v, int channels, float* out) {
-    const float x = (u - std::floor(u)) * static_cast<float>(l.size) - 0.5f;
-    const float y = (v - std::floor(v)) * static_cast<float>(l.size) - 0.5f;
-    const float fx0 = std::floor(x), fy0 = std::floor(y);
-    const int x0 = static_cast<int>(fx0), y0 = static_cast<int>(fy0);
-    const float fx = x - fx0, fy = y - fy0;
-    const float wa = (1 - fx) * (1 - fy) / 255.0f, wb = fx * (1 - fy) / 255.0f, wc = (1 - fx) * fy / 255.0f,
-                wd = fx * fy / 255.0f;
-    const int m = l.size - 1;
-    const std::size_t r0 = static_cast<std::size_t>(y0 & m) * l.size, r1 = static_cast<std::size_t>((y0 + 1) & m) * l.size;
-    const std::size_t c0 = static_cast<std::size_t>(x0 & m), c1 = static_cast<std::size_t>((x0 + 1) & m);
-    if (channels == 1) {
-        const std::uint8_t* g = l.grey.data();
-        out[0] = wa * g[r0 + c0] + wb * g[r0 + c1] + wc * g[r1 + c0] + wd * g[r1 + c1];
-        return;
-    }
-    const auto& a = l.texels[r0 + c0];
-    const auto& b = l.texels[r0 + c1];
-    const auto& c = l.texels[r1 + c0];
-    const auto& d = l.texels[r1 + c1];
-    for (std::size_t k = 0; k < 3; ++k) out[k] = wa * a[k] + wb * b[k] + wc * c[k] + wd * d[k];
-}
-
 std::array<float, 4> TextureAtlas::sample(TextureId id, float u, float v, float footprint) const {
     std::array<float, 4> out{};
     const Level& l = level(id, footprint);

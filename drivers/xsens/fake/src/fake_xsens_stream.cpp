@@ -6,7 +6,6 @@ namespace handscan::xsens {
 
 Status FakeXsensStream::open() {
     open_ = true;
-    disconnect_after_.reset();
     return Status::ok();
 }
 
@@ -39,6 +38,7 @@ Result<std::size_t> FakeXsensStream::read(std::span<std::uint8_t> buffer, TimeNs
         if (*disconnect_after_ == 0) {
             open_ = false;
             pending_.clear();
+            disconnect_after_.reset();  // one drop per call
             return Status{StatusCode::kDisconnected, "fake-xsens: link dropped"};
         }
         n = std::min(n, *disconnect_after_);

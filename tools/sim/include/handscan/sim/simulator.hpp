@@ -45,7 +45,7 @@ struct SimOptions {
     bool colour_camera = true;
     bool dark = false;
     bool motion_blur = false;
-    std::string colour_format;           // "" = device.yaml's colour_camera.format
+    std::string colour_format;           // "" = MJPEG (see Simulator); YUYV as device.yaml allows
     int imu_precision = 0;               // 0 float32 (as shipped), 1 fp12.20, 2 fp16.32, 3 float64
     TimeNs host_start_ns = 1000 * kNsPerSec;  // host CLOCK_MONOTONIC at the first sample
     FaultOptions faults;

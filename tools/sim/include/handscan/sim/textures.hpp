@@ -39,8 +39,30 @@ public:
         std::vector<std::uint8_t> grey;                   // grey alone: 4x less cache for mono cameras
     };
     const Level& level(TextureId id, float footprint) const;
-    // Bilinear sample of `channels` (1: grey, 3: rgb) into out.
-    static void sampleLevel(const Level& l, float u, float v, int channels, float* out);
+    // Bilinear sample of `channels` (1: grey, 3: rgb) into out. Inline: the renderer's inner loop.
+    static void sampleLevel(const Level& l, float u, float v, int channels, float* out) {
+        const float x = u * static_cast<float>(l.size) - 0.5f, y = v * static_cast<float>(l.size) - 0.5f;
+        int x0 = static_cast<int>(x), y0 = static_cast<int>(y);
+        x0 -= x < static_cast<float>(x0);  // floor for negative coordinates too
+        y0 -= y < static_cast<float>(y0);
+        const float fx = x - static_cast<float>(x0), fy = y - static_cast<float>(y0);
+        const float wa = (1 - fx) * (1 - fy) * (1.0f / 255.0f), wb = fx * (1 - fy) * (1.0f / 255.0f);
+        const float wc = (1 - fx) * fy * (1.0f / 255.0f), wd = fx * fy * (1.0f / 255.0f);
+        const int m = l.size - 1;  // sizes are powers of two: wrap = tile
+        const std::size_t r0 = static_cast<std::size_t>(y0 & m) * static_cast<std::size_t>(l.size);
+        const std::size_t r1 = static_cast<std::size_t>((y0 + 1) & m) * static_cast<std::size_t>(l.size);
+        const std::size_t c0 = static_cast<std::size_t>(x0 & m), c1 = static_cast<std::size_t>((x0 + 1) & m);
+        if (channels == 1) {
+            const std::uint8_t* g = l.grey.data();
+            out[0] = wa * g[r0 + c0] + wb * g[r0 + c1] + wc * g[r1 + c0] + wd * g[r1 + c1];
+            return;
+        }
+        const auto& a = l.texels[r0 + c0];
+        const auto& b = l.texels[r0 + c1];
+        const auto& c = l.texels[r1 + c0];
+        const auto& d = l.texels[r1 + c1];
+        for (std::size_t k = 0; k < 3; ++k) out[k] = wa * a[k] + wb * b[k] + wc * c[k] + wd * d[k];
+    }
 
 private:
     std::array<float, 4> sample(TextureId id, float u, float v, float footprint) const;

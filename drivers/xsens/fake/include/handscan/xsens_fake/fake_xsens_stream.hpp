@@ -29,7 +29,7 @@ public:
 
     // Largest chunk one read() returns (a serial driver hands out arbitrary pieces).
     void setMaxChunk(std::size_t n) { max_chunk_ = n; }
-    // After this many more bytes the link drops (kDisconnected) until open() is called again.
+    // After this many more bytes the link drops once (kDisconnected) until open() is called again.
     void disconnectAfter(std::size_t bytes) { disconnect_after_ = bytes; }
     // The host side's line rate (what SerialStream::setBaudrate would set); a mismatch with the
     // device's rate garbles the link.
