@@ -32,7 +32,9 @@ ImuBiases trueBiases() {
 TEST(ImuPredictor, AlignsFromAStaticStartAndThenPredicts) {
     const Eigen::Matrix3d R0 = expSO3(Eigen::Vector3d(0.2, -0.15, 0.7));
     const ImuBiases b = trueBiases();
-    ImuPredictor predictor({}, camchainTCamImu());
+    const Calibration calibration = loadCalibration(std::string(HANDSCAN_SOURCE_DIR) + "/config/calibration.yaml");
+    ImuPredictor predictor({}, calibration);
+    EXPECT_TRUE((predictor.T_imu_body() * calibration.tracking.T_cam_imu).matrix().isIdentity(1e-12));
     // 1.5 s held still (tilted), then moving.
     for (int k = 0; k < 300; ++k) {
         ImuSample s;
