@@ -5,6 +5,7 @@
 #include <opencv2/imgproc.hpp>
 
 #include <cmath>
+#include <cstdio>
 #include <numbers>
 
 #include "handscan/camera/frame_record.hpp"
@@ -66,10 +67,21 @@ TEST(CameraModelTest, CoarseGridRendererEqualsPerPixelRayTracing) {
     exact.coarse = 1;
     const auto a = render(scene, cal.tracking, fast), b = render(scene, cal.tracking, exact);
     ASSERT_EQ(a.size(), b.size());
-    std::size_t differ = 0;
-    for (std::size_t i = 0; i < a.size(); ++i) differ += std::abs(int(a[i]) - int(b[i])) > 2;
-    // Only sub-grid details (thin chair legs seen from afar) may differ.
-    EXPECT_LT(static_cast<double>(differ) / static_cast<double>(a.size()), 0.005);
+    std::size_t differ = 0, far = 0;
+    double sum = 0;
+    for (std::size_t i = 0; i < a.size(); ++i) {
+        const int e = std::abs(int(a[i]) - int(b[i]));
+        differ += e > 2;
+        far += e > 24;
+        sum += e;
+    }
+    const double n = static_cast<double>(a.size());
+    // Sub-texel differences (interpolated texture coordinates) on high-contrast texture edges and
+    // sub-grid details (thin chair legs seen from afar) are all that may differ.
+    EXPECT_LT(sum / n, 0.1);
+    EXPECT_LT(static_cast<double>(differ) / n, 0.01);
+    EXPECT_LT(static_cast<double>(far) / n, 0.002);
+    std::printf("mean |diff| %.4f DN, >2 DN %.4f %%, >24 DN %.4f %%\n", sum / n, 100.0 * static_cast<double>(differ) / n, 100.0 * static_cast<double>(far) / n);
 }
 
 TEST(CameraModelTest, OfficeImagesHaveCornersAndDarkImagesDoNot) {
