@@ -307,10 +307,10 @@ void tree(MeshBuilder& b, Rng& rng, const Vector3d& base, std::uint16_t bark, st
                 stack.push_back({end, d, br.length * rng.uniform(0.55, 0.75), br.radius * 0.6, br.depth + 1});
             }
         } else {
-            for (int k = 0; k < 14; ++k) {
-                const Vector3d c = end + Vector3d(rng.gauss(0.25), rng.gauss(0.25), rng.gauss(0.2));
+            for (int k = 0; k < 36; ++k) {
+                const Vector3d c = end + Vector3d(rng.gauss(0.3), rng.gauss(0.3), rng.gauss(0.2));
                 const Vector3d n = Vector3d(rng.gauss(), rng.gauss(), rng.gauss() + 1.0).normalized();
-                b.addLeaf(c, n, n.unitOrthogonal(), rng.uniform(0.06, 0.12), rng.uniform(0.03, 0.06), leaf);
+                b.addLeaf(c, n, n.unitOrthogonal(), rng.uniform(0.07, 0.14), rng.uniform(0.04, 0.07), leaf);
             }
         }
     }
