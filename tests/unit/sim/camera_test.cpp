@@ -177,3 +177,37 @@ TEST(CameraStreamTest, BufferRecordsDecodeWithMetadataRateAndSequenceGaps) {
 
 }  // namespace
 }  // namespace handscan::sim
+
+namespace handscan::sim {
+namespace {
+
+TEST(CameraModelTest, MotionBlurSmearsAFastTurn) {
+    const Scene scene = buildScene("office");
+    Raycaster rc(scene.world);
+    const Calibration cal = calibration();
+    CameraRenderConfig cfg;
+    cfg.read_noise_dn = 0.0;
+    cfg.shot_noise_gain = 0.0;
+    cfg.exposure_s = cfg.reference_exposure_s = 0.01;
+    // Turning at 6 rad/s about the vertical: 0.06 rad (~17 px) during the exposure.
+    const auto pose = [](double t) {
+        Eigen::Isometry3d T = corridorView();
+        T.linear() = Eigen::AngleAxisd(6.0 * t, Eigen::Vector3d::UnitZ()) * T.linear();
+        return T;
+    };
+    auto gradient = [](const std::vector<std::uint8_t>& img) {
+        double g = 0;
+        for (int y = 0; y < 512; ++y)
+            for (int x = 1; x < 640; ++x) g += std::abs(int(img[y * 640 + x]) - int(img[y * 640 + x - 1]));
+        return g;
+    };
+    std::vector<std::uint8_t> sharp, blurred;
+    CameraRenderer(cal.tracking, cfg, rc, Rng(1, "r")).render(0.0, pose, sharp);
+    cfg.motion_blur = true;
+    cfg.blur_samples = 6;
+    CameraRenderer(cal.tracking, cfg, rc, Rng(1, "r")).render(0.0, pose, blurred);
+    EXPECT_LT(gradient(blurred), 0.8 * gradient(sharp));  // horizontal detail smeared out
+}
+
+}  // namespace
+}  // namespace handscan::sim
