@@ -32,9 +32,9 @@ using detail::ByteReader;
 using detail::ChunkRef;
 using detail::RecordScanner;
 
-// No chunk we write is anywhere near this; a larger declared size means a corrupt header, and
-// must not make us allocate it.
-constexpr std::uint64_t kMaxChunkBytes = 4ull << 30;
+// Our chunks are ~1 MiB (one 1600x1200 YUYV frame is 3.7 MiB); other writers use a few MiB. A
+// larger declared size means a corrupt header, and must not make us allocate it.
+constexpr std::uint64_t kMaxChunkBytes = 256ull << 20;
 
 std::string at(std::uint64_t offset) { return "at byte " + std::to_string(offset); }
 
@@ -273,7 +273,8 @@ Status McapReader::load() {
             return Status::ok();
         }
         if (s.code() == StatusCode::kIoError) return s;
-        drop(footer.summary_start, footer_offset - std::min(footer_offset, footer.summary_start),
+        const std::uint64_t summary_at = std::min(footer_offset, footer.summary_start);
+        drop(summary_at, footer_offset - summary_at,
              "summary unusable (" + s.message() + "); recovered by scanning the data section");
         channels_.clear();
         channel_by_id_.clear();
@@ -319,7 +320,8 @@ Status McapReader::readIndexed(const Footer& footer, std::uint64_t footer_offset
                 if (!detail::parseChunkIndex(rec->content, ci)) {
                     return {StatusCode::kProtocolError, "malformed Chunk Index " + at(where)};
                 }
-                if (ci.chunk_start_offset + ci.chunk_length > footer.summary_start || ci.chunk_length < kRecordPrefixSize) {
+                if (ci.chunk_length < kRecordPrefixSize || ci.chunk_length > footer.summary_start ||
+                    ci.chunk_start_offset > footer.summary_start - ci.chunk_length) {
                     return {StatusCode::kProtocolError, "Chunk Index " + at(where) + " points outside the data section"};
                 }
                 indexes.push_back(std::move(ci));

@@ -257,6 +257,9 @@ Status McapWriter::closeChunk() {
     // Message Index records, one per channel present in the chunk.
     c.scratch.clear();
     for (auto& [channel_id, entries] : c.index) {
+        // In log-time order, as readers that seek by time expect (arrivals can be out of order).
+        std::stable_sort(entries.begin(), entries.end(),
+                         [](const MessageIndexEntry& a, const MessageIndexEntry& b) { return a.log_time < b.log_time; });
         ci.message_index_offsets[channel_id] = offset_ + c.scratch.size();
         detail::writeMessageIndex(w, MessageIndex{channel_id, std::move(entries)});
     }

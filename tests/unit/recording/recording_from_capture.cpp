@@ -2,9 +2,10 @@
 // varying size (as reads from a socket or tty would be) 1 ms apart in host time. Used to check
 // that `handscan decode` gives the same samples from a recording as from the plain capture.
 //
-// usage: recording_from_capture CAPTURE TOPIC OUT.mcap
+// usage: recording_from_capture CAPTURE TOPIC OUT.mcap [zstd|none]
 #include <cstdio>
 #include <fstream>
+#include <string>
 #include <iterator>
 
 #include "handscan/recording/channels.hpp"
@@ -14,8 +15,8 @@ using namespace handscan;
 using namespace handscan::recording;
 
 int main(int argc, char** argv) {
-    if (argc != 4) {
-        std::fprintf(stderr, "usage: %s CAPTURE TOPIC OUT.mcap\n", argv[0]);
+    if (argc != 4 && argc != 5) {
+        std::fprintf(stderr, "usage: %s CAPTURE TOPIC OUT.mcap [zstd|none]\n", argv[0]);
         return 2;
     }
     std::ifstream in(argv[1], std::ios::binary);
@@ -28,6 +29,7 @@ int main(int argc, char** argv) {
     }
     McapWriterOptions o;
     o.chunk_size_bytes = 4096;  // several chunks even for a small capture
+    if (argc == 5 && std::string(argv[4]) == "none") o.compression.clear();
     auto w = McapWriter::create(argv[3], o);
     if (!w) return 1;
     auto id = addChannel(**w, *spec);

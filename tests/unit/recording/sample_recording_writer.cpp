@@ -1,7 +1,8 @@
 // Writes a small deterministic recording for the interoperability and `handscan info` tests:
 // IMU samples at 200 Hz, Hokuyo bytes at 40 Hz, ground truth at 100 Hz, encoder at 100 Hz for
 // 3 s, plus pairs of 300 KB random (incompressible, like MJPEG) tracking-camera buffers at 2 Hz, so
-// the file holds both zstd chunks and chunks stored uncompressed. Writes OUT.expected.json with
+// the file holds both zstd chunks and chunks stored uncompressed; ground truth is written 3 ms
+// late (out of log-time order), as a late device would be. Writes OUT.expected.json with
 // the message count per topic.
 //
 // usage: recording_sample_writer OUT.mcap
@@ -68,11 +69,12 @@ int main(int argc, char** argv) {
             put(channels::kHokuyoRaw.topic, t + 1, buf);
         }
         if (ms % 10 == 0) {
+            // Ground truth arrives 3 ms late: the file holds it out of log-time order.
             GroundTruthPose p;
-            p.t = t;
+            p.t = t - 3 * kNsPerMs;
             p.p_world_body = {static_cast<double>(ms) * 1e-3, 0.0, 1.5};
             encodeGroundTruthPose(p, buf);
-            put(channels::kGroundTruthPose.topic, t, buf);
+            put(channels::kGroundTruthPose.topic, p.t, buf);
             EncoderSample e;
             e.t_host = t;
             e.angle_rad = static_cast<double>(ms) * 2e-3 * M_PI;

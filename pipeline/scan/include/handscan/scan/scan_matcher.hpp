@@ -1,0 +1,83 @@
+// ScanMatcher: refines the body pose at a sweep's start by matching its edge and planar features
+// to the map (sections 6.1-6.2): point-to-line (eq. 14) and point-to-plane (eq. 15) distances to
+// neighbour clusters that pass an eigenvalue test, robust weights, Gauss-Newton on SE(3) with the
+// pose prior of eqs. (17)-(18), and the degeneracy remapping of eq. (21) so that directions the
+// scene cannot constrain stay at the prior.
+#pragma once
+
+#include <Eigen/Geometry>
+#include <cstdint>
+#include <vector>
+
+#include "handscan/core/se3.hpp"
+#include "handscan/scan/degeneracy.hpp"
+#include "handscan/scan/feature_extractor.hpp"
+#include "handscan/scan/local_map.hpp"
+
+namespace handscan::scan {
+
+enum class RobustKernel : std::uint8_t { kNone = 0, kHuber = 1, kBisquare = 2 };
+
+struct ScanMatcherConfig {
+    int max_associations = 6;          // outer loop: nearest-neighbour search + cluster test
+    int max_iterations = 4;            // inner Gauss-Newton steps per association
+    int neighbours = 5;                // cluster size
+    double max_neighbour_dist_m = 1.0; // farthest cluster point from the query
+    double edge_eigen_ratio = 10.0;    // edge: lambda_max > ratio * lambda_mid (one large eigenvalue)
+    double edge_max_thickness_m = 0.05;// sqrt(lambda_mid): the cluster must be a thin segment
+    double plane_eigen_ratio = 0.1;    // plane: lambda_min < ratio * lambda_mid (one small eigenvalue)
+    double plane_max_thickness_m = 0.05;// every cluster point this close to the fitted plane
+    // sqrt(lambda_mid) at least this: a cluster from a single scan line is a segment, whose
+    // "normal" is any direction around it (far from the sensor, lines are wider apart than the
+    // neighbour search, and such clusters would pull the pose sideways).
+    double plane_min_extent_m = 0.03;
+    RobustKernel kernel = RobustKernel::kBisquare;
+    double kernel_scale_m = 0.1;       // bisquare zero-weight distance / Huber corner
+    // Coarse to fine: the first association uses this scale, each later one half the previous,
+    // down to kernel_scale_m, so a prior decimetres off still pulls in the far correspondences.
+    double kernel_scale_initial_m = 0.5;
+    double laser_sigma_m = 0.03;       // feature-to-map distance noise (weights the prior against)
+    double degeneracy_threshold = 50.0;// eigenvalue of sum(w J^T J) below which a direction degrades
+    int min_correspondences = 20;      // fewer: the sweep constrains nothing
+    double converged_rot_rad = 1e-5;
+    double converged_trans_m = 1e-5;
+};
+
+// A pose prior of eqs. (17)/(18): the predicted body pose and the information (inverse
+// covariance) of its error log(T_prior^{-1} T) in the body tangent (rot, trans). Several priors
+// add up, e.g. eq. (22): VIO information projected on its solved directions plus IMU
+// information on the others.
+struct PosePrior {
+    Eigen::Isometry3d T_world_body = Eigen::Isometry3d::Identity();
+    Matrix6d information = Matrix6d::Identity();
+};
+
+struct MatchResult {
+    Eigen::Isometry3d T_world_body = Eigen::Isometry3d::Identity();
+    DegeneracyAnalysis degeneracy;      // of the last association; the solved mask is in here
+    Matrix6d covariance = Matrix6d::Identity();   // (rot, trans), from the final normal equations
+    int associations = 0;
+    int iterations = 0;
+    int edge_matches = 0;
+    int plane_matches = 0;
+    double rms_m = 0.0;                 // weighted rms feature-to-map distance, last iteration
+    bool converged = false;
+    bool enough_matches = false;        // false: pose = prior, mask 0
+};
+
+class ScanMatcher {
+public:
+    explicit ScanMatcher(const ScanMatcherConfig& config = {}) : config_(config) {}
+
+    // `features` in the body frame at the sweep's start; the search starts at priors[0]'s pose
+    // (or `initial` when given).
+    MatchResult match(const FeatureCloud& features, const LocalMap& map, const std::vector<PosePrior>& priors,
+                      const Eigen::Isometry3d* initial = nullptr) const;
+
+    const ScanMatcherConfig& config() const { return config_; }
+
+private:
+    ScanMatcherConfig config_;
+};
+
+}  // namespace handscan::scan

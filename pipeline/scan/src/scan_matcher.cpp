@@ -1,0 +1,184 @@
+#include "handscan/scan/scan_matcher.hpp"
+
+#include <Eigen/Eigenvalues>
+#include <algorithm>
+#include <cmath>
+
+namespace handscan::scan {
+namespace {
+
+// A feature's correspondence, fixed during the inner iterations: the distance is measured to the
+// line through `c` along `dir` (edge) or to the plane through `c` with normal `dir` (planar).
+struct Correspondence {
+    Eigen::Vector3d p_body;
+    Eigen::Vector3d c;
+    Eigen::Vector3d dir;
+    bool edge;
+};
+
+double robustWeight(RobustKernel kernel, double r, double scale) {
+    const double a = std::abs(r);
+    switch (kernel) {
+        case RobustKernel::kNone:
+            return 1.0;
+        case RobustKernel::kHuber:
+            return a <= scale ? 1.0 : scale / a;
+        case RobustKernel::kBisquare: {
+            if (a >= scale) {
+                return 0.0;
+            }
+            const double u = 1.0 - (a / scale) * (a / scale);
+            return u * u;
+        }
+    }
+    return 1.0;
+}
+
+}  // namespace
+
+MatchResult ScanMatcher::match(const FeatureCloud& features, const LocalMap& map,
+                               const std::vector<PosePrior>& priors,
+                               const Eigen::Isometry3d* initial) const {
+    MatchResult res;
+    Eigen::Isometry3d T = initial != nullptr ? *initial
+                          : priors.empty()   ? Eigen::Isometry3d::Identity()
+                                             : priors.front().T_world_body;
+    res.T_world_body = T;
+    res.degeneracy = analyzeDegeneracy(Matrix6d::Zero(), 1.0);  // nothing solved yet
+    const int K = std::min(config_.neighbours, LocalMap::kMaxNeighbours);
+    const double max_d2 = config_.max_neighbour_dist_m * config_.max_neighbour_dist_m;
+    const double inv_sigma2 = 1.0 / (config_.laser_sigma_m * config_.laser_sigma_m);
+    std::vector<Correspondence> corr;
+    corr.reserve(features.edges.size() + features.planars.size());
+    Eigen::Vector3d nb[LocalMap::kMaxNeighbours];
+    double d2[LocalMap::kMaxNeighbours];
+
+    Matrix6d H_final = Matrix6d::Identity();
+    for (int assoc = 0; assoc < config_.max_associations; ++assoc) {
+        // Association: clusters of the closest map points, checked by their eigenvalues (6.1).
+        corr.clear();
+        res.edge_matches = 0;
+        res.plane_matches = 0;
+        for (int kind = 0; kind < 2; ++kind) {
+            const bool edge = kind == 0;
+            const auto& pts = edge ? features.edges : features.planars;
+            for (const Eigen::Vector3d& p : pts) {
+                const Eigen::Vector3d q = T * p;
+                const int n = map.nearest(edge ? FeatureKind::kEdge : FeatureKind::kPlanar, q, K, nb, d2);
+                if (n < K || d2[n - 1] > max_d2) {
+                    continue;
+                }
+                Eigen::Vector3d c = Eigen::Vector3d::Zero();
+                for (int i = 0; i < n; ++i) c += nb[i];
+                c /= n;
+                Eigen::Matrix3d cov = Eigen::Matrix3d::Zero();
+                for (int i = 0; i < n; ++i) cov += (nb[i] - c) * (nb[i] - c).transpose();
+                cov /= n;
+                Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> es;
+                es.computeDirect(cov);
+                const Eigen::Vector3d ev = es.eigenvalues();  // increasing
+                if (edge) {
+                    // One large, two small eigenvalues: an edge line segment.
+                    if (ev[2] < config_.edge_eigen_ratio * ev[1] ||
+                        ev[1] > config_.edge_max_thickness_m * config_.edge_max_thickness_m) {
+                        continue;
+                    }
+                    corr.push_back({p, c, es.eigenvectors().col(2), true});
+                    ++res.edge_matches;
+                } else {
+                    // Two large, one small: a local planar patch.
+                    if (ev[0] > config_.plane_eigen_ratio * ev[1] ||
+                        ev[1] < config_.plane_min_extent_m * config_.plane_min_extent_m) {
+                        continue;
+                    }
+                    const Eigen::Vector3d nrm = es.eigenvectors().col(0);
+                    bool thin = true;
+                    for (int i = 0; i < n && thin; ++i) {
+                        thin = std::abs(nrm.dot(nb[i] - c)) <= config_.plane_max_thickness_m;
+                    }
+                    if (!thin) continue;
+                    corr.push_back({p, c, nrm, false});
+                    ++res.plane_matches;
+                }
+            }
+        }
+        ++res.associations;
+        if (static_cast<int>(corr.size()) < config_.min_correspondences) {
+            res.enough_matches = false;
+            res.T_world_body = initial != nullptr ? *initial : (priors.empty() ? T : priors.front().T_world_body);
+            res.degeneracy = analyzeDegeneracy(Matrix6d::Zero(), 1.0);
+            return res;
+        }
+        res.enough_matches = true;
+
+        const Eigen::Isometry3d T_assoc = T;
+        const double scale = std::max(config_.kernel_scale_m,
+                                      config_.kernel_scale_initial_m * std::pow(0.5, assoc));
+        bool converged = false;
+        for (int it = 0; it < config_.max_iterations; ++it) {
+            Matrix6d JtJ = Matrix6d::Zero();   // sum w J^T J: the laser constraints alone
+            Vector6d Jtr = Vector6d::Zero();
+            double wsum = 0.0;
+            double wr2 = 0.0;
+            const Eigen::Matrix3d R = T.linear();
+            for (const Correspondence& m : corr) {
+                const Eigen::Vector3d q = T * m.p_body;
+                const Eigen::Vector3d d = q - m.c;
+                double r;
+                Eigen::Vector3d grad;  // d r / d q
+                if (m.edge) {
+                    // eq. (14): distance to the line; its gradient is the unit perpendicular.
+                    const Eigen::Vector3d perp = d - m.dir * m.dir.dot(d);
+                    r = perp.norm();
+                    if (r < 1e-9) continue;
+                    grad = perp / r;
+                } else {
+                    // eq. (15): signed distance to the plane.
+                    r = m.dir.dot(d);
+                    grad = m.dir;
+                }
+                const double w = robustWeight(config_.kernel, r, scale);
+                if (w <= 0.0) continue;
+                // Right perturbation T exp(xi), xi = (w, v): dq/dw = -R [p]x, dq/dv = R.
+                Eigen::Matrix<double, 1, 6> J;
+                J.leftCols<3>() = -grad.transpose() * R * skew(m.p_body);
+                J.rightCols<3>() = grad.transpose() * R;
+                JtJ.noalias() += w * J.transpose() * J;
+                Jtr.noalias() += w * J.transpose() * r;
+                wsum += w;
+                wr2 += w * r * r;
+            }
+            res.rms_m = wsum > 0.0 ? std::sqrt(wr2 / wsum) : 0.0;
+            Matrix6d H = JtJ * inv_sigma2;
+            Vector6d g = Jtr * inv_sigma2;
+            for (const PosePrior& prior : priors) {
+                // eqs. (17)-(18): the prior pose error, weighted by its information.
+                const Vector6d e = logSE3(prior.T_world_body.inverse() * T);
+                H += prior.information;
+                g += prior.information * e;
+            }
+            Vector6d dx = -H.ldlt().solve(g);  // eq. (20)
+            res.degeneracy = analyzeDegeneracy(JtJ, config_.degeneracy_threshold);
+            dx = res.degeneracy.projection * dx;  // eq. (21): move only in solved directions
+            T = T * expSE3(dx);
+            T.linear() = orthonormalize(T.linear());
+            H_final = H;
+            ++res.iterations;
+            if (dx.head<3>().norm() < config_.converged_rot_rad && dx.tail<3>().norm() < config_.converged_trans_m) {
+                converged = true;
+                break;
+            }
+        }
+        res.converged = converged;
+        const Vector6d moved = logSE3(T_assoc.inverse() * T);
+        if (converged && moved.head<3>().norm() < 10 * config_.converged_rot_rad &&
+            moved.tail<3>().norm() < 10 * config_.converged_trans_m) {
+            break;  // a fresh association barely moved the pose: the correspondences are stable
+        }
+    }
+    res.T_world_body = T;
+    res.covariance = H_final.inverse();
+    return res;
+}
+
+}  // namespace handscan::scan
