@@ -65,7 +65,9 @@ Result<RecordingSummary> summarizeRecording(McapReader& reader, const std::funct
         s.channels.push_back(std::move(c));
     }
     std::vector<std::vector<TimeNs>> periods(s.channels.size());
-    const auto [t0, t1] = reader.timeRange();
+    const std::pair<TimeNs, TimeNs> range = reader.timeRange();
+    const TimeNs t0 = range.first;
+    const TimeNs t1 = range.second;
     std::uint64_t n = 0;
     const Status st = reader.forEachMessage({}, [&](const RecordedMessage& m) {
         const std::size_t i = index.at(m.channel->id);

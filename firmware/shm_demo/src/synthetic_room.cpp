@@ -8,14 +8,10 @@ namespace {
 
 constexpr double kPi = 3.14159265358979323846;
 
-std::uint64_t voxelKey(double x, double y, double z, double voxel) {
-    const auto q = [voxel](double v) { return static_cast<std::uint64_t>(static_cast<std::int64_t>(std::floor(v / voxel)) + (1 << 20)) & 0x1FFFFF; };
-    return (q(x) << 42) | (q(y) << 21) | q(z);
-}
-
 }  // namespace
 
-SyntheticRoom::SyntheticRoom(RoomOptions options) : o_(options), rng_(options.seed) {}
+SyntheticRoom::SyntheticRoom(RoomOptions options)
+    : o_(options), rng_(options.seed), voxels_(static_cast<float>(options.voxel_m)) {}
 
 PoseEstimate SyntheticRoom::poseAt(double t_s) const {
     // An ellipse 1 m inside the walls, walked at walk_speed_mps (approximately), facing forward.
@@ -55,11 +51,11 @@ std::vector<shm::DisplayPoint> SyntheticRoom::observe(const PoseEstimate& pose, 
         }
         const Eigen::Vector3d pt(x, y, z);
         if ((pt - c).norm() > o_.range_m) continue;
-        if (!voxels_.insert(voxelKey(x, y, z, o_.voxel_m)).second) continue;
         shm::DisplayPoint p;
         p.x_m = static_cast<float>(x);
         p.y_m = static_cast<float>(y);
         p.z_m = static_cast<float>(z);
+        if (!voxels_.insert(p)) continue;
         p.r = r;
         p.g = g;
         p.b = b;

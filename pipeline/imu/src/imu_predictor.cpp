@@ -119,16 +119,21 @@ Status ImuPredictor::correct(TimeNs t, const Eigen::Isometry3d& T_world_body, co
     }
     auto predicted = stateAt(t);
     if (!predicted) return predicted.status();
-    const Eigen::Isometry3d T_world_imu = T_world_body * T_imu_body_.inverse();
 
-    // The correction in the world frame (rotation, translation), kept only in the solved DOFs.
+    // The correction of the body pose in world axes (rotation, translation) - the coordinates of
+    // the matcher's solved subspace - kept only in the solved DOFs, then carried to {I}.
+    const Eigen::Isometry3d T_body_pred = bodyPose(*predicted, T_imu_body_);
     Vector6d delta;
-    delta.head<3>() = logSO3(T_world_imu.linear() * predicted->R_world_imu.transpose());
-    delta.tail<3>() = T_world_imu.translation() - predicted->p_world_imu;
+    delta.head<3>() = logSO3(T_world_body.linear() * T_body_pred.linear().transpose());
+    delta.tail<3>() = T_world_body.translation() - T_body_pred.translation();
     delta = solved * delta;
+    Eigen::Isometry3d T_body_new = Eigen::Isometry3d::Identity();
+    T_body_new.linear() = orthonormalize(expSO3(delta.head<3>()) * T_body_pred.linear());
+    T_body_new.translation() = T_body_pred.translation() + delta.tail<3>();
+    const Eigen::Isometry3d T_imu_new = T_body_new * T_imu_body_.inverse();
     NavState x = *predicted;
-    x.R_world_imu = orthonormalize(expSO3(delta.head<3>()) * predicted->R_world_imu);
-    x.p_world_imu += delta.tail<3>();
+    x.R_world_imu = T_imu_new.linear();
+    x.p_world_imu = T_imu_new.translation();
 
     FeedbackPose f;
     f.t = t;

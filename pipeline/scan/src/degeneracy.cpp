@@ -23,13 +23,26 @@ DegeneracyAnalysis analyzeDegeneracy(const Matrix6d& JtJ, double eigenvalue_thre
     }
     // V is orthonormal, so V^{-1} = V^T (eq. 21).
     a.projection = a.V.transpose() * Vbar;
-    a.solved_dof_mask = 0;
+    a.solved_dof_mask = maskFromProjector(a.projection, axis_fraction);
+    return a;
+}
+
+std::uint8_t maskFromProjector(const Matrix6d& P, double axis_fraction) {
+    std::uint8_t mask = 0;
     for (int d = 0; d < 6; ++d) {
-        if (a.projection.col(d).squaredNorm() >= axis_fraction) {
-            a.solved_dof_mask |= static_cast<std::uint8_t>(1U << d);
+        // For an orthogonal projector |P e_d|^2 = e_d^T P e_d.
+        if (P.col(d).squaredNorm() >= axis_fraction) {
+            mask |= static_cast<std::uint8_t>(1U << d);
         }
     }
-    return a;
+    return mask;
+}
+
+Matrix6d bodyToWorldAxes(const Matrix6d& M_body, const Eigen::Matrix3d& R_world_body) {
+    Matrix6d D = Matrix6d::Zero();
+    D.topLeftCorner<3, 3>() = R_world_body;
+    D.bottomRightCorner<3, 3>() = R_world_body;
+    return D * M_body * D.transpose();
 }
 
 }  // namespace handscan::scan

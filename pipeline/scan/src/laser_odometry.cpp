@@ -107,8 +107,11 @@ SweepResult LaserOdometry::run(const Sweep& sweep, const std::optional<std::vect
 
     out.pose.t_host = sweep.t_start;
     out.pose.T_world_body = out.match.T_world_body;
-    out.pose.solved_dof_mask = out.first_sweep ? 0 : out.match.degeneracy.solved_dof_mask;
-    out.pose.covariance = out.match.covariance;
+    const Eigen::Matrix3d R = out.match.T_world_body.linear();
+    out.solved_projector_world =
+        out.first_sweep ? Matrix6d::Zero() : bodyToWorldAxes(out.match.degeneracy.projection, R);
+    out.pose.solved_dof_mask = maskFromProjector(out.solved_projector_world);
+    out.pose.covariance = bodyToWorldAxes(out.match.covariance, R);
     out.pose.source = PoseSource::kScanMatching;
     out.total_ms = msSince(t_total);
     return out;

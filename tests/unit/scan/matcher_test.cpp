@@ -49,6 +49,8 @@ TEST(ScanMatcher, RecoversAPerturbedPoseInABoxRoom) {
     const MatchResult r = matchRoom(scene, A, B, guess, weakPrior(guess));
     ASSERT_TRUE(r.enough_matches);
     const PoseError e = poseError(B, r.T_world_body);
+    std::printf("box room: matched %.2f cm %.3f deg from truth (start 10-15 cm, 2.5 deg off)\n", e.trans_m * 100,
+                e.rot_deg);
     EXPECT_LT(e.trans_m, 0.01) << "rot " << e.rot_deg << " deg, " << r.edge_matches << " edges, "
                                << r.plane_matches << " planes";
     EXPECT_LT(e.rot_deg, 0.1);
@@ -96,6 +98,20 @@ TEST(ScanMatcher, CorridorHoldsTheAlongTrackDirectionAtThePrior) {
     EXPECT_NEAR(t_err.z(), 0.0, 0.01);
     EXPECT_NEAR(t_err.y(), 0.0, 0.01);
     EXPECT_LT(poseError(B, r.T_world_body).rot_deg, 0.15);
+}
+
+TEST(ScanMatcher, TheSolvedSubspaceInWorldAxesFollowsTheCorridorNotTheBody) {
+    // Yawed 40 deg inside the corridor, its axis (world x) is a mix of body x and z; in world
+    // axes, the IMU predictor's feedback convention, exactly tx is unsolved.
+    const auto scene = testing::corridor();
+    const auto B = testing::pose(0.0, 0.7, 0.0, 1.0, 0.0, 0.0);
+    const auto guess = B * testing::pose(0.0, 0.01, 0.0, 0.05, 0.0, 0.05);
+    const MatchResult r = matchRoom(scene, Eigen::Isometry3d::Identity(), B, guess, weakPrior(guess));
+    ASSERT_EQ(r.degeneracy.well_conditioned, 5) << r.degeneracy.eigenvalues.transpose();
+    const Matrix6d P_world = bodyToWorldAxes(r.degeneracy.projection, r.T_world_body.linear());
+    EXPECT_EQ(maskFromProjector(P_world), kAllDof & ~kTx);
+    EXPECT_NEAR(P_world(3, 3), 0.0, 0.02);        // world x: not in the solved subspace
+    EXPECT_NEAR(r.degeneracy.projection(3, 3), 1.0 - std::pow(std::cos(0.7), 2), 0.05);  // body x: partly
 }
 
 TEST(ScanMatcher, APlaneAloneSolvesOnlyTiltAndHeight) {
@@ -190,6 +206,8 @@ TEST_F(OdometryWalk, CorrectsDriftingOdometry) {
     }
     // Sweep-to-map registration keeps the pose within a couple of cm while the odometry drifts
     // by decimetres; the points inside each sweep are still smeared by the drift's rate.
+    std::printf("walk: %zu half-revolution sweeps, odometry off by up to %.1f cm; matched worst %.2f cm %.3f deg\n",
+                sweeps.size(), odom_t * 100, worst_t * 100, worst_r);
     EXPECT_GT(odom_t, 0.1);
     EXPECT_LT(worst_t, 0.03);
     EXPECT_LT(worst_r, 0.3);
@@ -208,6 +226,10 @@ TEST_F(OdometryWalk, ParallelMatchersDeliverEverySweepInOrder) {
     const std::vector<SweepResult> results = lo.drain();
     ASSERT_EQ(results.size(), sweeps.size());
     EXPECT_EQ(lo.droppedSweeps(), 0U);
+    // Sweeps arrived faster than one matcher finishes them: the second one took its share (6.4).
+    int on_second = 0;
+    for (const SweepResult& r : results) on_second += r.matcher_thread == 1 ? 1 : 0;
+    EXPECT_GT(on_second, 0);
     for (std::size_t i = 0; i < results.size(); ++i) {
         EXPECT_EQ(results[i].sweep_index, sweeps[i].index);
         if (i > 0) {
@@ -215,6 +237,24 @@ TEST_F(OdometryWalk, ParallelMatchersDeliverEverySweepInOrder) {
         }
     }
     EXPECT_TRUE(lo.poll().empty());
+}
+
+TEST_F(OdometryWalk, SynchronousRunsAreBitForBitRepeatable) {
+    // `handscan replay --fast` relies on this: same sweeps, same poses, same map.
+    std::vector<Eigen::Isometry3d> truth;
+    const auto sweeps = walk(testing::pose(0.002, 0, 0, 0.01, 0, 0), truth);
+    LaserOdometry a;
+    LaserOdometry b;
+    for (const Sweep& s : sweeps) {
+        const SweepResult ra = a.process(s);
+        const SweepResult rb = b.process(s);
+        EXPECT_EQ(ra.pose.T_world_body.matrix(), rb.pose.T_world_body.matrix());
+        EXPECT_EQ(ra.pose.solved_dof_mask, rb.pose.solved_dof_mask);
+    }
+    const auto pa = a.mapPoints();
+    const auto pb = b.mapPoints();
+    ASSERT_EQ(pa.size(), pb.size());
+    for (std::size_t i = 0; i < pa.size(); ++i) ASSERT_EQ(pa[i], pb[i]);
 }
 
 }  // namespace

@@ -4,6 +4,9 @@
 
 #include <thread>
 
+#include <cmath>
+
+#include "handscan/shm/display_voxel_filter.hpp"
 #include "handscan/shm/live_map_reader.hpp"
 #include "handscan/shm/live_map_writer.hpp"
 #include "handscan/shm/seqlock.hpp"
@@ -355,6 +358,34 @@ TEST(LiveMap, OtherLayoutVersionIsRejectedWithReason) {
     LiveMapReader reader(fastReader(name));
     EXPECT_EQ(reader.poll(), Connection::kIncompatible);
     EXPECT_NE(reader.message().find("layout version 2"), std::string::npos) << reader.message();
+}
+
+}  // namespace
+}  // namespace handscan::shm
+
+namespace handscan::shm {
+namespace {
+
+TEST(DisplayVoxelFilter, KeepsTheFirstPointOfEachNewVoxel) {
+    DisplayVoxelFilter f(0.1f);
+    const std::vector<DisplayPoint> a = {{0.01f, 0.01f, 0.01f, 1, 0, 0, 0},
+                                         {0.05f, 0.09f, 0.02f, 2, 0, 0, 0},   // same voxel as the first
+                                         {0.15f, 0.0f, 0.0f, 3, 0, 0, 0},
+                                         {-0.05f, 0.0f, 0.0f, 4, 0, 0, 0},    // negative side: another voxel
+                                         {std::nanf(""), 0.0f, 0.0f, 5, 0, 0, 0}};
+    const auto fresh = f.add(a);
+    ASSERT_EQ(fresh.size(), 3u);
+    EXPECT_EQ(fresh[0].r, 1);
+    EXPECT_EQ(fresh[1].r, 3);
+    EXPECT_EQ(fresh[2].r, 4);
+    // A later sweep over the same surfaces adds only what is new.
+    const std::vector<DisplayPoint> b = {{0.02f, 0.03f, 0.04f, 6, 0, 0, 0}, {0.35f, 0.0f, 0.0f, 7, 0, 0, 0}};
+    const auto more = f.add(b);
+    ASSERT_EQ(more.size(), 1u);
+    EXPECT_EQ(more[0].r, 7);
+    EXPECT_EQ(f.voxelCount(), 4u);
+    f.clear();
+    EXPECT_EQ(f.add(b).size(), 2u);
 }
 
 }  // namespace

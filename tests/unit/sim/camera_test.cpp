@@ -5,6 +5,7 @@
 #include <opencv2/imgproc.hpp>
 
 #include <cmath>
+#include <cstdio>
 #include <numbers>
 
 #include "handscan/camera/frame_record.hpp"
@@ -66,10 +67,21 @@ TEST(CameraModelTest, CoarseGridRendererEqualsPerPixelRayTracing) {
     exact.coarse = 1;
     const auto a = render(scene, cal.tracking, fast), b = render(scene, cal.tracking, exact);
     ASSERT_EQ(a.size(), b.size());
-    std::size_t differ = 0;
-    for (std::size_t i = 0; i < a.size(); ++i) differ += std::abs(int(a[i]) - int(b[i])) > 2;
-    // Only sub-grid details (thin chair legs seen from afar) may differ.
-    EXPECT_LT(static_cast<double>(differ) / static_cast<double>(a.size()), 0.005);
+    std::size_t differ = 0, far = 0;
+    double sum = 0;
+    for (std::size_t i = 0; i < a.size(); ++i) {
+        const int e = std::abs(int(a[i]) - int(b[i]));
+        differ += e > 2;
+        far += e > 24;
+        sum += e;
+    }
+    const double n = static_cast<double>(a.size());
+    // Sub-texel differences (interpolated texture coordinates) on high-contrast texture edges and
+    // sub-grid details (thin chair legs seen from afar) are all that may differ.
+    EXPECT_LT(sum / n, 0.1);
+    EXPECT_LT(static_cast<double>(differ) / n, 0.01);
+    EXPECT_LT(static_cast<double>(far) / n, 0.002);
+    std::printf("mean |diff| %.4f DN, >2 DN %.4f %%, >24 DN %.4f %%\n", sum / n, 100.0 * static_cast<double>(differ) / n, 100.0 * static_cast<double>(far) / n);
 }
 
 TEST(CameraModelTest, OfficeImagesHaveCornersAndDarkImagesDoNot) {
@@ -161,6 +173,40 @@ TEST(CameraStreamTest, BufferRecordsDecodeWithMetadataRateAndSequenceGaps) {
     // 50 Hz of the camera's oscillator, 25 ppm fast against the host.
     const double period = toSeconds(stamps.back() - stamps.front()) / 499.0;
     EXPECT_NEAR(period, 0.02 / (1 + 25e-6), 3e-8);
+}
+
+}  // namespace
+}  // namespace handscan::sim
+
+namespace handscan::sim {
+namespace {
+
+TEST(CameraModelTest, MotionBlurSmearsAFastTurn) {
+    const Scene scene = buildScene("office");
+    Raycaster rc(scene.world);
+    const Calibration cal = calibration();
+    CameraRenderConfig cfg;
+    cfg.read_noise_dn = 0.0;
+    cfg.shot_noise_gain = 0.0;
+    cfg.exposure_s = cfg.reference_exposure_s = 0.01;
+    // Turning at 6 rad/s about the vertical: 0.06 rad (~17 px) during the exposure.
+    const auto pose = [](double t) {
+        Eigen::Isometry3d T = corridorView();
+        T.linear() = Eigen::AngleAxisd(6.0 * t, Eigen::Vector3d::UnitZ()) * T.linear();
+        return T;
+    };
+    auto gradient = [](const std::vector<std::uint8_t>& img) {
+        double g = 0;
+        for (int y = 0; y < 512; ++y)
+            for (int x = 1; x < 640; ++x) g += std::abs(int(img[y * 640 + x]) - int(img[y * 640 + x - 1]));
+        return g;
+    };
+    std::vector<std::uint8_t> sharp, blurred;
+    CameraRenderer(cal.tracking, cfg, rc, Rng(1, "r")).render(0.0, pose, sharp);
+    cfg.motion_blur = true;
+    cfg.blur_samples = 6;
+    CameraRenderer(cal.tracking, cfg, rc, Rng(1, "r")).render(0.0, pose, blurred);
+    EXPECT_LT(gradient(blurred), 0.8 * gradient(sharp));  // horizontal detail smeared out
 }
 
 }  // namespace

@@ -165,7 +165,6 @@ void CameraRenderer::radiance(const Eigen::Isometry3d& T, std::vector<float>& ra
                 // One surface: material, light, texture axes and mip level are the cell's.
                 const Eigen::Vector4f& pl = planes_[a.triangle];
                 const Eigen::Vector3f n = pl.head<3>();
-                const float num = pl.w() - n.dot(o);
                 const Material& m = world.materials[world.triangle_material[a.triangle]];
                 const Eigen::Vector3f dir_a = rays_[j * nx + i].dir;
                 const float cos_inc = std::abs(n.dot(dir_a));
@@ -184,20 +183,31 @@ void CameraRenderer::radiance(const Eigen::Isometry3d& T, std::vector<float>& ra
                 const float t_mid = 0.25f * (a.t + b.t + c.t + d.t);
                 const TextureAtlas::Level& level =
                     atlas.level(m.texture, t_mid * pixel_angle_ * inv_scale / std::max(cos_inc, 0.25f));
-                for (int y = y0; y < y1; ++y)
-                    for (int x = x0; x < x1; ++x) {
+                // Texture coordinates at the four corner hits, interpolated across the cell: over a
+                // few pixels of one plane the lens mapping is smooth enough that this matches the
+                // exact per-pixel intersection (camera_test checks against full ray tracing).
+                auto uvAt = [&](const RayHit& h, const Ray& r) {
+                    const Eigen::Vector3f q = o + h.t * r.dir;
+                    return Eigen::Vector2f(q[au] * inv_scale, sv * q[av] * inv_scale);
+                };
+                const Eigen::Vector2f uva = uvAt(a, rays_[j * nx + i]), uvb = uvAt(b, rays_[j * nx + i + 1]);
+                const Eigen::Vector2f uvc = uvAt(c, rays_[(j + 1) * nx + i]), uvd = uvAt(d, rays_[(j + 1) * nx + i + 1]);
+                const float sx = 1.0f / static_cast<float>(gx[i + 1] - gx[i]);
+                const float sy = 1.0f / static_cast<float>(gy[j + 1] - gy[j]);
+                for (int y = y0; y < y1; ++y) {
+                    const float fy = static_cast<float>(y - y0) * sy;
+                    const Eigen::Vector2f left = uva + (uvc - uva) * fy, right = uvb + (uvd - uvb) * fy;
+                    const Eigen::Vector2f step = (right - left) * sx;
+                    Eigen::Vector2f uv = left;
+                    for (int x = x0; x < x1; ++x, uv += step) {
                         const std::size_t p = static_cast<std::size_t>(y) * rw_ + x;
-                        const Eigen::Vector3f dir = R * dirs_[p];
-                        const float den = n.dot(dir);
-                        float t = std::abs(den) > 1e-9f ? num / den : a.t;
-                        if (!(t > 0)) t = a.t;
-                        const Eigen::Vector3f q = o + t * dir;
                         float tex[3];
-                        TextureAtlas::sampleLevel(level, q[au] * inv_scale, sv * q[av] * inv_scale, channels_, tex);
+                        TextureAtlas::sampleLevel(level, uv.x(), uv.y(), channels_, tex);
                         float* out = &rad[p * channels_];
                         const float vig = vignette_[p];
                         for (int ch = 0; ch < channels_; ++ch) out[ch] = tex[ch] * k[ch] * vig;
                     }
+                }
             } else if (none_hit) {
                 for (int y = y0; y < y1; ++y)
                     for (int x = x0; x < x1; ++x) setSky(static_cast<std::size_t>(y) * rw_ + x);

@@ -183,11 +183,13 @@ Scene house() {
     Palette p(b);
     const double T = 0.15, storey = 3.0, slab = 0.2;
     const double W = 12.0, D = 9.0;
-    const std::pair<Vector2d, Vector2d> holeA{{0.3, 1.6}, {1.7, 6.4}}, holeB{{10.3, 2.6}, {11.7, 7.2}};
+    const std::pair<Vector2d, Vector2d> holeA{{0.3, 1.6}, {1.7, 6.4}}, holeB{{10.3, 2.6}, {11.7, 7.2}},
+        holeC{{3.8, 7.95}, {8.4, 8.95}};
     b.addBox(Vector3d(-0.3, -0.3, -0.1), Vector3d(W + 0.3, D + 0.3, 0.0), p.floor);
     slabWithHoles(b, {-0.3, -0.3}, {W + 0.3, D + 0.3}, storey - slab, storey, {holeA, holeB}, p.floor);
-    slabWithHoles(b, {-0.3, -0.3}, {W + 0.3, D + 0.3}, 2 * storey - slab, 2 * storey, {}, p.ceiling);
-    for (int level = 0; level < 2; ++level) {
+    slabWithHoles(b, {-0.3, -0.3}, {W + 0.3, D + 0.3}, 2 * storey - slab, 2 * storey, {holeC}, p.floor);
+    slabWithHoles(b, {-0.3, -0.3}, {W + 0.3, D + 0.3}, 3 * storey - slab, 3 * storey, {}, p.ceiling);
+    for (int level = 0; level < 3; ++level) {
         const double z0 = level * storey, h = storey - (level == 0 ? slab : slab);
         b.addWall({0, 0}, {W, 0}, T, z0, h, {{4, 5.5, 0.9, 2.1}, {8, 9.5, 0.9, 2.1}}, p.wall);
         b.addWall({W, 0}, {W, D}, T, z0, h, {}, level == 0 ? p.wall_alt : p.wall);
@@ -213,17 +215,25 @@ Scene house() {
     b.addBox(Vector3d(7.4, 0.45, storey + 0.75), Vector3d(8.0, 0.5, storey + 1.15), p.black);
     poster(b, {3.0, D - T / 2, storey + 1.5}, {0, -1, 0}, 1.2, 0.8, p.poster);
     poster(b, {6.0 + T / 2, 3.0, storey + 1.5}, {1, 0, 0}, 0.9, 0.7, p.poster);
+    // Stairs C from the first to the second floor along the north wall, climbing -x.
+    b.addStairs({8.2, 8.45, storey}, {-1, 0}, 0.9, 15, 0.2, 0.28, p.wood);
+    // Second floor (under the roof): a partition, a table, a shelf, posters.
+    b.addWall({0, 4.0}, {7.0, 4.0}, T, 2 * storey, storey - slab, {{2.0, 3.0}}, p.wall);
+    table(b, {8.5, 2.0}, {10.0, 3.0}, 2 * storey, 0.75, p.wood, p.metal);
+    b.addBox(Vector3d(11.4, 4.0, 2 * storey), Vector3d(11.8, 6.0, 2 * storey + 1.9), p.shelf);
+    poster(b, {W - T / 2, 7.0, 2 * storey + 1.5}, {-1, 0, 0}, 1.0, 0.8, p.poster);
+    poster(b, {3.5, 4.0 + T / 2, 2 * storey + 1.5}, {0, 1, 0}, 0.8, 0.8, p.poster);
     // Loop: up stairs A, across the first floor, down stairs B, back through the partition door.
     const double up = storey + kHand;
     for (const Vector3d& q :
          {Vector3d(3.0, 1.15, kHand), Vector3d(1.0, 1.1, kHand), Vector3d(1.0, 2.0, kHand), Vector3d(1.0, 6.2, up),
-          Vector3d(1.0, 7.2, up), Vector3d(3.0, 7.8, up), Vector3d(7.0, 7.6, up), Vector3d(8.8, 5.0, up),
+          Vector3d(1.0, 7.2, up), Vector3d(3.0, 7.0, up), Vector3d(7.0, 6.9, up), Vector3d(8.8, 5.0, up),
           Vector3d(9.6, 1.6, up), Vector3d(11.0, 1.4, up), Vector3d(11.0, 2.8, up), Vector3d(11.0, 7.0, kHand),
           Vector3d(11.0, 7.9, kHand), Vector3d(8.5, 8.0, kHand), Vector3d(5.5, 6.5, kHand), Vector3d(5.5, 3.2, kHand),
           Vector3d(4.5, 1.6, kHand)}) {
         s.walk_loop.push_back(q);
     }
-    s.world.description = "two-storey house: rooms, two staircases, furniture (loop climbs one stair, descends the other)";
+    s.world.description = "three-storey house: rooms, three staircases, furniture (the loop climbs one stair, descends another)";
     return s;
 }
 
@@ -297,10 +307,10 @@ void tree(MeshBuilder& b, Rng& rng, const Vector3d& base, std::uint16_t bark, st
                 stack.push_back({end, d, br.length * rng.uniform(0.55, 0.75), br.radius * 0.6, br.depth + 1});
             }
         } else {
-            for (int k = 0; k < 14; ++k) {
-                const Vector3d c = end + Vector3d(rng.gauss(0.25), rng.gauss(0.25), rng.gauss(0.2));
+            for (int k = 0; k < 36; ++k) {
+                const Vector3d c = end + Vector3d(rng.gauss(0.3), rng.gauss(0.3), rng.gauss(0.2));
                 const Vector3d n = Vector3d(rng.gauss(), rng.gauss(), rng.gauss() + 1.0).normalized();
-                b.addLeaf(c, n, n.unitOrthogonal(), rng.uniform(0.06, 0.12), rng.uniform(0.03, 0.06), leaf);
+                b.addLeaf(c, n, n.unitOrthogonal(), rng.uniform(0.07, 0.14), rng.uniform(0.04, 0.07), leaf);
             }
         }
     }

@@ -28,9 +28,12 @@ Eigen::Matrix3d Trajectory::deviceFromCamera() {
     return R;
 }
 
-Trajectory::Trajectory(double dt, std::vector<Vector6d> control) : dt_(dt), c_(std::move(control)) {}
+Trajectory::Trajectory(double dt, std::vector<Vector6d> control, double duration) : dt_(dt), c_(std::move(control)) {
+    const double last = c_.empty() ? 0.0 : dt_ * static_cast<double>(c_.size() - 1);
+    duration_ = duration < 0.0 ? last : std::min(duration, last);
+}
 
-double Trajectory::duration() const { return c_.empty() ? 0.0 : dt_ * static_cast<double>(c_.size() - 1); }
+double Trajectory::duration() const { return duration_; }
 
 BodyState Trajectory::at(double t) const {
     BodyState s;
@@ -232,7 +235,8 @@ WalkPlan makeWalk(const std::vector<Eigen::Vector3d>& loop, const WalkOptions& o
     const double dt = 0.04;
     Rng phase_rng(o.seed, "walk");
     const double ph1 = phase_rng.uniform(0, 6.28), ph2 = phase_rng.uniform(0, 6.28), ph3 = phase_rng.uniform(0, 6.28);
-    const std::size_t count = static_cast<std::size_t>(std::ceil(o.duration_s / dt)) + 1;
+    // Three control points past the end keep the spline's last interval free of clamping.
+    const std::size_t count = static_cast<std::size_t>(std::ceil(o.duration_s / dt)) + 4;
     auto build = [&](double aggressive_gain) {
         std::vector<Vector6d> c(count);
         double prev_yaw = 0.0;
@@ -265,7 +269,7 @@ WalkPlan makeWalk(const std::vector<Eigen::Vector3d>& loop, const WalkOptions& o
         }
         return c;
     };
-    plan.trajectory = Trajectory(dt, build(1.0));
+    plan.trajectory = Trajectory(dt, build(1.0), o.duration_s);
     if (o.style == MotionStyle::kAggressive) {
         // Scale the violent rotation until the peak rate is the requested one (Figure 30: 370 deg/s).
         double gain = 1.0;
@@ -273,7 +277,7 @@ WalkPlan makeWalk(const std::vector<Eigen::Vector3d>& loop, const WalkOptions& o
         for (int it = 0; it < 6; ++it) {
             const double peak = plan.trajectory.peakAngularRate(0.005);
             gain *= target / peak;
-            plan.trajectory = Trajectory(dt, build(gain));
+            plan.trajectory = Trajectory(dt, build(gain), o.duration_s);
         }
     }
     return plan;

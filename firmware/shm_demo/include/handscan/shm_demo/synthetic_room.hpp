@@ -5,10 +5,10 @@
 
 #include <cstdint>
 #include <random>
-#include <unordered_set>
 #include <vector>
 
 #include "handscan/core/samples.hpp"
+#include "handscan/shm/display_voxel_filter.hpp"
 #include "handscan/shm/layout.hpp"
 
 namespace handscan::shm_demo {
@@ -30,12 +30,12 @@ public:
     // of voxels already in the map are not returned again).
     std::vector<shm::DisplayPoint> observe(const PoseEstimate& pose, int samples);
     void clear() { voxels_.clear(); }
-    std::size_t voxelCount() const { return voxels_.size(); }
+    std::size_t voxelCount() const { return voxels_.voxelCount(); }
 
 private:
     RoomOptions o_;
     std::mt19937 rng_;
-    std::unordered_set<std::uint64_t> voxels_;
+    shm::DisplayVoxelFilter voxels_;
 };
 
 }  // namespace handscan::shm_demo

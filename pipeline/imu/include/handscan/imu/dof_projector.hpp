@@ -1,8 +1,8 @@
-// Which directions of a 6-DOF pose a module actually solved (section 8). A pose correction is a
-// tangent vector (rotation, translation) in the world frame {W}, ordered as the paper's state
-// [theta; t]. The solved subspace is a 6x6 projector: V^-1 V_bar of eq. (21) for an eigenvector
-// basis, or diag(mask) for the per-DOF bit mask carried by PoseEstimate (bit 0 = rx, 1 = ry,
-// 2 = rz, 3 = tx, 4 = ty, 5 = tz, all about/along the world axes).
+// Which directions of a 6-DOF pose a module actually solved (section 8). A correction of the body
+// pose is a tangent vector (rotation, translation) in world axes {W}, R <- exp(dtheta) R and
+// t <- t + dt, ordered as the paper's state [theta; t]. The solved subspace is a 6x6 projector:
+// V^-1 V_bar of eq. (21) for an eigenvector basis, or diag(mask) for the per-DOF bit mask carried
+// by PoseEstimate (bit 0 = rx, 1 = ry, 2 = rz, 3 = tx, 4 = ty, 5 = tz, about/along world axes).
 #pragma once
 
 #include <cstdint>

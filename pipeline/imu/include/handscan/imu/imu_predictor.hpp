@@ -12,6 +12,7 @@
 
 #include <optional>
 
+#include "handscan/core/config.hpp"
 #include "handscan/core/samples.hpp"
 #include "handscan/core/status.hpp"
 #include "handscan/imu/bias_estimator.hpp"
@@ -41,6 +42,9 @@ struct ImuPredictorStats {
 class ImuPredictor {
 public:
     ImuPredictor(ImuPredictorConfig config, const Eigen::Isometry3d& T_cam_imu);
+    // With the rig's calibration: the body is the tracking camera (camchain cam0's T_cam_imu).
+    ImuPredictor(ImuPredictorConfig config, const Calibration& calibration)
+        : ImuPredictor(config, calibration.T_camera_imu()) {}
 
     // Adds one sample. Before alignment, samples feed the static-start detector; afterwards each
     // one is integrated. A bad sample is dropped with an error; the prediction goes on.

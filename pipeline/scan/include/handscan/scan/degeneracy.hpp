@@ -22,6 +22,16 @@ struct DegeneracyAnalysis {
     std::uint8_t solved_dof_mask = kAllDof;    // DOF axes lying (mostly) in the solved subspace
 };
 
+// Bit i set when at least `axis_fraction` of axis e_i (squared norm of its projection) lies in
+// the subspace of projector P.
+std::uint8_t maskFromProjector(const Matrix6d& P, double axis_fraction = 0.5);
+
+// The matcher perturbs the pose on the right, T exp(xi), so its projector acts on body-frame
+// (rot, trans) increments. The IMU predictor takes feedback as world-axis increments
+// (R <- exp(dtheta_w) R, t <- t + dt_w: dtheta_w = R dtheta_b, dt_w = R dt_b), so the same
+// subspace in its coordinates is D P D^T with D = diag(R, R).
+Matrix6d bodyToWorldAxes(const Matrix6d& M_body, const Eigen::Matrix3d& R_world_body);
+
 // `JtJ` in the tangent order (rot, trans). A DOF axis e_i counts as solved when at least
 // `axis_fraction` of it (squared norm of its projection) lies in the well-conditioned subspace.
 DegeneracyAnalysis analyzeDegeneracy(const Matrix6d& JtJ, double eigenvalue_threshold,

@@ -39,9 +39,13 @@ struct LaserOdometryConfig {
     std::size_t max_queued = 4;   // sweeps waiting for a free matcher before the oldest is dropped
 };
 
+// pose.solved_dof_mask and pose.covariance are in world axes (rx ry rz about, tx ty tz along the
+// world axes), the convention of the IMU predictor's feedback; match.degeneracy is the matcher's
+// own body-frame analysis.
 struct SweepResult {
     std::uint64_t sweep_index = 0;
     PoseEstimate pose;                 // body pose at the sweep's start, solved mask, covariance
+    Matrix6d solved_projector_world = Matrix6d::Zero();  // V^-1 Vbar of eq. (21) in world axes
     Eigen::Isometry3d T_world_prior = Eigen::Isometry3d::Identity();
     MatchResult match;
     bool first_sweep = false;          // no map yet: pose = prior, nothing solved

@@ -32,7 +32,9 @@ class Trajectory {
 public:
     Trajectory() = default;
     // Control points (x, y, z, yaw, pitch, roll) at spacing dt; control point i sits at time i*dt.
-    Trajectory(double dt, std::vector<Vector6d> control);
+    // `duration` < 0: up to the last control point; otherwise the motion ends there and control
+    // points beyond it only shape the end (no clamping artefact in the last knot interval).
+    Trajectory(double dt, std::vector<Vector6d> control, double duration = -1.0);
 
     BodyState at(double t) const;
     double duration() const;
@@ -48,6 +50,7 @@ public:
 private:
     double dt_ = 0.01;
     std::vector<Vector6d> c_;
+    double duration_ = 0.0;
 };
 
 enum class MotionStyle { kWalk, kAggressive };
