@@ -31,7 +31,9 @@ CliResult handscan(const std::string& args) {
 class EvalCli : public ::testing::Test {
 protected:
     void SetUp() override {
-        dir_ = std::filesystem::path(HANDSCAN_BINARY_DIR) / "eval_cli_test";
+        // One directory per test: CTest runs the tests of this fixture in parallel.
+        dir_ = std::filesystem::path(HANDSCAN_BINARY_DIR) / "eval_cli_test" /
+               ::testing::UnitTest::GetInstance()->current_test_info()->name();
         std::filesystem::create_directories(dir_);
         if (!std::filesystem::exists(std::string(HANDSCAN_BINARY_DIR) + "/firmware/cli/handscan")) {
             GTEST_SKIP() << "handscan not built";
