@@ -70,6 +70,8 @@ Result<FrameRecordView> decodeFrameRecord(std::span<const std::uint8_t> b) {
     if (h.width == 0 || h.height == 0 || h.width > kMaxFrameDimension || h.height > kMaxFrameDimension) {
         return bad("size " + std::to_string(h.width) + "x" + std::to_string(h.height) + " outside 1..16384");
     }
+    // Timestamps are CLOCK_MONOTONIC-like ns: non-negative, and far from overflow when shifted.
+    if (h.timestamp_ns < 0 || h.timestamp_ns > kMaxFrameTimestamp) return bad("timestamp " + std::to_string(h.timestamp_ns) + " ns out of range");
     if (h.bytesused > kMaxFramePayload) return bad("bytesused " + std::to_string(h.bytesused) + " over 64 MiB");
     if (h.stride > kMaxFrameStride) return bad("stride " + std::to_string(h.stride) + " over " + std::to_string(kMaxFrameStride));
     const std::uint64_t min_stride = minStride(h.fourcc, h.width);

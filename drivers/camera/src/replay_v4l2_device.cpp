@@ -39,6 +39,11 @@ std::int32_t ReplayV4l2Device::control(std::uint32_t id) const {
     return it == controls_.end() ? 0 : it->second;
 }
 
+// mmap cookies are page-aligned, one region per buffer (a page even for an empty buffer).
+std::uint32_t ReplayV4l2Device::cookieStride() const {
+    return std::max<std::uint32_t>(kPageSize, (format_.sizeimage + kPageSize - 1) / kPageSize * kPageSize);
+}
+
 Status ReplayV4l2Device::violation(const std::string& what) {
     violations_.push_back(what);
     return {StatusCode::kDeviceError, describe() + ": " + what};
@@ -129,8 +134,7 @@ Result<V4l2Buffer> ReplayV4l2Device::queryBuffer(std::uint32_t index) {
     if (index >= buffers_.size()) return violation("QUERYBUF index " + std::to_string(index) + " out of range (EINVAL)");
     V4l2Buffer b;
     b.index = index;
-    // mmap cookies: page-aligned offsets, one region per buffer.
-    const std::uint32_t stride = (format_.sizeimage + kPageSize - 1) / kPageSize * kPageSize;
+    const std::uint32_t stride = cookieStride();
     b.offset = index * stride;
     b.length = static_cast<std::uint32_t>(buffers_[index].size());
     return b;
@@ -138,9 +142,9 @@ Result<V4l2Buffer> ReplayV4l2Device::queryBuffer(std::uint32_t index) {
 
 Result<std::span<std::uint8_t>> ReplayV4l2Device::map(std::uint32_t offset, std::uint32_t length) {
     calls_.push_back("mmap " + std::to_string(offset) + " " + std::to_string(length));
-    const std::uint32_t stride = (format_.sizeimage + kPageSize - 1) / kPageSize * kPageSize;
-    const std::uint32_t index = stride == 0 ? 0 : offset / stride;
-    if (stride == 0 || offset % stride != 0 || index >= buffers_.size()) return violation("mmap of unknown offset " + std::to_string(offset));
+    const std::uint32_t stride = cookieStride();
+    const std::uint32_t index = offset / stride;
+    if (offset % stride != 0 || index >= buffers_.size()) return violation("mmap of unknown offset " + std::to_string(offset));
     if (length != buffers_[index].size()) return violation("mmap length " + std::to_string(length) + " != buffer length");
     mapped_[index] = true;
     return std::span<std::uint8_t>(buffers_[index]);
@@ -148,14 +152,14 @@ Result<std::span<std::uint8_t>> ReplayV4l2Device::map(std::uint32_t offset, std:
 
 void ReplayV4l2Device::unmap(std::span<std::uint8_t> m) {
     calls_.push_back("munmap");
+    // Match a mapped buffer (empty buffers all share a null address).
     for (std::size_t i = 0; i < buffers_.size(); ++i) {
-        if (buffers_[i].data() == m.data()) {
-            if (!mapped_[i]) violations_.push_back("munmap of an unmapped buffer");
+        if (buffers_[i].data() == m.data() && mapped_[i]) {
             mapped_[i] = false;
             return;
         }
     }
-    violations_.push_back("munmap of unknown memory");
+    violations_.push_back("munmap of memory that is not a mapped buffer");
 }
 
 Status ReplayV4l2Device::queueBuffer(std::uint32_t index) {
@@ -213,7 +217,7 @@ Result<V4l2Buffer> ReplayV4l2Device::dequeueBuffer() {
     b.timestamp_ns = f.header.timestamp_ns;
     b.length = static_cast<std::uint32_t>(mem.size());
     const std::size_t n = std::min(mem.size(), f.payload.size());
-    std::memcpy(mem.data(), f.payload.data(), n);
+    if (n > 0) std::memcpy(mem.data(), f.payload.data(), n);
     b.bytesused = static_cast<std::uint32_t>(n);
     if (n < f.payload.size() || f.header.fourcc != format_.pixelformat || f.header.width != format_.width || f.header.height != format_.height) {
         b.flags |= transport::kV4l2BufFlagError;  // a recorded frame that does not fit this format

@@ -18,6 +18,7 @@ int hexNibble(char c) {
 }
 
 constexpr char kHexUpper[] = "0123456789ABCDEF";
+constexpr std::int64_t kMaxTimestampSeconds = 9'000'000'000;  // keeps timeNs() inside int64
 
 Status bad(std::string_view where, std::string_view what, std::string_view text) {
     std::string msg = "candump ";
@@ -64,6 +65,7 @@ Status parseTimestamp(std::string_view tok, CandumpRecord& rec) {
         if (inner[i] < '0' || inner[i] > '9') return bad("timestamp", "non-digit", tok);
         us = us * 10 + (inner[i] - '0');
     }
+    if (s > kMaxTimestampSeconds) return bad("timestamp", "seconds beyond the year 2255 (nanoseconds would overflow)", tok);
     rec.has_time = true;
     rec.time_s = s;
     rec.time_us = us;
@@ -276,6 +278,7 @@ Result<CandumpRecord> parseCandumpDefaultLine(std::string_view line) {
     rec.frame.len = static_cast<std::uint8_t>(len);
     const std::size_t first = k + 3;
     if (tok.size() == first + 2 && tok[first] == "remote" && tok[first + 1] == "request") {
+        if (rec.frame.error || rec.frame.fd) return bad("frame", "error frames and CAN FD frames cannot be remote requests", s);
         rec.frame.remote = true;
         return rec;
     }

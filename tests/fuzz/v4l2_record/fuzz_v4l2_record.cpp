@@ -4,6 +4,7 @@
 // decoded record re-encodes to the same bytes.
 #include <algorithm>
 #include <cstdint>
+#include <cstdio>
 #include <cstdlib>
 #include <cstring>
 #include <vector>
@@ -69,6 +70,9 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
         for (std::size_t i = 0; i < records + 1; ++i) (void)cam.grab(0);
         (void)cam.stop();
     }
-    if (!dev.violations().empty()) std::abort();  // the driver broke the V4L2 call rules
+    if (!dev.violations().empty()) {  // the driver broke the V4L2 call rules
+        std::fprintf(stderr, "V4L2 rule broken: %s\n", dev.violations().front().c_str());
+        std::abort();
+    }
     return 0;
 }

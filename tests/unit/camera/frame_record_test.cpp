@@ -88,6 +88,9 @@ TEST(FrameRecord, RejectsTruncatedAndInconsistentRecords) {
     h.stride = 0x11000000;  // found by fuzz_v4l2_record: a huge stride with one line
     EXPECT_FALSE(decodeFrameRecord(encodeFrameRecord(h, payload)));
     h = greyHeader();
+    h.timestamp_ns = -1;  // found by fuzz_v4l2_record: shifting it overflowed
+    EXPECT_FALSE(decodeFrameRecord(encodeFrameRecord(h, payload)));
+    h = greyHeader();
     h.fourcc = transport::fourcc('R', 'G', 'G', 'B');
     auto unknown = decodeFrameRecord(encodeFrameRecord(h, payload));
     ASSERT_FALSE(unknown);

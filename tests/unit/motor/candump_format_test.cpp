@@ -68,7 +68,8 @@ TEST(CandumpLogLine, RejectsMalformedInputWithAClearMessage) {
                             "(1700000000.123456) can0 181#GG", "(1700000000.123456) can0 181", "(x.123456) can0 181#00",
                             "(1700000000.123456) can0 123##", "(1700000000.123456) can0 123##0112233445566778899",
                             "(1700000000.123456) can0 123#R9", "(1700000000.123456) can0 C0000000#00",
-                            "(1700000000.123456) can0 123#11_9", "(1700000000.123456) can0 981#FF0F0000"}) {
+                            "(1700000000.123456) can0 123#11_9", "(1700000000.123456) can0 981#FF0F0000",
+                            "(17000000000.000000) can0 181#00"}) {
         auto r = parseCandumpLogLine(bad);
         EXPECT_FALSE(r) << "accepted: '" << bad << "'";
         if (!r) {
@@ -105,6 +106,7 @@ TEST(CandumpDefaultLine, ParsesAndFormatsTheScreenFormat) {
     EXPECT_EQ(rtr->frame.len, 2);
 
     EXPECT_FALSE(parseCandumpDefaultLine("  can0  609   [8]  40 77"));
+    EXPECT_FALSE(parseCandumpDefaultLine("  can0  21184922   [2]  remote request"));  // error frame bit + RTR (fuzzer)
     EXPECT_FALSE(parseCandumpDefaultLine("  can0  609   [9]  00 00 00 00 00 00 00 00 00"));
 }
 

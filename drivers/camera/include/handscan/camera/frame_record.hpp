@@ -35,6 +35,7 @@ constexpr std::uint16_t kFrameRecordVersion = 1;
 constexpr std::size_t kFrameRecordHeaderSize = 56;
 constexpr std::uint32_t kMaxFrameDimension = 16384;
 constexpr std::uint32_t kMaxFramePayload = 64u << 20;  // 64 MiB: larger is corruption
+constexpr TimeNs kMaxFrameTimestamp = TimeNs{1} << 62;  // ~146 years of ns
 constexpr std::uint32_t kMaxFrameStride = 4 * kMaxFrameDimension + 4096;  // 4 bytes/pixel + alignment
 
 struct FrameRecordHeader {

@@ -64,6 +64,7 @@ public:
 
 private:
     Status violation(const std::string& what);
+    std::uint32_t cookieStride() const;
     static constexpr std::uint32_t kPageSize = 4096;
 
     struct Frame {

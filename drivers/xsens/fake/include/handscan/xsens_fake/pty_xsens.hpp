@@ -36,6 +36,13 @@ public:
     void pauseStreaming() { paused_ = true; }
     // Paused and every byte handed to the pty.
     bool drained() const { return paused_ && pending_bytes_ == 0; }
+    // Runs `f(device)` under the device thread's lock (the device must not be touched otherwise
+    // while the pty runs).
+    template <typename F>
+    auto inspect(F&& f) {
+        std::lock_guard lock(mutex_);
+        return f(static_cast<const FakeXsens&>(device_));
+    }
     // A copy of what the device streamed so far (thread-safe).
     std::vector<StreamedPacket> streamed();
     std::uint64_t bytesWritten() const { return bytes_written_; }
