@@ -15,6 +15,24 @@ std::size_t ImuHistory::indexAtOrBefore(TimeNs t) const {
     return static_cast<std::size_t>(std::max<std::ptrdiff_t>(0, (it - entries_.begin()) - 1));
 }
 
+std::size_t ImuHistory::nodeAt(TimeNs t, const Eigen::Vector3d& gravity) {
+    const std::size_t k = indexAtOrBefore(t);
+    if (entries_[k].sample.t_host == t || k + 1 >= entries_.size()) return k;
+    const ImuHistoryEntry& a = entries_[k];
+    const ImuHistoryEntry& b = entries_[k + 1];
+    const double s = static_cast<double>(t - a.sample.t_host) / static_cast<double>(b.sample.t_host - a.sample.t_host);
+    ImuHistoryEntry n;
+    n.sample = a.sample;
+    n.sample.t_host = t;
+    n.sample.gyro_radps_imu = a.sample.gyro_radps_imu + s * (b.sample.gyro_radps_imu - a.sample.gyro_radps_imu);
+    n.sample.accel_mps2_imu = a.sample.accel_mps2_imu + s * (b.sample.accel_mps2_imu - a.sample.accel_mps2_imu);
+    n.reading = lerp(a.reading, b.reading, s);
+    n.state = integrateStep(a.state, a.reading, n.reading, toSeconds(t - a.sample.t_host), gravity);
+    n.state.t = t;
+    entries_.insert(entries_.begin() + static_cast<std::ptrdiff_t>(k + 1), n);
+    return k + 1;
+}
+
 Result<NavState> ImuHistory::stateAt(TimeNs t, TimeNs max_extrapolation,
                                      const Eigen::Vector3d& gravity) const {
     if (entries_.empty()) {

@@ -156,13 +156,11 @@ Status ImuPredictor::correct(TimeNs t, const Eigen::Isometry3d& T_world_body, co
 }
 
 void ImuPredictor::repropagateFrom(const NavState& x0) {
-    std::size_t k = history_.indexAtOrBefore(x0.t);
+    std::size_t k = history_.nodeAt(x0.t, gravity());
     NavState x = x0;
-    ImuReading r = history_.readingAt(x0.t, biases_);
-    if (history_[k].sample.t_host == x0.t) {
-        history_[k].state = x0;
-        history_[k].reading = r;
-    }
+    ImuReading r = correctBiases(history_[k].sample, biases_);
+    history_[k].state = x0;
+    history_[k].reading = r;
     for (++k; k < history_.size(); ++k) {
         ImuHistoryEntry& e = history_[k];
         e.reading = correctBiases(e.sample, biases_);

@@ -127,9 +127,10 @@ TEST_F(PredictorOnMotion, FeedbackConvergesToTheTrueBiases) {
     auto feedUntil = [&](double t) {
         for (; next * kDt <= t + 1e-9; ++next) ASSERT_TRUE(predictor_->addImu(m_.sample(next * kDt, b)).isOk());
     };
-    // A scan match every second (its pose refers to the sweep time), arriving 0.3 s later.
+    // A scan match every second (its pose refers to the sweep time, which falls between IMU
+    // samples), arriving 0.3 s later.
     for (int sweep = 1; sweep <= 30; ++sweep) {
-        const double t = sweep * 1.0;
+        const double t = sweep * 1.0 + 0.0021;
         feedUntil(t + 0.3);
         const Status s = predictor_->correct(fromSeconds(t), trueBody(t), kAllDofs);
         ASSERT_TRUE(s.isOk()) << s.message();
@@ -142,7 +143,7 @@ TEST_F(PredictorOnMotion, FeedbackConvergesToTheTrueBiases) {
     EXPECT_LT((e.gyro_radps - b.gyro_radps).norm(), 2e-4);
     EXPECT_LT((e.accel_mps2 - b.accel_mps2).norm(), 5e-3);
     // The samples after the last feedback were re-integrated: 0.3 s later the prediction is close.
-    const double t_end = 30.3;
+    const double t_end = 30.3021;
     auto T = predictor_->poseAt(fromSeconds(t_end));
     ASSERT_TRUE(T);
     EXPECT_LT((T->translation() - trueBody(t_end).translation()).norm(), 2e-3);
@@ -152,6 +153,8 @@ TEST_F(PredictorOnMotion, FeedbackConvergesToTheTrueBiases) {
     auto T1 = predictor_->poseAt(fromSeconds(31.3));
     ASSERT_TRUE(T1);
     EXPECT_LT((T1->translation() - trueBody(31.3).translation()).norm(), 0.01);
+    // Queries just before a feedback time keep the earlier prediction (history is not rewritten).
+    EXPECT_TRUE(predictor_->poseAt(fromSeconds(30.0021) - 1000).isOk());
 }
 
 TEST_F(PredictorOnMotion, FeedbackOnlyActsInTheSolvedDofs) {
@@ -164,7 +167,7 @@ TEST_F(PredictorOnMotion, FeedbackOnlyActsInTheSolvedDofs) {
     // axes) returns garbage there: +1 m in z and +10 deg of yaw.
     const std::uint8_t mask = kAllDofs & ~(1u << 2) & ~(1u << 5);
     for (int sweep = 1; sweep <= 8; ++sweep) {
-        const double t = sweep * 1.0;
+        const double t = sweep * 1.0 + (sweep % 2 ? 0.0 : 0.0033);  // on and between samples
         feedUntil(t + 0.2);
         const NavState before = *predictor_->stateAt(fromSeconds(t));
         const Eigen::Isometry3d body_before = *predictor_->poseAt(fromSeconds(t));

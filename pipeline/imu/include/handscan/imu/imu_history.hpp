@@ -34,6 +34,10 @@ public:
     void trimBefore(TimeNs t);
     // Index of the last entry with time <= t (t must be >= front()).
     std::size_t indexAtOrBefore(TimeNs t) const;
+    // Index of an entry exactly at t in (front(), back()], inserting one whose raw sample is
+    // interpolated when t falls between samples (a feedback time becomes a node of the history,
+    // so queries before it keep the old prediction and queries after it see the corrected one).
+    std::size_t nodeAt(TimeNs t, const Eigen::Vector3d& gravity);
 
     // The state at time t in [front(), back() + max_extrapolation]; beyond back() the last reading
     // is held constant.
