@@ -13,6 +13,10 @@
 
 #include "handscan/core/config.hpp"
 #include "handscan/core/log.hpp"
+#include "handscan/camera/frame_record.hpp"
+#include "handscan/camera/frame_timing.hpp"
+#include "handscan/camera/image_convert.hpp"
+#include "handscan/colour/colouriser.hpp"
 #include "handscan/export/voxel_filter.hpp"
 #include "handscan/journal/journal_writer.hpp"
 #include "handscan/lio/laser_inertial_odometry.hpp"
@@ -31,6 +35,46 @@ namespace fs = std::filesystem;
 constexpr const char* kHokuyoTopic = "/hokuyo/raw";
 constexpr const char* kXsensTopic = "/xsens/raw";
 constexpr const char* kCanTopic = "/motor/can";
+constexpr const char* kColourTopic = "/camera/colour";
+
+// A recorded V4L2 buffer of the colour camera as an Image stamped at mid-exposure.
+Result<Image> colourImage(std::span<const std::uint8_t> bytes) {
+    auto rec = camera::decodeFrameRecord(bytes);
+    if (!rec) return rec.status();
+    const auto format = camera::pixelFormatFromFourcc(rec->header.fourcc);
+    if (!format) return Status(StatusCode::kProtocolError, "colour frame with an unknown pixel format");
+    Image img;
+    const TimeNs exposure = static_cast<TimeNs>(rec->header.exposure_us) * kNsPerUs;
+    img.t_host = camera::midExposureTime(rec->header.flags, rec->header.timestamp_ns, exposure, 0, rec->header.t_host_ns).t_mid_exposure;
+    img.sequence = rec->header.sequence;
+    img.format = *format;
+    img.width = static_cast<int>(rec->header.width);
+    img.height = static_cast<int>(rec->header.height);
+    img.stride_bytes = static_cast<int>(rec->header.stride);
+    img.exposure_ns = exposure;
+    img.data.assign(rec->payload.begin(), rec->payload.end());
+    return img;
+}
+
+// The sweep's registered points for the journal and the map: camera colour where a colour
+// image saw the point, else the laser intensity as grey.
+std::vector<journal::MapPoint> mapPoints(const lio::RegisteredSweep& s, const colour::ColourResult* colours) {
+    std::vector<journal::MapPoint> pts;
+    pts.reserve(s.points_world.size());
+    for (std::size_t i = 0; i < s.points_world.size(); ++i) {
+        const auto& p = s.points_world[i];
+        const auto grey = static_cast<std::uint8_t>(std::min(255.0f, s.intensities[i] / 16.0f));
+        journal::MapPoint m{toSeconds(s.times[i]), p.x(), p.y(), p.z(), grey, grey, grey,
+                            static_cast<std::uint16_t>(std::min(65535.0f, s.intensities[i]))};
+        if (colours && colours->valid(i)) {
+            m.r = colours->rgb[i][0];
+            m.g = colours->rgb[i][1];
+            m.b = colours->rgb[i][2];
+        }
+        pts.push_back(m);
+    }
+    return pts;
+}
 
 double peakRssMiB() {
     rusage ru{};
@@ -101,6 +145,9 @@ Result<ReplayReport> runReplay(const ReplayOptions& o) {
         live = std::move(*p);
     }
 
+    std::unique_ptr<colour::Colouriser> colouriser;
+    if (o.colourise && rec.findTopic(kColourTopic)) colouriser = std::make_unique<colour::Colouriser>(calibration);
+    std::uint64_t colour_errors = 0;
     CallTimer timer;
     std::vector<LaserScan> scans;
     std::vector<ImuSample> imu;
@@ -122,7 +169,6 @@ Result<ReplayReport> runReplay(const ReplayOptions& o) {
         }
         for (lio::RegisteredSweep& s : pipeline.takeSweeps()) {
             timer.add("scan_matching", s.result.total_ms * 1e3);
-            outputs.addSweep(s);
             if (!o.dump_sweeps_dir.empty()) {
                 std::ostringstream name;
                 name << "sweep_" << std::setw(6) << std::setfill('0') << s.sweep.index << ".ply";
@@ -130,15 +176,17 @@ Result<ReplayReport> runReplay(const ReplayOptions& o) {
                     return st;
                 }
             }
+            std::optional<colour::ColourResult> colours;
+            if (colouriser) {
+                const colour::PoseAtFn pose_at = [&](TimeNs t) {
+                    auto p = pipeline.integratedPoseAt(t);
+                    return p.isOk() ? p->T_world_body : Eigen::Isometry3d::Identity();
+                };
+                colours = timer.time("colourisation", [&] { return colouriser->colourise(s.points_world, s.times, pose_at); });
+            }
+            const std::vector<journal::MapPoint> pts = mapPoints(s, colours ? &*colours : nullptr);
+            outputs.addSweep(s, pts);
             if (journal) {
-                std::vector<journal::MapPoint> pts;
-                pts.reserve(s.points_world.size());
-                for (std::size_t i = 0; i < s.points_world.size(); ++i) {
-                    const auto& p = s.points_world[i];
-                    const auto grey = static_cast<std::uint8_t>(std::min(255.0f, s.intensities[i] / 16.0f));
-                    pts.push_back({toSeconds(s.times[i]), p.x(), p.y(), p.z(), grey, grey, grey,
-                                   static_cast<std::uint16_t>(std::min(65535.0f, s.intensities[i]))});
-                }
                 if (Status st = journal->appendPoints(pts); !st.isOk()) return st;
                 if (Status st = journal->flushIfDue(); !st.isOk()) return st;
             }
@@ -148,6 +196,7 @@ Result<ReplayReport> runReplay(const ReplayOptions& o) {
     };
 
     std::vector<std::string> topics{kXsensTopic};
+    if (colouriser) topics.push_back(kColourTopic);
     if (o.use_laser) {
         topics.push_back(kHokuyoTopic);
         topics.push_back(kCanTopic);
@@ -175,6 +224,11 @@ Result<ReplayReport> runReplay(const ReplayOptions& o) {
             scans.clear();
             timer.time("decode_hokuyo", [&] { hokuyo.feed(msg.log_time, msg.data, scans); });
             for (const LaserScan& s : scans) timer.time("sweep_assembly_and_matching", [&] { pipeline.addScan(s); });
+        } else if (topic == kColourTopic && colouriser) {
+            timer.time("decode_colour", [&] {
+                auto img = colourImage(msg.data);
+                if (!img.isOk() || !colouriser->addImage(*img).isOk()) ++colour_errors;
+            });
         } else if (topic == kCanTopic) {
             enc.clear();
             timer.time("decode_can", [&] { encoder.feed(msg.log_time, msg.data, enc); });

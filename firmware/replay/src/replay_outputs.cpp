@@ -55,15 +55,7 @@ void ReplayOutputs::addPose(const PoseEstimate& pose) {
     ++poses_;
 }
 
-void ReplayOutputs::addSweep(const lio::RegisteredSweep& s) {
-    std::vector<journal::MapPoint> pts;
-    pts.reserve(s.points_world.size());
-    for (std::size_t i = 0; i < s.points_world.size(); ++i) {
-        const auto& p = s.points_world[i];
-        const auto grey = static_cast<std::uint8_t>(std::min(255.0f, s.intensities[i] / 16.0f));
-        pts.push_back({toSeconds(s.times[i]), p.x(), p.y(), p.z(), grey, grey, grey,
-                       static_cast<std::uint16_t>(std::min(65535.0f, s.intensities[i]))});
-    }
+void ReplayOutputs::addSweep(const lio::RegisteredSweep& s, std::span<const journal::MapPoint> pts) {
     map_.add(pts);
     registered_points_ += pts.size();
     SweepSummary sum;

@@ -44,7 +44,8 @@ public:
     ReplayOutputs(std::string out_dir, double map_voxel_m);
 
     void addPose(const PoseEstimate& pose);
-    void addSweep(const lio::RegisteredSweep& sweep);
+    // `points`: the sweep's registered points as journaled (coloured where the camera saw them).
+    void addSweep(const lio::RegisteredSweep& sweep, std::span<const journal::MapPoint> points);
 
     Status writeTrajectory() const;
     Result<std::uint64_t> writeMap() const;

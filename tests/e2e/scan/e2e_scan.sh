@@ -45,4 +45,22 @@ head -c $((size * 2 / 3)) "$work/office.mcap" > "$work/cut.mcap"
 "$bin" -q replay "$work/cut.mcap" --out "$work/rcut" --fast
 [ -s "$work/rcut/trajectory.tum" ] || fail "replay of a truncated recording wrote no trajectory"
 grep -q '"truncated": true' "$work/rcut/stats.json" || fail "stats.json does not report the truncation"
-echo "e2e_scan: ok (ATE rmse $ate m)"
+# With the colour camera: map points the camera saw carry its colours, the rest intensity grey.
+"$bin" -q sim --scene office --duration 8 --seed 4 --out "$work/colour.mcap"
+"$bin" -q replay "$work/colour.mcap" --out "$work/rcol" --fast
+grep -q '"colourisation"' "$work/rcol/stats.json" || fail "replay did not colourise"
+coloured=$(/usr/bin/python3 - "$work/rcol/map.ply" <<'PY'
+import sys
+import numpy as np
+f = open(sys.argv[1], "rb")
+h = b""
+while not h.endswith(b"end_header\n"):
+    h += f.read(1)
+n = int([l for l in h.decode().split("\n") if l.startswith("element vertex")][0].split()[-1])
+a = np.frombuffer(f.read(), dtype=np.dtype([("x", "<f4"), ("y", "<f4"), ("z", "<f4"), ("r", "u1"), ("g", "u1"),
+                                            ("b", "u1"), ("i", "<u2"), ("t", "<f8")]), count=n)
+print(f"{((a['r'] != a['g']) | (a['g'] != a['b'])).mean():.3f}")
+PY
+)
+awk -v c="$coloured" 'BEGIN { exit !(c >= 0.10) }' || fail "only a fraction $coloured of the map took camera colour"
+echo "e2e_scan: ok (ATE rmse $ate m, coloured fraction $coloured)"

@@ -25,6 +25,7 @@ struct ReplayOptions {
     // default for now: on simulated walks the feedback loop diverges within seconds (see the
     // issue notes); without it the matcher's prior is the IMU's relative motion per sweep.
     bool imu_feedback = false;
+    bool colourise = true;             // colour points from /camera/colour when recorded
     std::string dump_sweeps_dir;       // each assembled sweep as PLY (x y z intensity t)
     std::string device_config;         // default: <config dir>/device.yaml
     std::string calibration;           // default: <config dir>/calibration.yaml

@@ -67,6 +67,9 @@ public:
     // Registered sweeps since the last call, in order.
     std::vector<RegisteredSweep> takeSweeps();
 
+    // The integrated body pose (scan-matching pose + prediction since) at time t, in the frame
+    // of the registered points: the colour camera's pose at its image time comes from here.
+    Result<PoseEstimate> integratedPoseAt(TimeNs t) const { return integrator_.poseAt(t); }
     bool aligned() const { return predictor_.initialized(); }
     const imu::ImuPredictor& predictor() const { return predictor_; }
     const scan::LaserOdometry& odometry() const { return *odometry_; }
