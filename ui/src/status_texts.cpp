@@ -153,7 +153,12 @@ StatusTexts describeStatus(shm::Connection connection, const std::string& connec
                                   format("%.0f deg/s): slow down.", s.angular_speed_radps * 180.0 / 3.14159265358979),
                               Health::kWarning});
     }
-    if (s.camera_brightness < limits.min_camera_brightness) {
+    // Only a pipeline that runs a camera reports its brightness (a laser + IMU replay does not).
+    bool has_camera = false;
+    for (std::uint32_t i = 0; i < std::min<std::uint32_t>(s.sensor_count, shm::kMaxSensors); ++i) {
+        if (shm::getText(s.sensors[i].name).find("cam") != std::string_view::npos) has_camera = true;
+    }
+    if (has_camera && s.camera_brightness < limits.min_camera_brightness) {
         t.warnings.push_back({format("Camera dark (brightness %.0f/255): turn on lights.", s.camera_brightness),
                               Health::kWarning});
     }

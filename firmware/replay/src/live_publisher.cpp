@@ -1,6 +1,7 @@
 #include "live_publisher.hpp"
 
 #include <cmath>
+#include <filesystem>
 
 #include "handscan/shm/text_field.hpp"
 
@@ -26,13 +27,13 @@ void sensor(shm::SensorStatus& s, const char* name, const StreamCounters& c, flo
 
 }  // namespace
 
-Result<std::unique_ptr<LivePublisher>> LivePublisher::create(const std::string& name) {
+Result<std::unique_ptr<LivePublisher>> LivePublisher::create(const std::string& name, std::string storage_dir) {
     shm::WriterOptions opt;
     if (!name.empty()) opt.name = name;
     auto w = shm::LiveMapWriter::create(opt);
     if (!w.isOk()) return w.status();
     (*w)->newScan();
-    return std::unique_ptr<LivePublisher>(new LivePublisher(std::move(*w)));
+    return std::unique_ptr<LivePublisher>(new LivePublisher(std::move(*w), std::move(storage_dir)));
 }
 
 void LivePublisher::pose(const PoseEstimate& pose) {
@@ -74,6 +75,12 @@ void LivePublisher::status(const lio::LaserInertialOdometry& pipeline, const Str
     s.elapsed_s = toSeconds(last_pose_t_ - first_pose_t_);
     s.distance_m = outputs.distance_m();
     s.point_count = outputs.registeredPoints();
+    std::error_code ec;
+    const auto space = std::filesystem::space(storage_dir_, ec);
+    if (!ec) {
+        s.free_storage_bytes = space.available;
+        s.total_storage_bytes = space.capacity;
+    }
     shm::setText(s.message, finished ? "replay finished" : (pipeline.aligned() ? "replaying" : "hold still: aligning with gravity"));
     writer_->setStatus(s);
 }

@@ -15,7 +15,8 @@ namespace handscan::replay {
 
 class LivePublisher {
 public:
-    static Result<std::unique_ptr<LivePublisher>> create(const std::string& name);
+    // `storage_dir`: where the replay writes (its free space is shown as the device's storage).
+    static Result<std::unique_ptr<LivePublisher>> create(const std::string& name, std::string storage_dir);
 
     void pose(const PoseEstimate& pose);
     void sweep(const lio::RegisteredSweep& sweep, const lio::LaserInertialOdometry& pipeline);
@@ -24,9 +25,11 @@ public:
     void heartbeat() { writer_->heartbeat(); }
 
 private:
-    explicit LivePublisher(std::unique_ptr<shm::LiveMapWriter> writer) : writer_(std::move(writer)) {}
+    LivePublisher(std::unique_ptr<shm::LiveMapWriter> writer, std::string storage_dir)
+        : writer_(std::move(writer)), storage_dir_(std::move(storage_dir)) {}
 
     std::unique_ptr<shm::LiveMapWriter> writer_;
+    std::string storage_dir_;
     std::unordered_set<std::uint64_t> shown_voxels_;
     TimeNs first_pose_t_ = 0;
     TimeNs last_pose_t_ = 0;

@@ -140,7 +140,7 @@ Result<ReplayReport> runReplay(const ReplayOptions& o) {
     }
     std::unique_ptr<LivePublisher> live;
     if (o.live) {
-        auto p = LivePublisher::create(o.shm_name);
+        auto p = LivePublisher::create(o.shm_name, o.out_dir);
         if (!p.isOk()) return p.status();
         live = std::move(*p);
     }
