@@ -76,6 +76,10 @@ TEST(StatusTexts, EachActionableConditionWarns) {
     shm::setText(s.sensors[1].last_error, "/dev/ttyUSB0: no data for 2 s");
     s.modules[0].degenerate_dof_mask = 0b001000;
     s.linear_speed_mps = 2.4f;
+    s.sensor_count = 3;  // the dark-camera warning needs a camera that runs
+    shm::setText(s.sensors[2].name, "tracking-cam");
+    s.sensors[2].connected = 1;
+    s.sensors[2].rate_hz = s.sensors[2].expected_rate_hz = 50.0f;
     s.camera_brightness = 6.0f;
     s.free_storage_bytes = 100ull << 20;
     const StatusTexts t = describeStatus(shm::Connection::kConnected, "", s, std::nullopt);
@@ -136,6 +140,15 @@ TEST(StatusTexts, DofBarCombinesLikeFigure14) {
     EXPECT_EQ(t.dof[5], DofSource::kImu);
     EXPECT_TRUE(t.scan_dof[1]);
     EXPECT_FALSE(t.vio_dof[3]);
+}
+
+TEST(StatusTexts, NoDarkCameraWarningWithoutACamera) {
+    shm::StatusBlock s;
+    s.sensor_count = 1;
+    shm::setText(s.sensors[0].name, "hokuyo");
+    s.camera_brightness = 0.0f;  // a laser + IMU pipeline reports no brightness
+    const StatusTexts t = describeStatus(shm::Connection::kConnected, "", s, std::nullopt);
+    for (const auto& w : t.warnings) EXPECT_EQ(w.text.find("Camera dark"), std::string::npos) << w.text;
 }
 
 }  // namespace
