@@ -8,15 +8,6 @@
 namespace handscan::replay {
 namespace {
 
-constexpr double kDisplayVoxelM = 0.05;  // the touch screen shows one point per 5 cm voxel
-
-std::uint64_t voxelKey(const Eigen::Vector3f& p) {
-    auto cell = [](float v) {
-        return static_cast<std::uint64_t>(std::floor(v / kDisplayVoxelM) + (1 << 20)) & 0x1FFFFF;
-    };
-    return cell(p.x()) | (cell(p.y()) << 21) | (cell(p.z()) << 42);
-}
-
 void sensor(shm::SensorStatus& s, const char* name, const StreamCounters& c, float expected_hz) {
     shm::setText(s.name, name);
     shm::setText(s.last_error, c.last_error);
@@ -47,9 +38,9 @@ void LivePublisher::sweep(const lio::RegisteredSweep& sweep, const lio::LaserIne
     std::vector<shm::DisplayPoint> pts;
     for (std::size_t i = 0; i < sweep.points_world.size(); ++i) {
         const Eigen::Vector3f& p = sweep.points_world[i];
-        if (!shown_voxels_.insert(voxelKey(p)).second) continue;
         const auto grey = static_cast<std::uint8_t>(std::min(255.0f, sweep.intensities[i] / 16.0f));
-        pts.push_back({p.x(), p.y(), p.z(), grey, grey, grey, grey});
+        const shm::DisplayPoint d{p.x(), p.y(), p.z(), grey, grey, grey, grey};
+        if (shown_voxels_.insert(d)) pts.push_back(d);
     }
     (void)writer_->appendPoints(pts);  // a full display buffer only thins the display
 }

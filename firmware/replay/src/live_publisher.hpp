@@ -4,10 +4,10 @@
 #pragma once
 
 #include <memory>
-#include <unordered_set>
 
 #include "handscan/lio/laser_inertial_odometry.hpp"
 #include "handscan/replay/stream_decoders.hpp"
+#include "handscan/shm/display_voxel_filter.hpp"
 #include "handscan/shm/live_map_writer.hpp"
 #include "replay_outputs.hpp"
 
@@ -30,7 +30,7 @@ private:
 
     std::unique_ptr<shm::LiveMapWriter> writer_;
     std::string storage_dir_;
-    std::unordered_set<std::uint64_t> shown_voxels_;
+    shm::DisplayVoxelFilter shown_voxels_;  // the touch screen shows one point per 5 cm voxel
     TimeNs first_pose_t_ = 0;
     TimeNs last_pose_t_ = 0;
     std::uint8_t last_solved_mask_ = 0x3F;
