@@ -1,9 +1,10 @@
 // Every device absent (nothing on the laser's port, no serial port, no CAN interface, no video
 // nodes): each one is reported in the status block with what failed and where, the daemon keeps
 // running, and the panel's buttons (a fake GPIO line layer: the one device here) still start and
-// stop a scan through the same commands as the touch screen, with the LEDs following.
+// stop a scan and export through the same commands as the touch screen, with the LEDs following.
 #include <gtest/gtest.h>
 
+#include <fstream>
 #include <thread>
 
 #include "daemon_rig.hpp"
@@ -66,7 +67,12 @@ TEST(PipelineDaemonDevices, AbsentDevicesReportedButtonsStillScan) {
         chip.inject(17, t, GpioEdgeType::kRising);
         chip.inject(17, t + 150 * kNsPerMs, GpioEdgeType::kFalling);
     }
+    // The export button (line 27) at 4.5 s: to the USB stick, of which there is none.
+    chip.inject(27, 4500 * kNsPerMs, GpioEdgeType::kRising);
+    chip.inject(27, 4650 * kNsPerMs, GpioEdgeType::kFalling);
+    std::ofstream(rig.dir() / "mountinfo") << "";
     DaemonOptions o;
+    o.usb_paths.mountinfo = (rig.dir() / "mountinfo").string();
     o.device_config = rig.deviceYaml();
     o.calibration = DaemonRig::calibrationYaml();
     o.shm_name = rig.shmName();
@@ -112,6 +118,14 @@ TEST(PipelineDaemonDevices, AbsentDevicesReportedButtonsStillScan) {
     EXPECT_EQ(rig.scanDirs().size(), 1u);
     ASSERT_TRUE(rig.waitStatus([](const shm::StatusBlock& s) { return s.scan_state == static_cast<std::uint8_t>(shm::ScanState::kStopped); }, 6.0))
         << "the second press did not stop the scan";
+
+    // The export button takes the same path as the UI's export to USB: here, a clear failure.
+    auto exported = rig.waitStatus([](const shm::StatusBlock& s) {
+        return s.export_status.state == static_cast<std::uint8_t>(shm::ExportState::kFailed);
+    }, 6.0);
+    ASSERT_TRUE(exported) << "the export button did not start an export";
+    EXPECT_NE(std::string(shm::getText(exported->export_status.message)).find("no USB stick"), std::string::npos)
+        << shm::getText(exported->export_status.message);
 
     // The daemon still answers the UI.
     EXPECT_EQ(rig.command(shm::CommandType::kNewScan).state, static_cast<std::uint32_t>(shm::CommandState::kDone));
