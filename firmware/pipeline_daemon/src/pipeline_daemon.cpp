@@ -48,6 +48,8 @@ Status PipelineDaemon::open() {
     parts_ = std::make_unique<Parts>(options_.usb_paths);
     const std::string metadata = "{\"source\": \"handscan-pipeline\", \"device_config\": \"" + device_.source_file + "\"}";
     auto session = std::make_unique<ScanSession>(journal_dir, options_.journal, metadata);
+    // A scan cut short by a crash or power cut is taken back, so the UI can still export it.
+    if (auto recovered = session->recoverUnfinished(); !recovered.isOk()) log().error("{}", recovered.status().message());
     WorkerInputs inputs;
     inputs.sensors = [this] {
         std::vector<live_output::LiveSensor> out;

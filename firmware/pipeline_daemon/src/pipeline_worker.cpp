@@ -35,6 +35,8 @@ PipelineWorker::PipelineWorker(const DeviceConfig& device, const Calibration& ca
     : device_(device), calibration_(calibration), publisher_(std::move(publisher)), session_(std::move(session)),
       queues_(queues), inputs_(std::move(inputs)) {
     publisher_->setScanning(false);
+    scan_state_.store(session_->state(), std::memory_order_release);
+    journal_path_ = session_->journalPath();
     resetPipeline();
     if (device_.colour_camera.enabled) {
         try {
@@ -107,7 +109,7 @@ void PipelineWorker::handle(Request& r) {
     Result<std::string> out = std::string();
     switch (r.control) {
         case ScanControl::kStart: {
-            const bool fresh = session_->state() != shm::ScanState::kStopped;
+            const bool fresh = !session_->canResume();
             out = session_->start();
             if (out.isOk() && fresh) {
                 // A new scan: a new world frame and an empty map (hold still while it aligns).

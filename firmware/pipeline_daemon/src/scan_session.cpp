@@ -1,9 +1,11 @@
 #include "handscan/pipeline_daemon/scan_session.hpp"
 
+#include <algorithm>
 #include <ctime>
 #include <filesystem>
 
 #include "handscan/core/log.hpp"
+#include "handscan/journal/journal_reader.hpp"
 
 namespace handscan::pipeline_daemon {
 namespace {
@@ -28,11 +30,11 @@ ScanSession::~ScanSession() { (void)finish(); }
 
 Result<std::string> ScanSession::start() {
     if (state_ == shm::ScanState::kScanning) return Status(StatusCode::kInvalidArgument, "already scanning");
-    if (state_ == shm::ScanState::kStopped && journal_ && !journal_->stopped()) {
+    if (canResume()) {
         state_ = shm::ScanState::kScanning;
         return std::string("scanning (resumed)");
     }
-    if (journal_) (void)finish();  // stopped because the journal failed: start a fresh one
+    if (journal_) (void)finish();  // a recovered scan, or the journal failed: start a fresh one
     std::error_code ec;
     const fs::path dir = freshScanDir(dir_);
     fs::create_directories(dir, ec);
@@ -46,6 +48,7 @@ Result<std::string> ScanSession::start() {
     path_ = journal_->path();
     points_ = 0;
     problem_.clear();
+    resumable_ = true;
     state_ = shm::ScanState::kScanning;
     log().info("scan started: {}", path_);
     return "scanning into " + dir.filename().string();
@@ -76,6 +79,36 @@ Status ScanSession::finish() {
     journal_.reset();
     if (!s.isOk()) log().error("journal {}: {}", path_, s.message());
     return s;
+}
+
+Result<std::string> ScanSession::recoverUnfinished() {
+    std::error_code ec;
+    std::vector<fs::path> journals;
+    for (const auto& e : fs::directory_iterator(dir_, ec)) {
+        if (e.is_regular_file(ec) || !fs::exists(e.path() / "journal.hsj", ec)) continue;
+        journals.push_back(e.path() / "journal.hsj");
+    }
+    std::sort(journals.begin(), journals.end());  // scan-<UTC time>: the newest last
+    for (auto it = journals.rbegin(); it != journals.rend(); ++it) {
+        auto summary = journal::recoverJournal(it->string());
+        if (!summary.isOk()) {
+            log().warn("journal {}: {}", it->string(), summary.status().message());
+            continue;
+        }
+        if (summary->finished) return std::string();  // the newest scan ended normally
+        auto writer = journal::JournalWriter::resume(it->string(), options_);
+        if (!writer.isOk()) return writer.status();
+        journal_ = std::move(*writer);
+        path_ = journal_->path();
+        points_ = journal_->committedPoints();
+        state_ = shm::ScanState::kStopped;
+        resumable_ = false;
+        problem_ = "recovered the scan cut short at the last shutdown (" + std::to_string(points_) +
+                   " points): export it or start a new scan";
+        log().warn("{}: {}{}", path_, problem_, summary->damage.empty() ? "" : "; cut: " + summary->damage);
+        return problem_;
+    }
+    return std::string();
 }
 
 void ScanSession::appendPose(const journal::TrajectoryPose& pose) {

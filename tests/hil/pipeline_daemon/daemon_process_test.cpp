@@ -149,7 +149,8 @@ namespace handscan::pipeline_daemon::test {
 namespace {
 
 // A power cut or crash mid-scan (SIGKILL: no clean-up at all): the journal stays readable, every
-// chunk intact, and it lacks at most the last second of the scan (flushes every 0.5 s).
+// chunk intact, and it lacks at most the last second of the scan (flushes every 0.5 s); the
+// restarted daemon offers the cut scan for export.
 TEST(PipelineDaemonProcess, KilledMidScanLeavesARecoverableJournal) {
     if (!fs::exists(kDaemon)) GTEST_SKIP() << kDaemon << " not built";
     DaemonRig rig("kill9");
@@ -181,11 +182,44 @@ TEST(PipelineDaemonProcess, KilledMidScanLeavesARecoverableJournal) {
     EXPECT_GE(j->summary().points, before->point_count);
     EXPECT_GT(j->summary().chunks, 1u);
     // A torn last chunk, if the kill hit a write, is reported and cut; everything before it reads.
+    std::uint64_t intact_points = j->summary().points;
     if (!j->summary().damage.empty()) {
         auto recovered = journal::recoverJournal((rig.scanDirs()[0] / "journal.hsj").string());
         ASSERT_TRUE(recovered.isOk()) << recovered.status().message();
         EXPECT_GE(recovered->points, before->point_count);
+        intact_points = recovered->points;
     }
+
+    // Restarted (as systemd's Restart=on-failure does), the daemon takes the cut scan back as a
+    // stopped scan that the UI can export; SIGTERM then closes it as finished.
+    const pid_t again = spawnDaemon({kDaemon, "--config", rig.deviceYaml(), "--calibration", DaemonRig::calibrationYaml(), "--shm",
+                                     rig.shmName(), "--map-capacity", "262144"},
+                                    {}, rig.dir() / "daemon2.log");
+    ASSERT_GT(again, 0);
+    auto back = rig.waitStatus([](const shm::StatusBlock& s) {
+        return s.scan_state == static_cast<std::uint8_t>(shm::ScanState::kStopped) && s.point_count > 0;
+    }, 10.0);
+    std::vector<shm::CommandState> seen;
+    const fs::path target = rig.dir() / "export";
+    fs::create_directories(target);
+    auto exported = rig.command(shm::CommandType::kExport, target.string(), &seen);
+    ::kill(again, SIGTERM);
+    int status2 = 0;
+    const bool exited = waitUntil([&] { return ::waitpid(again, &status2, WNOHANG) == again; }, 10.0);
+    if (!exited) {
+        ::kill(again, SIGKILL);
+        ::waitpid(again, &status2, 0);
+    }
+    ASSERT_TRUE(back) << "the cut scan was not recovered\n" << readAll(rig.dir() / "daemon2.log");
+    EXPECT_NE(std::string(shm::getText(back->message)).find("recovered"), std::string::npos) << shm::getText(back->message);
+    EXPECT_EQ(back->point_count, intact_points);
+    EXPECT_EQ(exported.state, static_cast<std::uint32_t>(shm::CommandState::kDone)) << shm::getText(exported.message);
+    ASSERT_TRUE(exited);
+    EXPECT_TRUE(WIFEXITED(status2) && WEXITSTATUS(status2) == 0) << readAll(rig.dir() / "daemon2.log");
+    auto closed = journal::JournalReader::open((rig.scanDirs()[0] / "journal.hsj").string());
+    ASSERT_TRUE(closed.isOk());
+    EXPECT_TRUE(closed->summary().finished);
+    EXPECT_EQ(closed->summary().points, back->point_count);
 }
 
 }  // namespace

@@ -78,6 +78,44 @@ TEST(ScanSession, StartStopResumeNewScan) {
     EXPECT_TRUE(summaryOf(s.journalPath()).finished);
 }
 
+TEST(ScanSession, RecoversTheNewestUnfinishedScanForExport) {
+    TempDir dir;
+    {
+        ScanSession none(dir.path.string());
+        auto r = none.recoverUnfinished();  // no journal directory at all yet
+        ASSERT_TRUE(r.isOk());
+        EXPECT_TRUE(r->empty());
+    }
+    // An older finished scan and a newer one cut short (the writer never finished it).
+    fs::create_directories(dir.path / "scan-20260101-000000");
+    fs::create_directories(dir.path / "scan-20260102-000000");
+    {
+        auto done = journal::JournalWriter::create((dir.path / "scan-20260101-000000/journal.hsj").string(), "{}");
+        ASSERT_TRUE(done.isOk());
+        ASSERT_TRUE((*done)->appendPoints(points(10, 0.0)).isOk());
+        ASSERT_TRUE((*done)->finish().isOk());
+        auto cut = journal::JournalWriter::create((dir.path / "scan-20260102-000000/journal.hsj").string(), "{}");
+        ASSERT_TRUE(cut.isOk());
+        ASSERT_TRUE((*cut)->appendPoints(points(70, 0.0)).isOk());
+        ASSERT_TRUE((*cut)->flush().isOk());
+    }
+    const std::string cut_path = (dir.path / "scan-20260102-000000/journal.hsj").string();
+    ScanSession s(dir.path.string());
+    auto r = s.recoverUnfinished();
+    ASSERT_TRUE(r.isOk()) << r.status().message();
+    EXPECT_NE(r->find("70 points"), std::string::npos) << *r;
+    EXPECT_EQ(s.state(), shm::ScanState::kStopped);
+    EXPECT_EQ(s.journalPath(), cut_path);
+    EXPECT_EQ(s.points(), 70u);
+    EXPECT_FALSE(s.canResume());  // its points are in another run's world frame
+    // Starting scanning begins a new scan; the recovered one is closed as it was.
+    ASSERT_TRUE(s.start().isOk());
+    EXPECT_NE(s.journalPath(), cut_path);
+    auto recovered = summaryOf(cut_path);
+    EXPECT_TRUE(recovered.finished);
+    EXPECT_EQ(recovered.points, 70u);
+}
+
 TEST(ScanSession, UnwritableJournalDirectoryIsAClearError) {
     ScanSession s("/proc/handscan-no-such-dir");
     auto r = s.start();

@@ -5,6 +5,9 @@
 // While scanning, poses and full-resolution points are appended; the journal writer flushes a
 // checksummed chunk at least every 0.5 s. When the journal stops (disk full) the scan stops
 // cleanly with everything written so far intact, and problem() says why.
+// After a crash or power cut, recoverUnfinished() takes the newest unfinished journal back (its
+// torn tail cut) as a stopped scan, so the operator can still export it; starting scanning then
+// begins a new scan (the recovered points are in another run's world frame).
 #pragma once
 
 #include <memory>
@@ -30,6 +33,11 @@ public:
     Result<std::string> newScan();
     // Ends the scan for good (shutdown): flushed and marked finished.
     Status finish();
+    // At start-up: adopts the newest unfinished journal of the directory, if any, as a stopped
+    // scan; the message says what was recovered (empty when there was nothing to recover).
+    Result<std::string> recoverUnfinished();
+    // start() would continue the current scan rather than begin a new one.
+    bool canResume() const { return state_ == shm::ScanState::kStopped && journal_ && !journal_->stopped() && resumable_; }
 
     void appendPose(const journal::TrajectoryPose& pose);
     void appendPoints(std::span<const journal::MapPoint> points);
@@ -53,6 +61,7 @@ private:
     std::string path_;
     std::uint64_t points_ = 0;
     std::string problem_;
+    bool resumable_ = true;
 };
 
 }  // namespace handscan::pipeline_daemon
