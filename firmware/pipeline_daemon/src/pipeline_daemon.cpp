@@ -1,6 +1,7 @@
 #include "handscan/pipeline_daemon/pipeline_daemon.hpp"
 
 #include <chrono>
+#include <filesystem>
 #include <thread>
 
 #include "handscan/core/log.hpp"
@@ -35,10 +36,13 @@ Status PipelineDaemon::open() {
     try {
         device_ = loadDeviceConfig(options_.device_config.empty() ? config_dir + "/device.yaml" : options_.device_config);
         calibration_ = loadCalibration(options_.calibration.empty() ? config_dir + "/calibration.yaml" : options_.calibration);
-    } catch (const ConfigError& e) {
+    } catch (const std::exception& e) {  // ConfigError: file, line, key, expected and found
         return Status(StatusCode::kInvalidArgument, e.what());
     }
     const std::string journal_dir = options_.journal_dir.empty() ? device_.storage.journal_dir : options_.journal_dir;
+    std::error_code ec;
+    std::filesystem::create_directories(journal_dir, ec);  // its free space is shown from the start
+    if (ec) log().error("journal directory {}: {} (scans cannot start until it is writable)", journal_dir, ec.message());
     shm::WriterOptions wo;
     wo.name = options_.shm_name;
     wo.map_capacity_points = options_.map_capacity_points;

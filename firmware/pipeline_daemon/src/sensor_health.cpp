@@ -1,15 +1,20 @@
 #include "handscan/pipeline_daemon/sensor_health.hpp"
 
+#include "handscan/core/log.hpp"
+
 namespace handscan::pipeline_daemon {
 
 void SensorHealth::setConnected() {
     std::lock_guard lock(mutex_);
+    if (!connected_) log().info("{}: connected", name_);
     connected_ = true;
     error_.clear();
 }
 
 void SensorHealth::setLost(const std::string& error) {
     std::lock_guard lock(mutex_);
+    // Logged on the transition only: a device that stays absent is retried quietly.
+    if (connected_ || error_.empty()) log().warn("{}: lost: {}", name_, error);
     connected_ = false;
     error_ = error;
 }
