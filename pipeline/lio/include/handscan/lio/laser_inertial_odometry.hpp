@@ -30,6 +30,10 @@ struct LioConfig {
     scan::LaserOdometryConfig odometry;
     bool laser_enabled = true;   // false: IMU prediction only (--modules imu)
     bool imu_feedback = true;    // scan-matching poses correct the IMU predictor (section 4.2)
+    // With feedback the matcher's prior is the corrected IMU prediction (eq. 18); its standard
+    // deviations (the prediction spans 0.5-1 s since the last correction).
+    double imu_prior_sigma_rot_rad = 0.005;
+    double imu_prior_sigma_trans_m = 0.02;
 };
 
 // A registered sweep: its points in the world with their own times, after the match.
@@ -78,7 +82,7 @@ public:
 
 private:
     void processSweeps();
-    void matchSweep(const scan::Sweep& sweep);
+    void matchSweep(scan::Sweep sweep);
 
     LioConfig config_;
     imu::ImuPredictor predictor_;
