@@ -544,6 +544,7 @@ struct MessageIterator::Impl {
             return;  // corrupt: reported in dropped(), skipped
         }
         std::shared_ptr<const std::vector<std::uint8_t>> buf = std::move(*loaded);
+        std::size_t early = 0;
         RecordScanner scan(*buf);
         while (auto rec = scan.next()) {
             if (rec->opcode != static_cast<std::uint8_t>(Opcode::kMessage)) continue;
@@ -554,6 +555,13 @@ struct MessageIterator::Impl {
                 return;
             }
             if (!wants(mh.channel_id) || mh.log_time < options.start_time || mh.log_time > options.end_time) continue;
+            // The merge has already handed out messages up to this chunk's stated start time, so a
+            // message earlier than that (a chunk header or index that lies about its time range)
+            // cannot be placed in order: report it rather than break the order promised to callers.
+            if (mh.log_time < ref.start) {
+                ++early;
+                continue;
+            }
             const Channel* ch = reader->channel(mh.channel_id);
             if (ch == nullptr) {
                 if (unknown_reported.insert(mh.channel_id).second) {
@@ -568,6 +576,12 @@ struct MessageIterator::Impl {
         }
         if (scan.truncated()) {
             reader->drop(ref.offset, ref.length, "chunk " + at(ref.offset) + ": records end inside a record");
+        }
+        if (early != 0) {
+            reader->drop(ref.offset, ref.length,
+                         "chunk " + at(ref.offset) + ": " + std::to_string(early) +
+                             " message(s) logged before the chunk's stated start time " + std::to_string(ref.start) +
+                             " ns; skipped (the chunk header or index is inconsistent)");
         }
     }
 };

@@ -20,11 +20,12 @@
 #include "handscan/export/voxel_filter.hpp"
 #include "handscan/journal/journal_writer.hpp"
 #include "handscan/lio/laser_inertial_odometry.hpp"
+#include "handscan/live_output/live_publisher.hpp"
+#include "handscan/live_output/sweep_points.hpp"
 #include "handscan/recording/mcap_reader.hpp"
 #include "handscan/replay/call_timer.hpp"
 #include "handscan/replay/stream_decoders.hpp"
 #include "handscan/scan/ply_writer.hpp"
-#include "live_publisher.hpp"
 #include "replay_outputs.hpp"
 
 namespace handscan::replay {
@@ -56,24 +57,21 @@ Result<Image> colourImage(std::span<const std::uint8_t> bytes) {
     return img;
 }
 
-// The sweep's registered points for the journal and the map: camera colour where a colour
-// image saw the point, else the laser intensity as grey.
-std::vector<journal::MapPoint> mapPoints(const lio::RegisteredSweep& s, const colour::ColourResult* colours) {
-    std::vector<journal::MapPoint> pts;
-    pts.reserve(s.points_world.size());
-    for (std::size_t i = 0; i < s.points_world.size(); ++i) {
-        const auto& p = s.points_world[i];
-        const auto grey = static_cast<std::uint8_t>(std::min(255.0f, s.intensities[i] / 16.0f));
-        journal::MapPoint m{toSeconds(s.times[i]), p.x(), p.y(), p.z(), grey, grey, grey,
-                            static_cast<std::uint16_t>(std::min(65535.0f, s.intensities[i]))};
-        if (colours && colours->valid(i)) {
-            m.r = colours->rgb[i][0];
-            m.g = colours->rgb[i][1];
-            m.b = colours->rgb[i][2];
-        }
-        pts.push_back(m);
-    }
-    return pts;
+// The replay's decoder counters as the status bar's sensors (nominal rates once data flows).
+live_output::LiveSensor replaySensor(const char* name, const StreamCounters& c, float expected_hz) {
+    return {name, c.messages > 0, c.messages > 0 ? expected_hz : 0.0f, expected_hz, 0, c.last_error};
+}
+
+live_output::LiveStatus replayStatus(const lio::LaserInertialOdometry& pipeline, const StreamCounters& hokuyo,
+                                     const StreamCounters& xsens, const StreamCounters& encoder,
+                                     const ReplayOutputs& outputs, bool finished) {
+    live_output::LiveStatus s;
+    s.sensors = {replaySensor("hokuyo", hokuyo, 40.0f), replaySensor("xsens", xsens, 200.0f),
+                 replaySensor("encoder", encoder, 200.0f)};
+    s.scan_state = finished ? shm::ScanState::kStopped : shm::ScanState::kScanning;
+    s.point_count = outputs.registeredPoints();
+    s.message = finished ? "replay finished" : (pipeline.aligned() ? "replaying" : "hold still: aligning with gravity");
+    return s;
 }
 
 double peakRssMiB() {
@@ -130,9 +128,9 @@ Result<ReplayReport> runReplay(const ReplayOptions& o) {
         if (!j.isOk()) return j.status();
         journal = std::move(*j);
     }
-    std::unique_ptr<LivePublisher> live;
+    std::unique_ptr<live_output::LivePublisher> live;
     if (o.live) {
-        auto p = LivePublisher::create(o.shm_name, o.out_dir);
+        auto p = live_output::LivePublisher::create(o.shm_name, o.out_dir);
         if (!p.isOk()) return p.status();
         live = std::move(*p);
     }
@@ -151,12 +149,7 @@ Result<ReplayReport> runReplay(const ReplayOptions& o) {
     auto consume = [&]() -> Status {
         for (PoseEstimate& p : pipeline.takePoses()) {
             outputs.addPose(p);
-            if (journal) (void)journal->appendPose({toSeconds(p.t_host), p.T_world_body.translation().x(),
-                                                    p.T_world_body.translation().y(), p.T_world_body.translation().z(),
-                                                    Eigen::Quaterniond(p.T_world_body.linear()).x(),
-                                                    Eigen::Quaterniond(p.T_world_body.linear()).y(),
-                                                    Eigen::Quaterniond(p.T_world_body.linear()).z(),
-                                                    Eigen::Quaterniond(p.T_world_body.linear()).w()});
+            if (journal) (void)journal->appendPose(live_output::trajectoryPose(p));
             if (live) live->pose(p);
         }
         for (lio::RegisteredSweep& s : pipeline.takeSweeps()) {
@@ -176,13 +169,13 @@ Result<ReplayReport> runReplay(const ReplayOptions& o) {
                 };
                 colours = timer.time("colourisation", [&] { return colouriser->colourise(s.points_world, s.times, pose_at); });
             }
-            const std::vector<journal::MapPoint> pts = mapPoints(s, colours ? &*colours : nullptr);
+            const std::vector<journal::MapPoint> pts = live_output::sweepMapPoints(s, colours ? &*colours : nullptr);
             outputs.addSweep(s, pts);
             if (journal) {
                 if (Status st = journal->appendPoints(pts); !st.isOk()) return st;
                 if (Status st = journal->flushIfDue(); !st.isOk()) return st;
             }
-            if (live) live->sweep(s, pipeline);
+            if (live) live->sweep(s, pts);
         }
         return Status::ok();
     };
@@ -227,7 +220,7 @@ Result<ReplayReport> runReplay(const ReplayOptions& o) {
             for (const EncoderSample& s : enc) timer.time("sweep_assembly_and_matching", [&] { pipeline.addEncoder(s); });
         }
         if (Status st = consume(); !st.isOk()) return st;
-        if (live && (++n % 64) == 0) live->status(pipeline, hokuyo.counters(), xsens.counters(), encoder.counters(), outputs);
+        if (live && (++n % 64) == 0) live->status(pipeline, replayStatus(pipeline, hokuyo.counters(), xsens.counters(), encoder.counters(), outputs, false));
         if (o.progress && duration_hint > 0 && (n % 256) == 0) o.progress(toSeconds(msg.log_time - t_first) / duration_hint);
     }
     if (!it.status().isOk()) return it.status();
@@ -254,7 +247,7 @@ Result<ReplayReport> runReplay(const ReplayOptions& o) {
     if (!stats_path.isOk()) return stats_path.status();
     report.stats_json_path = *stats_path;
     if (live) {
-        live->status(pipeline, hokuyo.counters(), xsens.counters(), encoder.counters(), outputs, /*finished=*/true);
+        live->status(pipeline, replayStatus(pipeline, hokuyo.counters(), xsens.counters(), encoder.counters(), outputs, /*finished=*/true));
         while (o.hold && !(o.interrupted && o.interrupted())) {
             live->heartbeat();
             std::this_thread::sleep_for(std::chrono::milliseconds(100));

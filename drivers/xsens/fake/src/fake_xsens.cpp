@@ -176,8 +176,8 @@ bool FakeXsens::emitPacket() {
     sample_time_fine_ += 10000u / rate_hz_;
     const double t = static_cast<double>(p.index) / rate_hz_;
     const double dt = 1.0 / rate_hz_;
-    p.accel_mps2 = accelAt(t);
-    p.gyro_radps = gyroAt(t);
+    p.accel_mps2 = cfg_.stationary ? Eigen::Vector3d(0.0, 0.0, 9.81) : accelAt(t);
+    p.gyro_radps = cfg_.stationary ? Eigen::Vector3d::Zero() : gyroAt(t);
     p.status_word = 0x00000003;  // self-test ok, filter valid
     MtData2Builder b;
     for (const auto& e : outputs_) {

@@ -30,6 +30,9 @@ struct FakeXsensConfig {
     // Line rate at power-up. A real MTi-20 ships at 115200; tests start at the driver's 921600
     // unless they exercise baud-rate probing and switching.
     int baudrate = 921600;
+    // At rest: specific force = gravity along +z, no rotation (the static start the pipeline
+    // aligns with gravity on); otherwise the synthetic motion of accelAt() / gyroAt().
+    bool stationary = false;
 };
 
 struct FakeXsensFaults {

@@ -1,0 +1,45 @@
+// CommandHandler: executes the operator's commands, from the touch screen (the shared-memory
+// command channel, answered with acks) or from the panel's buttons (same actions, no ack):
+//   start / stop scan, new scan (new journal, new map epoch) -> the pipeline thread's ScanSession
+//   export [DIR|usb]  -> ExportJob (the code path of `handscan export`), acked kInProgress with
+//                        progress until it ends kDone ("safe to remove") or kFailed
+//   shutdown          -> acked, then the daemon ends the scan cleanly and exits
+#pragma once
+
+#include <cstdint>
+#include <string>
+
+#include "handscan/pipeline_daemon/export_job.hpp"
+#include "handscan/pipeline_daemon/pipeline_worker.hpp"
+#include "handscan/shm/live_map_writer.hpp"
+
+namespace handscan::pipeline_daemon {
+
+class CommandHandler {
+public:
+    CommandHandler(PipelineWorker& worker, ExportJob& exports, shm::LiveMapWriter& channel)
+        : worker_(worker), exports_(exports), channel_(channel) {}
+
+    // Takes and answers every pending command of the channel.
+    void pollChannel();
+    void onButton(ButtonAction action);
+    // Progress acks of a running export, and its final answer.
+    void tick();
+    bool shutdownRequested() const { return shutdown_; }
+
+private:
+    struct Outcome {
+        shm::CommandState state;
+        std::string message;
+    };
+    Outcome execute(shm::CommandType type, const std::string& argument, std::uint64_t seq);
+
+    PipelineWorker& worker_;
+    ExportJob& exports_;
+    shm::LiveMapWriter& channel_;
+    std::uint64_t export_seq_ = 0;  // the command the running export answers (0: a button)
+    TimeNs last_progress_ack_ = 0;
+    bool shutdown_ = false;
+};
+
+}  // namespace handscan::pipeline_daemon

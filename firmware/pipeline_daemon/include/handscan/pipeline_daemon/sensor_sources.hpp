@@ -1,0 +1,80 @@
+// The daemon's device threads. Each SensorSource owns one device through its real driver, opens
+// it, streams its samples into the pipeline's SPSC queues, and when the device is absent or
+// vanishes reports it in its SensorHealth and retries with back-off; the other devices and the
+// pipeline keep running. A full queue drops the sample and counts it (a driver never waits for
+// the pipeline).
+#pragma once
+
+#include <atomic>
+#include <functional>
+#include <memory>
+#include <string>
+#include <thread>
+
+#include "handscan/core/config.hpp"
+#include "handscan/core/samples.hpp"
+#include "handscan/core/spsc_queue.hpp"
+#include "handscan/gpio/led_pattern.hpp"
+#include "handscan/pipeline_daemon/device_links.hpp"
+#include "handscan/pipeline_daemon/sensor_health.hpp"
+
+namespace handscan::pipeline_daemon {
+
+// Driver threads -> pipeline thread, one queue per stream (one producer each).
+struct SampleQueues {
+    SpscQueue<ImuSample> imu{4096};            // 20 s at 200 Hz
+    SpscQueue<EncoderSample> encoder{8192};    // 40 s at 200 Hz
+    SpscQueue<LaserScan> scans{512};           // 12 s at 40 Hz
+    SpscQueue<Image> colour_images{8};         // large frames: a few are enough for colouring
+    std::atomic<std::uint64_t> dropped{0};
+    std::atomic<float> camera_brightness{0};   // mean grey level of the tracking camera
+};
+
+// The operator's panel: what a button asks for, what the LEDs show.
+enum class ButtonAction { kToggleScan, kExport };
+struct PanelLeds {
+    std::atomic<gpio::LedPattern> ready{gpio::LedPattern::kDoubleFlash};
+    std::atomic<gpio::LedPattern> scanning{gpio::LedPattern::kOff};
+    std::atomic<gpio::LedPattern> fault{gpio::LedPattern::kOff};
+    std::atomic<gpio::LedPattern> exporting{gpio::LedPattern::kOff};
+};
+
+class SensorSource {
+public:
+    explicit SensorSource(std::string name, float expected_rate_hz) : health_(std::move(name), expected_rate_hz) {}
+    virtual ~SensorSource();
+    SensorSource(const SensorSource&) = delete;
+    SensorSource& operator=(const SensorSource&) = delete;
+
+    void start();
+    // Ends the thread (within one poll slice) and closes the device.
+    void stop();
+    SensorHealth& health() { return health_; }
+
+protected:
+    virtual void run() = 0;
+    bool stopping() const { return stop_.load(std::memory_order_acquire); }
+    // Sleeps `t` unless stop() comes first; false when stopping.
+    bool sleepFor(TimeNs t);
+    SensorHealth health_;
+
+private:
+    std::atomic<bool> stop_{false};
+    std::thread thread_;
+};
+
+struct SourceContext {
+    const DeviceConfig& config;
+    DeviceLinks& links;
+    SampleQueues& queues;
+};
+
+std::unique_ptr<SensorSource> makeHokuyoSource(const SourceContext& context);
+std::unique_ptr<SensorSource> makeXsensSource(const SourceContext& context);
+std::unique_ptr<SensorSource> makeMotorSource(const SourceContext& context);
+// `colour`: the colour camera (frames to the colouriser); else the tracking camera (brightness).
+std::unique_ptr<SensorSource> makeCameraSource(const SourceContext& context, bool colour);
+std::unique_ptr<SensorSource> makeGpioSource(const SourceContext& context, PanelLeds& leds,
+                                             std::function<void(ButtonAction)> on_button);
+
+}  // namespace handscan::pipeline_daemon

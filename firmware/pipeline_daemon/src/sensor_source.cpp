@@ -1,0 +1,30 @@
+#include <chrono>
+
+#include "handscan/pipeline_daemon/sensor_sources.hpp"
+
+namespace handscan::pipeline_daemon {
+
+SensorSource::~SensorSource() { stop(); }
+
+void SensorSource::start() {
+    stop_.store(false, std::memory_order_release);
+    thread_ = std::thread([this] { run(); });
+}
+
+void SensorSource::stop() {
+    stop_.store(true, std::memory_order_release);
+    if (thread_.joinable()) thread_.join();
+}
+
+bool SensorSource::sleepFor(TimeNs t) {
+    // Short slices so stop() is prompt; device back-off is seconds at most.
+    const TimeNs until = monotonicNow() + t;
+    while (!stopping()) {
+        const TimeNs left = until - monotonicNow();
+        if (left <= 0) return true;
+        std::this_thread::sleep_for(std::chrono::nanoseconds(std::min<TimeNs>(left, 20 * kNsPerMs)));
+    }
+    return false;
+}
+
+}  // namespace handscan::pipeline_daemon
