@@ -1,15 +1,31 @@
 // `handscan replay REC.mcap --out DIR`: a recording through the drivers' decoders and the pipeline.
+#include <algorithm>
 #include <csignal>
 #include <iostream>
 
 #include "command_registry.hpp"
 #include "handscan/core/log.hpp"
+#include "handscan/core/se3.hpp"
+#include "handscan/eval/tum.hpp"
 #include "handscan/replay/replay_engine.hpp"
 
 namespace handscan::cli {
 namespace {
 
 volatile std::sig_atomic_t g_interrupted = 0;
+
+// The pose of a TUM trajectory at time t (interpolated on SE(3); clamped at the ends).
+std::function<Eigen::Isometry3d(TimeNs)> trajectoryMotion(std::shared_ptr<const eval::Trajectory> tr) {
+    return [tr](TimeNs t) {
+        const double ts = toSeconds(t);
+        const auto it = std::lower_bound(tr->begin(), tr->end(), ts,
+                                         [](const eval::StampedPose& p, double v) { return p.t_s < v; });
+        if (it == tr->begin()) return tr->front().T;
+        if (it == tr->end()) return tr->back().T;
+        const auto& a = *(it - 1);
+        return interpolate(a.T, it->T, (ts - a.t_s) / (it->t_s - a.t_s));
+    };
+}
 
 const RegisterCommand kReplay{"replay", "Run the pipeline on a recording: trajectory.tum, map.ply, stats.json, journal",
                               [](CLI::App& sub) {
@@ -29,8 +45,23 @@ const RegisterCommand kReplay{"replay", "Run the pipeline on a recording: trajec
     sub.add_flag("--live", o->live, "publish to the live-map shared memory (the UI shows it)");
     sub.add_flag("--hold", o->hold, "with --live: keep the final state published until Ctrl-C");
     sub.add_option("--shm-name", o->shm_name, "shared-memory region name (default: the daemon's)");
-    return std::function<int()>([o, modules] {
+    auto reference = std::make_shared<std::string>();
+    sub.add_option("--reference-motion", *reference,
+                   "diagnostics: assemble sweeps with this TUM trajectory (ground truth) and match from it")
+        ->check(CLI::ExistingFile);
+    sub.add_option("--reference-perturb-m", o->reference_perturb_m, "with --reference-motion: prior error (m)");
+    sub.add_option("--reference-perturb-deg", o->reference_perturb_deg, "with --reference-motion: prior error (deg)");
+    return std::function<int()>([o, modules, reference] {
         o->use_laser = *modules != "imu";
+        if (!reference->empty()) {
+            auto tr = eval::readTum(*reference);
+            if (!tr.isOk() || tr->size() < 2) {
+                log().error("--reference-motion {}: {}", *reference,
+                            tr.isOk() ? "needs at least two poses" : tr.status().message());
+                return 1;
+            }
+            o->reference_motion = trajectoryMotion(std::make_shared<const eval::Trajectory>(std::move(*tr)));
+        }
         Progress bar("replay", 1.0);
         o->progress = [&](double f) { bar.update(f); };
         std::signal(SIGINT, [](int) { g_interrupted = 1; });

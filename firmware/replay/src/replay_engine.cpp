@@ -87,6 +87,9 @@ lio::LioConfig lioConfig(const ReplayOptions& o, const DeviceConfig& device) {
     c.assembler.boundary = device.motor.sweep_boundary == "full" ? scan::SweepBoundary::kFullRevolution
                                                                  : scan::SweepBoundary::kHalfRevolution;
     c.odometry.max_threads = 1;  // replay is deterministic: sweeps are matched in order
+    c.reference_motion = o.reference_motion;
+    c.reference_perturb_m = o.reference_perturb_m;
+    c.reference_perturb_rad = o.reference_perturb_deg * M_PI / 180.0;
     return c;
 }
 

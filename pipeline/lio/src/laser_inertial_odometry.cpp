@@ -1,5 +1,7 @@
 #include "handscan/lio/laser_inertial_odometry.hpp"
 
+#include <cmath>
+
 #include "handscan/core/log.hpp"
 
 namespace handscan::lio {
@@ -10,6 +12,7 @@ LaserInertialOdometry::LaserInertialOdometry(const LioConfig& config, const Cali
     // A time the predictor cannot answer (before gravity alignment, beyond its history) is
     // remembered: a sweep containing it is not placed (see matchSweep).
     auto pose_at = [this](TimeNs t) -> Eigen::Isometry3d {
+        if (config_.reference_motion) return config_.reference_motion(t);
         auto T = predictor_.poseAt(t);
         if (T.isOk()) return *T;
         last_unknown_pose_t_ = std::max(last_unknown_pose_t_, t);
@@ -71,9 +74,10 @@ void LaserInertialOdometry::matchSweep(const scan::Sweep& sweep) {
     }
     // The prior (eqs. 17-18): the predicted pose at the sweep's start; the odometry adds its
     // uncertainty since the last refined sweep.
-    scan::SweepResult r = odometry_->process(sweep);
+    const bool reference = static_cast<bool>(config_.reference_motion);
+    scan::SweepResult r = reference ? odometry_->process(sweep, referencePrior(sweep)) : odometry_->process(sweep);
     ++stats_.sweeps;
-    if (config_.imu_feedback && !r.first_sweep && r.match.enough_matches) {
+    if (config_.imu_feedback && !reference && !r.first_sweep && r.match.enough_matches) {
         // Feedback to the IMU predictor only in the directions the matcher solved (section 8).
         if (!predictor_.correct(sweep.t_start, r.pose.T_world_body, r.pose.solved_dof_mask).isOk()) ++stats_.rejected;
     }
@@ -95,6 +99,25 @@ void LaserInertialOdometry::matchSweep(const scan::Sweep& sweep) {
     }
     reg.sweep = sweep;
     sweeps_.push_back(std::move(reg));
+}
+
+std::vector<scan::PosePrior> LaserInertialOdometry::referencePrior(const scan::Sweep& sweep) const {
+    // A different error direction for every sweep, the same on every run (deterministic replay).
+    const auto k = static_cast<double>(sweep.index);
+    const Eigen::Vector3d axis = Eigen::Vector3d(std::sin(1.3 * k + 0.4), std::cos(2.1 * k), std::sin(0.7 * k + 1.9)).normalized();
+    const Eigen::Vector3d dir = Eigen::Vector3d(std::cos(1.7 * k + 0.2), std::sin(0.9 * k + 1.1), std::cos(2.9 * k)).normalized();
+    Eigen::Isometry3d perturb = Eigen::Isometry3d::Identity();
+    // The first sweep founds the map (nothing to match against): placed at the reference itself.
+    const double s = stats_.sweeps == 0 ? 0.0 : 1.0;
+    perturb.linear() = Eigen::AngleAxisd(s * config_.reference_perturb_rad, axis).toRotationMatrix();
+    perturb.translation() = s * config_.reference_perturb_m * dir;
+    scan::PosePrior p;
+    p.T_world_body = sweep.T_world_start_odom * perturb;
+    const auto& oc = config_.odometry;
+    p.information.setZero();
+    p.information.diagonal().head<3>().setConstant(1.0 / (oc.prior_sigma_rot_rad * oc.prior_sigma_rot_rad));
+    p.information.diagonal().tail<3>().setConstant(1.0 / (oc.prior_sigma_trans_m * oc.prior_sigma_trans_m));
+    return {p};
 }
 
 std::vector<PoseEstimate> LaserInertialOdometry::takePoses() {

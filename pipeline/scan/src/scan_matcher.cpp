@@ -36,6 +36,11 @@ double robustWeight(RobustKernel kernel, double r, double scale) {
 
 }  // namespace
 
+double degeneracyEigenvalueThreshold(const ScanMatcherConfig& config) {
+    const double r = config.laser_sigma_m / config.degeneracy_max_std_m;
+    return r * r;
+}
+
 MatchResult ScanMatcher::match(const FeatureCloud& features, const LocalMap& map,
                                const std::vector<PosePrior>& priors,
                                const Eigen::Isometry3d* initial) const {
@@ -44,8 +49,10 @@ MatchResult ScanMatcher::match(const FeatureCloud& features, const LocalMap& map
                           : priors.empty()   ? Eigen::Isometry3d::Identity()
                                              : priors.front().T_world_body;
     res.T_world_body = T;
+    const double threshold = degeneracyEigenvalueThreshold(config_);
     res.degeneracy = analyzeDegeneracy(Matrix6d::Zero(), 1.0);  // nothing solved yet
-    const int K = std::min(config_.neighbours, LocalMap::kMaxNeighbours);
+    const int K_edge = std::min(config_.neighbours, LocalMap::kMaxNeighbours);
+    const int K_plane = std::min(config_.plane_neighbours, LocalMap::kMaxNeighbours);
     const double max_d2 = config_.max_neighbour_dist_m * config_.max_neighbour_dist_m;
     const double inv_sigma2 = 1.0 / (config_.laser_sigma_m * config_.laser_sigma_m);
     std::vector<Correspondence> corr;
@@ -64,6 +71,7 @@ MatchResult ScanMatcher::match(const FeatureCloud& features, const LocalMap& map
             const auto& pts = edge ? features.edges : features.planars;
             for (const Eigen::Vector3d& p : pts) {
                 const Eigen::Vector3d q = T * p;
+                const int K = edge ? K_edge : K_plane;
                 const int n = map.nearest(edge ? FeatureKind::kEdge : FeatureKind::kPlanar, q, K, nb, d2);
                 if (n < K || d2[n - 1] > max_d2) {
                     continue;
@@ -158,7 +166,7 @@ MatchResult ScanMatcher::match(const FeatureCloud& features, const LocalMap& map
                 g += prior.information * e;
             }
             Vector6d dx = -H.ldlt().solve(g);  // eq. (20)
-            res.degeneracy = analyzeDegeneracy(JtJ, config_.degeneracy_threshold);
+            res.degeneracy = analyzeDegeneracy(JtJ, threshold);
             dx = res.degeneracy.projection * dx;  // eq. (21): move only in solved directions
             T = T * expSE3(dx);
             T.linear() = orthonormalize(T.linear());

@@ -28,16 +28,23 @@ PosePrior weakPrior(const Eigen::Isometry3d& T) {
 
 // Map from a sweep at pose A, then a sweep from pose B matched from a perturbed guess.
 MatchResult matchRoom(const testing::Scene& scene, const Eigen::Isometry3d& A, const Eigen::Isometry3d& B,
-                      const Eigen::Isometry3d& guess, const PosePrior& prior) {
+                      const Eigen::Isometry3d& guess, const PosePrior& prior,
+                      const ScanMatcherConfig& config = {}, std::size_t keep_every = 1) {
     const FeatureConfig fc;
     VoxelMap map;
     map.recenter(A.translation());
     const FeatureCloud fa = extractFeatures(sweepAt(scene, A, 1), fc);
     map.insert(FeatureKind::kEdge, toWorld(A, fa.edges));
     map.insert(FeatureKind::kPlanar, toWorld(A, fa.planars));
-    const FeatureCloud fb = extractFeatures(sweepAt(scene, B, 2), fc);
+    FeatureCloud fb = extractFeatures(sweepAt(scene, B, 2), fc);
+    // keep_every > 1 thins the matched sweep's features (the map keeps all of A's).
+    for (auto* set : {&fb.edges, &fb.planars}) {
+        std::vector<Eigen::Vector3d> kept;
+        for (std::size_t i = 0; i < set->size(); i += keep_every) kept.push_back((*set)[i]);
+        *set = std::move(kept);
+    }
     const LocalMap local = map.extract(toWorld(guess, fb.edges), toWorld(guess, fb.planars));
-    ScanMatcher matcher;
+    const ScanMatcher matcher(config);
     return matcher.match(fb, local, {prior}, &guess);
 }
 
@@ -93,11 +100,34 @@ TEST(ScanMatcher, CorridorHoldsTheAlongTrackDirectionAtThePrior) {
     EXPECT_EQ(r.degeneracy.well_conditioned, 5) << r.degeneracy.eigenvalues.transpose();
     EXPECT_EQ(r.degeneracy.solved_dof_mask, kAllDof & ~kTx);
     const Eigen::Vector3d t_err = B.inverse() * r.T_world_body.translation();
+    // Noisy plane normals must not invent information along the axis (they pulled the pose
+    // 12 cm there with 5-point clusters): the axis stays far under the threshold.
+    EXPECT_LT(r.degeneracy.eigenvalues[5], 0.5 * degeneracyEigenvalueThreshold(ScanMatcherConfig{}));
     // x is held where the prior put it; z and the rotations are solved.
     EXPECT_NEAR((guess.inverse() * r.T_world_body).translation().x(), 0.0, 0.01);
     EXPECT_NEAR(t_err.z(), 0.0, 0.01);
     EXPECT_NEAR(t_err.y(), 0.0, 0.01);
     EXPECT_LT(poseError(B, r.T_world_body).rot_deg, 0.15);
+}
+
+TEST(ScanMatcher, TheDegeneracyThresholdDoesNotDependOnTheFeatureCount) {
+    // A twentieth of the room's features constrains every direction as well in kind, each with
+    // a standard deviation sqrt(20) times larger but still millimetres: all six stay solved (the
+    // former absolute eigenvalue threshold of 50 flagged the weakest direction, ~32 here).
+    const auto A = Eigen::Isometry3d::Identity();
+    const auto B = testing::pose(0.02, 0.3, -0.01, 0.4, 0.05, 0.3);
+    const auto guess = B * testing::pose(0.01, -0.02, 0.015, 0.1, -0.05, 0.08);
+    const MatchResult r = matchRoom(testing::officeRoom(), A, B, guess, weakPrior(guess), {}, 20);
+    ASSERT_TRUE(r.enough_matches);
+    EXPECT_EQ(r.degeneracy.well_conditioned, 6) << r.degeneracy.eigenvalues.transpose();
+    EXPECT_LT(r.degeneracy.eigenvalues[5], 50.0);
+    EXPECT_LT(poseError(B, r.T_world_body).trans_m, 0.02);
+    // The corridor thinned alike still has its axis flagged.
+    const auto Bc = testing::pose(0.0, 0.05, 0.0, 1.0, 0.0, 0.0);
+    const auto guess_c = Bc * testing::pose(0.0, 0.0, 0.0, 0.2, 0.0, 0.08);
+    const MatchResult c = matchRoom(testing::corridor(), A, Bc, guess_c, weakPrior(guess_c), {}, 20);
+    ASSERT_TRUE(c.enough_matches);
+    EXPECT_EQ(c.degeneracy.solved_dof_mask, kAllDof & ~kTx) << c.degeneracy.eigenvalues.transpose();
 }
 
 TEST(ScanMatcher, TheSolvedSubspaceInWorldAxesFollowsTheCorridorNotTheBody) {

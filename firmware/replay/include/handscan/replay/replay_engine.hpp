@@ -7,11 +7,13 @@
 // publishes to the same shared memory as the daemon, so the UI can show any recording.
 #pragma once
 
+#include <Eigen/Geometry>
 #include <cstdint>
 #include <functional>
 #include <string>
 
 #include "handscan/core/status.hpp"
+#include "handscan/core/time.hpp"
 
 namespace handscan::replay {
 
@@ -25,6 +27,11 @@ struct ReplayOptions {
     // default for now: on simulated walks the feedback loop diverges within seconds (see the
     // issue notes); without it the matcher's prior is the IMU's relative motion per sweep.
     bool imu_feedback = false;
+    // Diagnostics: assemble sweeps with this motion (ground truth) and match from it, perturbed
+    // (see lio::LioConfig::reference_motion): the scan matcher's own accuracy.
+    std::function<Eigen::Isometry3d(TimeNs)> reference_motion;
+    double reference_perturb_m = 0.0;
+    double reference_perturb_deg = 0.0;
     bool colourise = true;             // colour points from /camera/colour when recorded
     std::string dump_sweeps_dir;       // each assembled sweep as PLY (x y z intensity t)
     std::string device_config;         // default: <config dir>/device.yaml

@@ -30,6 +30,14 @@ struct LioConfig {
     scan::LaserOdometryConfig odometry;
     bool laser_enabled = true;   // false: IMU prediction only (--modules imu)
     bool imu_feedback = true;    // scan-matching poses correct the IMU predictor (section 4.2)
+    // Diagnostics only (`handscan replay --reference-motion GT.tum`): sweeps are assembled with
+    // this motion (e.g. ground truth) instead of the IMU prediction, and each match starts from
+    // it at the sweep's start, moved by a deterministic error of reference_perturb_m /
+    // reference_perturb_rad, without feedback to the IMU: the scan matcher and the map measured
+    // alone, apart from the prediction.
+    scan::PoseAtFn reference_motion;
+    double reference_perturb_m = 0.0;
+    double reference_perturb_rad = 0.0;
 };
 
 // A registered sweep: its points in the world with their own times, after the match.
@@ -79,6 +87,7 @@ public:
 private:
     void processSweeps();
     void matchSweep(const scan::Sweep& sweep);
+    std::vector<scan::PosePrior> referencePrior(const scan::Sweep& sweep) const;
 
     LioConfig config_;
     imu::ImuPredictor predictor_;
