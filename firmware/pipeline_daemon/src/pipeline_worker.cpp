@@ -208,6 +208,13 @@ void PipelineWorker::consume() {
 
 void PipelineWorker::publishStatus() {
     last_status_ = monotonicNow();
+    // Samples the drivers could not queue: the pipeline fell behind (say so, at most once a second).
+    const std::uint64_t dropped = queues_.dropped.load(std::memory_order_relaxed);
+    if (dropped > dropped_reported_ && last_status_ - dropped_logged_ >= kNsPerSec) {
+        log().warn("pipeline behind: {} samples dropped at full queues ({} in all)", dropped - dropped_reported_, dropped);
+        dropped_reported_ = dropped;
+        dropped_logged_ = last_status_;
+    }
     live_output::LiveStatus s;
     s.sensors = inputs_.sensors();
     s.scan_state = session_->state();
