@@ -200,10 +200,11 @@ void SweepAssembler::processScan(const LaserScan& scan) {
         }
         const double a = scan.stepAngle(i);
         const Eigen::Vector3d p_laser(r * std::cos(a), r * std::sin(a), 0.0);
-        const Eigen::Vector3d p_world = poseAt(t) * (geometry_.bodyFromLaser(*angle) * p_laser);
+        const Eigen::Isometry3d T_world_laser = poseAt(t) * geometry_.bodyFromLaser(*angle);
         SweepPoint pt;
         pt.t = t;
-        pt.p_start = T_start_world_ * p_world;
+        pt.p_start = T_start_world_ * (T_world_laser * p_laser);
+        pt.origin_start = T_start_world_ * T_world_laser.translation();
         pt.range_m = r;
         pt.intensity = scan.intensities.empty() ? 0.0F : static_cast<float>(scan.intensities[i]);
         pt.step = static_cast<std::uint16_t>(static_cast<int>(i) + scan.first_step);
