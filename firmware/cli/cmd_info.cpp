@@ -1,11 +1,16 @@
 // `handscan info REC.mcap`: channels, message counts, rates, durations and gaps of a recording,
-// and whether it was cut short and recovered. `--json` for scripts and tests.
+// and whether it was cut short and recovered; the raw device channels decoded with the drivers'
+// codecs, so each device shows at its own rate (scans, IMU samples, encoder positions, frames per
+// second) next to the rate of transport reads. `--json` for scripts and tests.
+#include <exception>
 #include <iostream>
 
 #include "command_registry.hpp"
+#include "handscan/core/config.hpp"
 #include "handscan/core/log.hpp"
 #include "handscan/recording/mcap_reader.hpp"
 #include "handscan/recording/recording_summary.hpp"
+#include "handscan/replay/device_rates.hpp"
 
 namespace handscan::cli {
 namespace {
@@ -15,10 +20,25 @@ const RegisterCommand kInfo{"info", "Show a recording's channels, message counts
     auto file = std::make_shared<std::string>();
     auto json = std::make_shared<bool>(false);
     auto verify = std::make_shared<bool>(false);
+    auto device_yaml = std::make_shared<std::string>();
     sub.add_option("REC", *file, "recording (.mcap)")->required()->check(CLI::ExistingFile);
+    sub.add_option("--device", *device_yaml,
+                   "device.yaml for the encoder's node id and TPDO period (default: <config dir>/device.yaml)");
     sub.add_flag("--json", *json, "print one JSON object instead of a table");
     sub.add_flag("--verify", *verify, "also check every CRC (chunks, data section, summary); exit 3 on a mismatch");
-    return std::function<int()>([file, json, verify] {
+    return std::function<int()>([file, json, verify, device_yaml] {
+        DeviceConfig device;
+        const std::string device_path = device_yaml->empty() ? defaultConfigDir() + "/device.yaml" : *device_yaml;
+        try {
+            device = loadDeviceConfig(device_path);
+        } catch (const std::exception& e) {
+            if (!device_yaml->empty()) {
+                log().error("{}", e.what());
+                return 1;
+            }
+            log().warn("{}; decoding the encoder with default settings", e.what());
+        }
+        replay::DeviceRateMeter devices(device);
         auto reader = recording::McapReader::open(*file);
         if (!reader) {
             log().error("{}", reader.status().message());
@@ -27,14 +47,18 @@ const RegisterCommand kInfo{"info", "Show a recording's channels, message counts
         // Reading every message of a large recording takes a while: show progress on a terminal.
         std::unique_ptr<Progress> progress;
         if ((*reader)->fileSize() > (64u << 20)) progress = std::make_unique<Progress>("reading " + *file, 1.0);
-        auto summary = recording::summarizeRecording(**reader, [&](double f) {
-            if (progress) progress->update(f);
-        });
+        auto summary = recording::summarizeRecording(
+            **reader,
+            [&](double f) {
+                if (progress) progress->update(f);
+            },
+            [&](const recording::RecordedMessage& m) { devices.feed(m.channel->topic, m.log_time, m.data); });
         if (progress) progress->finish();
         if (!summary) {
             log().error("{}", summary.status().message());
             return 1;
         }
+        summary->devices = devices.summaries();
         if (*verify) {
             if (Status s = recording::checkRecordingCrcs(**reader, *summary); !s) {
                 log().error("{}", s.message());

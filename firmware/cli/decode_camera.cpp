@@ -1,7 +1,8 @@
 // `handscan decode --device camera FILE|REC.mcap`: camera frame records (drivers/camera
 // frame_record.hpp; a file of concatenated records or the /camera/track channel of a recording)
-// as one JSON line per frame: V4L2 metadata, timestamp clock and source, the mid-exposure host
-// time, and the mean grey level of the decoded image (proves the payload decodes). Summary:
+// as one JSON line per frame: V4L2 metadata, how the record stores the buffer (raw or lossless
+// PNG, and its stored size), timestamp clock and source, the mid-exposure host time, and the mean
+// grey level of the decoded image (proves the payload decodes). Summary:
 // resyncs = bytes skipped to the next record magic after a bad record, gaps = frames lost
 // according to the sequence numbers.
 #include <algorithm>
@@ -87,7 +88,8 @@ private:
           << "\",\"timestamp_source\":\"" << (soe ? "start_of_exposure" : "end_of_frame") << "\",\"error_flag\":"
           << ((h.flags & transport::kV4l2BufFlagError) ? "true" : "false") << ",\"flags\":" << h.flags << ",\"format\":"
           << jsonString(transport::fourccName(h.fourcc)) << ",\"width\":" << h.width << ",\"height\":" << h.height << ",\"stride\":" << h.stride
-          << ",\"bytesused\":" << h.bytesused << ",\"exposure_us\":" << h.exposure_us << ",\"t_mid_exposure_ns\":" << h.t_host_ns;
+          << ",\"bytesused\":" << h.bytesused << ",\"coding\":\"" << (r.coding == FrameCoding::kPng ? "png" : "raw")
+          << "\",\"stored_bytes\":" << r.stored_size << ",\"exposure_us\":" << h.exposure_us << ",\"t_mid_exposure_ns\":" << h.t_host_ns;
         if (auto fmt = pixelFormatFromFourcc(h.fourcc)) {
             Image img;
             img.format = *fmt;

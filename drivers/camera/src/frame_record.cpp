@@ -4,6 +4,7 @@
 #include <cstring>
 #include <string>
 
+#include "handscan/camera/png_payload.hpp"
 #include "handscan/transport/v4l2_device.hpp"
 
 namespace handscan::camera {
@@ -28,32 +29,61 @@ std::uint64_t minStride(std::uint32_t fourcc, std::uint32_t width) {
 
 }  // namespace
 
-std::vector<std::uint8_t> encodeFrameRecord(const FrameRecordHeader& h, std::span<const std::uint8_t> payload) {
-    std::vector<std::uint8_t> out(kFrameRecordHeaderSize + payload.size());
+namespace {
+
+// The common 56 header bytes; the caller sets version and header size.
+void putHeader(std::vector<std::uint8_t>& out, const FrameRecordHeader& h, std::size_t bytesused) {
     for (std::size_t i = 0; i < kFrameRecordMagic.size(); ++i) out[i] = kFrameRecordMagic[i];
-    put(out, 4, kFrameRecordVersion, 2);
-    put(out, 6, kFrameRecordHeaderSize, 2);
     put(out, 8, h.sequence, 4);
     put(out, 12, h.flags, 4);
     put(out, 16, static_cast<std::uint64_t>(h.timestamp_ns), 8);
-    put(out, 24, payload.size(), 4);
+    put(out, 24, bytesused, 4);
     put(out, 28, h.fourcc, 4);
     put(out, 32, h.width, 4);
     put(out, 36, h.height, 4);
     put(out, 40, h.stride, 4);
     put(out, 44, h.exposure_us, 4);
     put(out, 48, static_cast<std::uint64_t>(h.t_host_ns), 8);
+}
+
+}  // namespace
+
+std::vector<std::uint8_t> encodeFrameRecord(const FrameRecordHeader& h, std::span<const std::uint8_t> payload) {
+    std::vector<std::uint8_t> out(kFrameRecordHeaderSize + payload.size());
+    putHeader(out, h, payload.size());
+    put(out, 4, kFrameRecordVersion, 2);
+    put(out, 6, kFrameRecordHeaderSize, 2);
     if (!payload.empty()) std::memcpy(out.data() + kFrameRecordHeaderSize, payload.data(), payload.size());
     return out;
 }
 
-Result<FrameRecordView> decodeFrameRecord(std::span<const std::uint8_t> b) {
+std::vector<std::uint8_t> encodeFrameRecord(const FrameRecordHeader& h, std::span<const std::uint8_t> payload,
+                                            FrameCoding coding) {
+    FrameRecordHeader used = h;
+    used.bytesused = static_cast<std::uint32_t>(payload.size());
+    if (coding != FrameCoding::kPng || !canStorePng(used)) return encodeFrameRecord(h, payload);
+    auto png = encodePngPayload(used, payload);
+    if (!png) return encodeFrameRecord(h, payload);  // libpng out of memory: store it as it is
+    std::vector<std::uint8_t> out(kFrameRecordCodedHeaderSize + png->size());
+    putHeader(out, h, payload.size());
+    put(out, 4, kFrameRecordCodedVersion, 2);
+    put(out, 6, kFrameRecordCodedHeaderSize, 2);
+    put(out, 56, static_cast<std::uint32_t>(FrameCoding::kPng), 4);
+    put(out, 60, png->size(), 4);
+    std::memcpy(out.data() + kFrameRecordCodedHeaderSize, png->data(), png->size());
+    return out;
+}
+
+Result<FrameRecordView> decodeFrameRecord(std::span<const std::uint8_t> b, FramePayload want) {
     if (b.size() < 8) return Status(StatusCode::kTruncated, "camera frame record: " + std::to_string(b.size()) + " bytes, the header alone needs 56");
     if (!std::equal(kFrameRecordMagic.begin(), kFrameRecordMagic.end(), b.begin())) return bad("magic is not 'HSVF'");
     const auto version = static_cast<std::uint16_t>(get(b, 4, 2));
     const auto header_size = static_cast<std::uint16_t>(get(b, 6, 2));
-    if (version != kFrameRecordVersion) return bad("version " + std::to_string(version) + ", this reader knows 1");
-    if (header_size < kFrameRecordHeaderSize) return bad("header size " + std::to_string(header_size) + " < 56");
+    if (version != kFrameRecordVersion && version != kFrameRecordCodedVersion) {
+        return bad("version " + std::to_string(version) + ", this reader knows 1 and 2");
+    }
+    const std::size_t min_header = version == kFrameRecordVersion ? kFrameRecordHeaderSize : kFrameRecordCodedHeaderSize;
+    if (header_size < min_header) return bad("header size " + std::to_string(header_size) + " < " + std::to_string(min_header));
     if (b.size() < header_size) return Status(StatusCode::kTruncated, "camera frame record: header cut at " + std::to_string(b.size()) + " bytes");
     FrameRecordView v;
     FrameRecordHeader& h = v.header;
@@ -85,13 +115,32 @@ Result<FrameRecordView> decodeFrameRecord(std::span<const std::uint8_t> b) {
     } else if (h.fourcc != transport::kFourccMjpeg) {
         return bad("unknown pixel format '" + transport::fourccName(h.fourcc) + "'");
     }
-    const std::size_t total = header_size + static_cast<std::size_t>(h.bytesused);
+    v.stored_size = h.bytesused;
+    if (version == kFrameRecordCodedVersion) {
+        const auto coding = static_cast<std::uint32_t>(get(b, 56, 4));
+        if (coding > static_cast<std::uint32_t>(FrameCoding::kPng)) return bad("unknown payload coding " + std::to_string(coding));
+        v.coding = static_cast<FrameCoding>(coding);
+        v.stored_size = static_cast<std::size_t>(get(b, 60, 4));
+        if (v.stored_size > kMaxFramePayload) return bad("stored size " + std::to_string(v.stored_size) + " over 64 MiB");
+        if (v.coding == FrameCoding::kRaw && v.stored_size != h.bytesused) {
+            return bad("uncoded payload of " + std::to_string(v.stored_size) + " bytes, bytesused " + std::to_string(h.bytesused));
+        }
+    }
+    const std::size_t total = header_size + v.stored_size;
     if (b.size() < total) {
         return Status(StatusCode::kTruncated, "camera frame record: payload cut (" + std::to_string(b.size() - header_size) + " of " +
-                                                  std::to_string(h.bytesused) + " bytes)");
+                                                  std::to_string(v.stored_size) + " bytes)");
     }
-    v.payload = b.subspan(header_size, h.bytesused);
+    const auto stored = b.subspan(header_size, v.stored_size);
     v.record_size = total;
+    if (v.coding == FrameCoding::kRaw) {
+        v.payload = stored;
+    } else if (want == FramePayload::kDecoded) {
+        auto buffer = std::make_shared<std::vector<std::uint8_t>>();
+        if (Status s = decodePngPayload(h, stored, *buffer); !s) return bad("frame " + std::to_string(h.sequence) + ": " + s.message());
+        v.payload = *buffer;
+        v.decoded = std::move(buffer);
+    }
     return v;
 }
 

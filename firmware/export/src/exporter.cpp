@@ -24,6 +24,12 @@ namespace {
 
 namespace fs = std::filesystem;
 
+// Checked on Debian 12 (bookworm): no package ships an E57 library (libE57Format is not packaged,
+// and Debian's CloudCompare is built without its E57 plugin), so there is no E57 writer and no
+// independent reader to prove one against.
+constexpr const char* kE57Unavailable =
+    "not available: Debian 12 packages no E57 library (libE57Format); export LAS 1.4 or PLY and convert";
+
 std::span<const std::uint8_t> asBytes(const std::string& s) {
     return {reinterpret_cast<const std::uint8_t*>(s.data()), s.size()};
 }
@@ -70,7 +76,8 @@ std::string jsonEscape(const std::string& s) {
     return o;
 }
 
-std::string metadataJson(const journal::JournalSummary& js, const ExportReport& r, const ExportOptions& o) {
+std::string metadataJson(const journal::JournalSummary& js, const ExportReport& r, const ExportOptions& o,
+                         const std::vector<std::string>& formats) {
     std::ostringstream os;
     os.precision(6);
     os << std::fixed;
@@ -79,20 +86,28 @@ std::string metadataJson(const journal::JournalSummary& js, const ExportReport& 
     os << "  \"journal\": {\"path\": \"" << jsonEscape(js.path) << "\", \"points\": " << js.points
        << ", \"finished\": " << (js.finished ? "true" : "false") << ", \"damage\": \"" << jsonEscape(js.damage) << "\"},\n";
     os << "  \"export\": {\"points\": " << r.points << ", \"voxel_m\": " << o.voxel_m << ", \"formats\": [";
-    for (std::size_t i = 0; i < o.formats.size(); ++i) os << (i ? ", " : "") << '"' << o.formats[i] << '"';
+    for (std::size_t i = 0; i < formats.size(); ++i) os << (i ? ", " : "") << '"' << formats[i] << '"';
     os << "],\n    \"bounds_min\": [" << r.bounds.min[0] << ", " << r.bounds.min[1] << ", " << r.bounds.min[2]
        << "], \"bounds_max\": [" << r.bounds.max[0] << ", " << r.bounds.max[1] << ", " << r.bounds.max[2] << "],\n";
-    os << "    \"trajectory_poses\": " << js.trajectory.size() << "}\n}\n";
+    os << "    \"trajectory_poses\": " << js.trajectory.size() << "},\n";
+    os << "  \"formats_unavailable\": {\"e57\": \"" << kE57Unavailable << "\"}\n}\n";
     return os.str();
 }
 
-// The points to export: straight from the journal (two streaming passes) or voxel-filtered.
+// The points to export: straight from the journal (streamed) or voxel-filtered.
 class PointSource {
 public:
-    PointSource(const journal::JournalReader& reader, double voxel_m) : reader_(reader) {
+    PointSource(const journal::JournalReader& reader, double voxel_m, const std::function<void(double)>& progress)
+        : reader_(reader) {
         if (voxel_m > 0.0) {
             VoxelFilter filter(voxel_m);
-            status_ = reader.forEachPoints([&](std::span<const journal::MapPoint> pts) { filter.add(pts); });
+            const double total = static_cast<double>(std::max<std::uint64_t>(1, reader.summary().points));
+            double done = 0.0;
+            status_ = reader.forEachPoints([&](std::span<const journal::MapPoint> pts) {
+                filter.add(pts);
+                done += static_cast<double>(pts.size());
+                progress(done / total);
+            });
             filtered_ = std::make_unique<std::vector<journal::MapPoint>>(filter.take());
         }
     }
@@ -113,6 +128,13 @@ private:
     Status status_;
 };
 
+// One point file being written: its safe file and its format's encoder.
+struct CloudFile {
+    std::string path;
+    std::unique_ptr<SafeFileWriter> file;
+    std::unique_ptr<PointFileWriter> writer;
+};
+
 }  // namespace
 
 Result<std::string> findJournal(const std::string& source) {
@@ -131,10 +153,13 @@ Result<ExportReport> exportScan(const std::string& source, const std::string& ta
     auto progress = [&](double f, const std::string& stage) {
         if (options.progress) options.progress(std::clamp(f, 0.0, 1.0), stage);
     };
+    std::vector<std::string> formats;  // in the order given, each once
     for (const std::string& f : options.formats) {
+        if (f == "e57") return Status(StatusCode::kInvalidArgument, std::string("export: E57 is ") + kE57Unavailable);
         if (f != "ply" && f != "las") {
             return Status(StatusCode::kInvalidArgument, "export: unknown format '" + f + "' (expected ply, las)");
         }
+        if (std::find(formats.begin(), formats.end(), f) == formats.end()) formats.push_back(f);
     }
     auto journal_path = findJournal(source);
     if (!journal_path.isOk()) return journal_path.status();
@@ -156,14 +181,17 @@ Result<ExportReport> exportScan(const std::string& source, const std::string& ta
     fs::create_directories(out_dir, ec);
     if (ec) return Status(StatusCode::kIoError, "export: cannot create " + out_dir.string() + ": " + ec.message());
 
-    progress(0.0, "reading journal");
-    PointSource points(*reader, options.voxel_m);
+    // Progress: thinning (if any) up to 30 %, writing up to 85 %, then verifying each file.
+    const double write_from = options.voxel_m > 0.0 ? 0.3 : 0.0;
+    constexpr double kWriteTo = 0.85;
+    progress(0.0, options.voxel_m > 0.0 ? "thinning" : "reading journal");
+    PointSource points(*reader, options.voxel_m, [&](double f) { progress(f * write_from, "thinning"); });
     if (!points.status().isOk()) return points.status();
     const std::uint64_t count = points.count();
 
     // Free space first: refuse before writing anything rather than fail half-way.
     std::uint64_t need = 64 * 1024 + js.trajectory.size() * 200;
-    for (const std::string& f : options.formats) need += f == "ply" ? plyBytes(count) : lasBytes(count);
+    for (const std::string& f : formats) need += f == "ply" ? plyBytes(count) : lasBytes(count);
     const fs::space_info space = fs::space(out_dir, ec);
     if (!ec && space.available < need) {
         return Status(StatusCode::kNoSpace, "export: " + target_dir + " has " + std::to_string(space.available >> 20) +
@@ -176,35 +204,48 @@ Result<ExportReport> exportScan(const std::string& source, const std::string& ta
     report.points = count;
     report.journal_points = js.points;
     report.journal_damage = js.damage;
-    const double total_work = static_cast<double>(std::max<std::uint64_t>(1, count * options.formats.size()));
-    double done_work = 0.0;
-    for (const std::string& format : options.formats) {
-        const std::string path = (out_dir / ("cloud." + format)).string();
-        SafeFileWriter file(path, options.faults);
-        if (Status s = file.open(); !s.isOk()) return s;
-        std::unique_ptr<PointFileWriter> writer = format == "ply" ? makePlyWriter(file) : makeLasWriter(file);
-        if (Status s = writer->begin(count); !s.isOk()) return s;
-        Status failure;
-        if (Status s = points.forEach([&](std::span<const journal::MapPoint> pts) {
-                if (!failure.isOk()) return;
-                failure = writer->write(pts);
-                done_work += static_cast<double>(pts.size());
-                progress(done_work / total_work * 0.95, "writing " + fs::path(path).filename().string());
-            });
-            !s.isOk()) {
-            return s;
-        }
-        if (!failure.isOk()) return failure;
-        progress(done_work / total_work * 0.95, "verifying " + fs::path(path).filename().string());
-        if (Status s = writer->end(); !s.isOk()) return s;
-        report.bounds = writer->bounds();
-        report.files.push_back(path);
-        report.bytes += file.bytesWritten();
+    // Every format from one pass over the points: the journal is read once, each file's I/O
+    // thread writes while the points are encoded for the next block.
+    std::vector<CloudFile> clouds;
+    std::string writing = "writing";
+    for (const std::string& format : formats) {
+        CloudFile c;
+        c.path = (out_dir / ("cloud." + format)).string();
+        c.file = std::make_unique<SafeFileWriter>(c.path, options.faults);
+        if (Status s = c.file->open(); !s.isOk()) return s;
+        c.writer = format == "ply" ? makePlyWriter(*c.file) : makeLasWriter(*c.file);
+        if (Status s = c.writer->begin(count); !s.isOk()) return s;
+        writing += (clouds.empty() ? " " : ", ") + fs::path(c.path).filename().string();
+        clouds.push_back(std::move(c));
     }
+    const double total = static_cast<double>(std::max<std::uint64_t>(1, count));
+    double done = 0.0;
+    Status failure;
+    if (Status s = points.forEach([&](std::span<const journal::MapPoint> pts) {
+            for (CloudFile& c : clouds) {
+                if (failure.isOk()) failure = c.writer->write(pts);
+            }
+            done += static_cast<double>(pts.size());
+            progress(write_from + (kWriteTo - write_from) * done / total, writing);
+        });
+        !s.isOk()) {
+        return s;
+    }
+    if (!failure.isOk()) return failure;
+    for (std::size_t i = 0; i < clouds.size(); ++i) {
+        CloudFile& c = clouds[i];
+        progress(kWriteTo + (0.99 - kWriteTo) * static_cast<double>(i) / static_cast<double>(clouds.size()),
+                 "verifying " + fs::path(c.path).filename().string());
+        if (Status s = c.writer->end(); !s.isOk()) return s;
+        report.bounds = c.writer->bounds();
+        report.files.push_back(c.path);
+        report.bytes += c.file->bytesWritten();
+    }
+    progress(0.99, "writing trajectory and metadata");
     const std::pair<std::string, std::string> small_files[] = {
         {"trajectory.tum", trajectoryTum(js.trajectory)},
         {"trajectory.csv", trajectoryCsv(js.trajectory)},
-        {"scan.json", metadataJson(js, report, options)},
+        {"scan.json", metadataJson(js, report, options, formats)},
     };
     for (const auto& [file_name, text] : small_files) {
         const std::string path = (out_dir / file_name).string();

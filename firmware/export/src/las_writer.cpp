@@ -4,6 +4,7 @@
 #include <vector>
 
 #include "handscan/export/point_formats.hpp"
+#include "record_blocks.hpp"
 
 namespace handscan::exporter {
 namespace {
@@ -76,35 +77,37 @@ public:
             offset_[1] = std::floor(points[0].y);
             offset_[2] = std::floor(points[0].z);
         }
-        // Fixed-layout records straight into one buffer (little-endian CPUs: fields copy as is).
-        buf_.resize(points.size() * kLasPointRecordBytes);
-        std::uint8_t* o = buf_.data();
-        for (const journal::MapPoint& p : points) {
-            bounds_.add(p.x, p.y, p.z);
-            const double xyz[3] = {p.x, p.y, p.z};
-            for (int i = 0; i < 3; ++i) {
-                if (std::abs((xyz[i] - offset_[i]) / opt_.scale) > 2147483647.0) {
-                    return Status(StatusCode::kInvalidArgument, "export " + file_.finalPath() + ": point at " +
-                                                                    std::to_string(xyz[i]) +
-                                                                    " m is too far from the scan origin for LAS integers");
-                }
-                const std::int32_t q = quantise(xyz[i], i);
-                std::memcpy(o + 4 * i, &q, 4);
-            }
-            std::memcpy(o + 12, &p.intensity, 2);
-            o[14] = 0x11;  // return 1 of 1
-            o[15] = 0;     // classification flags, scanner channel, scan direction, edge of flight line
-            o[16] = 0;     // classification: never classified
-            o[17] = 0;     // user data
-            std::memset(o + 18, 0, 4);  // scan angle, point source id
-            std::memcpy(o + 22, &p.t_s, 8);  // GPS time: seconds of the scan clock
-            const std::uint16_t rgb[3] = {static_cast<std::uint16_t>(p.r * 257), static_cast<std::uint16_t>(p.g * 257),
-                                          static_cast<std::uint16_t>(p.b * 257)};  // 8 -> 16 bit colour
-            std::memcpy(o + 30, rgb, 6);
-            o += kLasPointRecordBytes;
-        }
         written_ += points.size();
-        return file_.write(buf_);
+        // Fixed-layout records (little-endian CPUs: fields copy as is).
+        return writeRecords<kLasPointRecordBytes>(
+            file_, buf_, points,
+            [this](const journal::MapPoint& p, std::uint8_t* o) {
+                const double xyz[3] = {p.x, p.y, p.z};
+                std::int32_t q[3];
+                for (int i = 0; i < 3; ++i) {
+                    const double v = (xyz[i] - offset_[i]) * inv_scale_;
+                    if (!(std::abs(v) <= 2147483647.0)) return false;  // also NaN
+                    q[i] = roundAway(v);
+                }
+                bounds_.add(p.x, p.y, p.z);
+                std::memcpy(o, q, 12);
+                std::memcpy(o + 12, &p.intensity, 2);
+                o[14] = 0x11;  // return 1 of 1
+                o[15] = 0;     // classification flags, scanner channel, scan direction, edge of flight line
+                o[16] = 0;     // classification: never classified
+                o[17] = 0;     // user data
+                std::memset(o + 18, 0, 4);       // scan angle, point source id
+                std::memcpy(o + 22, &p.t_s, 8);  // GPS time: seconds of the scan clock
+                const std::uint16_t rgb[3] = {static_cast<std::uint16_t>(p.r * 257), static_cast<std::uint16_t>(p.g * 257),
+                                              static_cast<std::uint16_t>(p.b * 257)};  // 8 -> 16 bit colour
+                std::memcpy(o + 30, rgb, 6);
+                return true;
+            },
+            [this](const journal::MapPoint& p) {
+                return Status(StatusCode::kInvalidArgument,
+                              "export " + file_.finalPath() + ": point (" + std::to_string(p.x) + ", " + std::to_string(p.y) +
+                                  ", " + std::to_string(p.z) + ") m is not finite or too far from the scan origin for LAS integers");
+            });
     }
 
     Status end() override {
@@ -121,14 +124,15 @@ public:
     }
 
 private:
-    std::int32_t quantise(double v, int axis) const {
-        return static_cast<std::int32_t>(std::llround((v - offset_[axis]) / opt_.scale));
-    }
+    // Rounds half away from zero, like llround, without the libm call per coordinate.
+    static std::int32_t roundAway(double v) { return static_cast<std::int32_t>(v + std::copysign(0.5, v)); }
+    std::int32_t quantise(double v, int axis) const { return roundAway((v - offset_[axis]) * inv_scale_); }
     double dequantise(std::int32_t q, int axis) const { return q * opt_.scale + offset_[axis]; }
 
     SafeFileWriter& file_;
     LasOptions opt_;
     double offset_[3] = {0, 0, 0};
+    double inv_scale_ = 1.0 / opt_.scale;  // 1e4 exactly for 0.1 mm
     std::vector<std::uint8_t> buf_;
     std::uint64_t expected_ = 0;
     std::uint64_t written_ = 0;

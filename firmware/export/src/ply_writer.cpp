@@ -2,6 +2,7 @@
 #include <vector>
 
 #include "handscan/export/point_formats.hpp"
+#include "record_blocks.hpp"
 
 namespace handscan::exporter {
 namespace {
@@ -25,22 +26,22 @@ public:
         return file_.write(std::span(reinterpret_cast<const std::uint8_t*>(h.data()), h.size()));
     }
     Status write(std::span<const journal::MapPoint> points) override {
-        buf_.resize(points.size() * kPlyRecordBytes);
-        std::uint8_t* o = buf_.data();
-        for (const journal::MapPoint& p : points) {  // x86 and ARM are little-endian: fields copy as is
-            bounds_.add(p.x, p.y, p.z);
-            std::memcpy(o, &p.x, 4);
-            std::memcpy(o + 4, &p.y, 4);
-            std::memcpy(o + 8, &p.z, 4);
-            o[12] = p.r;
-            o[13] = p.g;
-            o[14] = p.b;
-            std::memcpy(o + 15, &p.intensity, 2);
-            std::memcpy(o + 17, &p.t_s, 8);
-            o += kPlyRecordBytes;
-        }
         written_ += points.size();
-        return file_.write(buf_);
+        return writeRecords<kPlyRecordBytes>(
+            file_, buf_, points,
+            [this](const journal::MapPoint& p, std::uint8_t* o) {  // x86 and ARM are little-endian: fields copy as is
+                bounds_.add(p.x, p.y, p.z);
+                std::memcpy(o, &p.x, 4);
+                std::memcpy(o + 4, &p.y, 4);
+                std::memcpy(o + 8, &p.z, 4);
+                o[12] = p.r;
+                o[13] = p.g;
+                o[14] = p.b;
+                std::memcpy(o + 15, &p.intensity, 2);
+                std::memcpy(o + 17, &p.t_s, 8);
+                return true;
+            },
+            [](const journal::MapPoint&) { return Status::ok(); });
     }
     Status end() override {
         if (written_ != expected_) {

@@ -91,12 +91,11 @@ void encodePoints(std::span<const MapPoint> points, std::vector<std::uint8_t>& o
     }
 }
 
-void decodePoints(std::span<const std::uint8_t> payload, std::vector<MapPoint>& out) {
-    const std::size_t n = payload.size() / kPointRecordBytes;
-    out.reserve(out.size() + n);
+void decodePoints(std::span<const std::uint8_t> payload, std::span<MapPoint> out) {
+    const std::size_t n = std::min(out.size(), payload.size() / kPointRecordBytes);
     for (std::size_t i = 0; i < n; ++i) {
         const std::uint8_t* p = payload.data() + i * kPointRecordBytes;
-        MapPoint m;
+        MapPoint& m = out[i];
         m.t_s = get<double>(p);
         m.x = get<float>(p + 8);
         m.y = get<float>(p + 12);
@@ -105,8 +104,13 @@ void decodePoints(std::span<const std::uint8_t> payload, std::vector<MapPoint>& 
         m.g = p[21];
         m.b = p[22];
         m.intensity = get<std::uint16_t>(p + 24);
-        out.push_back(m);
     }
+}
+
+void decodePoints(std::span<const std::uint8_t> payload, std::vector<MapPoint>& out) {
+    const std::size_t first = out.size();
+    out.resize(first + payload.size() / kPointRecordBytes);
+    decodePoints(payload, std::span<MapPoint>(out).subspan(first));
 }
 
 void encodePoses(std::span<const TrajectoryPose> poses, std::vector<std::uint8_t>& out) {

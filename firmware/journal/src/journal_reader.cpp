@@ -103,13 +103,19 @@ Status JournalReader::forEachPoints(const std::function<void(std::span<const Map
     if (f.fd < 0) return Status(StatusCode::kIoError, "journal " + summary_.path + ": cannot open: " + std::strerror(errno));
     std::vector<std::uint8_t> payload;
     std::vector<MapPoint> points;
-    for (const ChunkRef& c : point_chunks_) {
+    for (std::size_t i = 0; i < point_chunks_.size(); ++i) {
+        const ChunkRef& c = point_chunks_[i];
+        if (i + 1 < point_chunks_.size()) {  // let the kernel read the next chunk while this one is used
+            const ChunkRef& next = point_chunks_[i + 1];
+            ::posix_fadvise(f.fd, static_cast<off_t>(next.offset), static_cast<off_t>(next.bytes), POSIX_FADV_WILLNEED);
+        }
         payload.resize(c.bytes);
         if (!readAt(f.fd, c.offset, payload.data(), payload.size())) {
             return Status(StatusCode::kIoError, "journal " + summary_.path + ": read failed at byte " + std::to_string(c.offset));
         }
-        points.clear();
-        decodePoints(payload, points);
+        // Same size as the last chunk (the usual case): resize() is a no-op, nothing is zeroed.
+        points.resize(c.bytes / kPointRecordBytes);
+        decodePoints(payload, std::span<MapPoint>(points));
         sink(points);
     }
     return Status::ok();

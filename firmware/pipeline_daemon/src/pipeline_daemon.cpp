@@ -32,6 +32,8 @@ PipelineDaemon::~PipelineDaemon() {
 }
 
 Status PipelineDaemon::open() {
+    // The logger is created on first use; create it here, before the device threads all log.
+    log().debug("handscan-pipeline: opening");
     const std::string config_dir = defaultConfigDir();
     try {
         device_ = loadDeviceConfig(options_.device_config.empty() ? config_dir + "/device.yaml" : options_.device_config);

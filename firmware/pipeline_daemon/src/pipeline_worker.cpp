@@ -16,9 +16,8 @@ lio::LioConfig lioConfig(const DeviceConfig& device) {
     lio::LioConfig c;
     c.assembler.boundary = device.motor.sweep_boundary == "full" ? scan::SweepBoundary::kFullRevolution
                                                                  : scan::SweepBoundary::kHalfRevolution;
-    // As in replay: the scan-matching -> IMU bias feedback (section 4.2) still diverges on
-    // simulated walks (see the issue notes), so the matcher's prior is the IMU's relative motion.
-    c.imu_feedback = false;
+    // As in replay: scan-matching feedback corrects the IMU prediction (section 4.2).
+    c.imu_feedback = true;
     return c;
 }
 
@@ -209,6 +208,13 @@ void PipelineWorker::consume() {
 
 void PipelineWorker::publishStatus() {
     last_status_ = monotonicNow();
+    // Samples the drivers could not queue: the pipeline fell behind (say so, at most once a second).
+    const std::uint64_t dropped = queues_.dropped.load(std::memory_order_relaxed);
+    if (dropped > dropped_reported_ && last_status_ - dropped_logged_ >= kNsPerSec) {
+        log().warn("pipeline behind: {} samples dropped at full queues ({} in all)", dropped - dropped_reported_, dropped);
+        dropped_reported_ = dropped;
+        dropped_logged_ = last_status_;
+    }
     live_output::LiveStatus s;
     s.sensors = inputs_.sensors();
     s.scan_state = session_->state();

@@ -45,7 +45,8 @@ std::string fmt(const char* format, double v) {
 
 }  // namespace
 
-Result<RecordingSummary> summarizeRecording(McapReader& reader, const std::function<void(double)>& progress) {
+Result<RecordingSummary> summarizeRecording(McapReader& reader, const std::function<void(double)>& progress,
+                                            const std::function<void(const RecordedMessage&)>& observe) {
     RecordingSummary s;
     s.name = reader.name();
     s.file_size = reader.fileSize();
@@ -88,6 +89,7 @@ Result<RecordingSummary> summarizeRecording(McapReader& reader, const std::funct
         if (s.messages == 0) s.start = m.log_time;
         s.end = m.log_time;
         ++s.messages;
+        if (observe) observe(m);
         if (progress && (++n & 0x3FF) == 0 && t1 > t0) progress(toSeconds(m.log_time - t0) / toSeconds(t1 - t0));
     });
     if (!st) return st;
@@ -128,6 +130,21 @@ void printSummaryText(const RecordingSummary& s, std::ostream& out) {
                       toSeconds(c.first - s.start), static_cast<double>(c.largest_gap_ns) * 1e-6, c.gaps);
         out << line;
     }
+    if (s.devices.empty()) return;
+    out << "devices (raw channels decoded with the drivers' codecs; rate on the samples' own times):\n";
+    std::snprintf(line, sizeof line, "%-16s %-15s %9s %10s %-15s %11s %7s %7s\n", "device", "channel", "samples", "rate",
+                  "unit", "raw msgs/s", "lost", "errors");
+    out << line;
+    for (const auto& d : s.devices) {
+        double raw_rate = 0.0;
+        for (const auto& c : s.channels) {
+            if (c.topic == d.topic) raw_rate = c.rate_hz;
+        }
+        std::snprintf(line, sizeof line, "%-16s %-15s %9" PRIu64 " %10.3f %-15s %11.2f %7" PRIu64 " %7" PRIu64 "\n",
+                      d.device.c_str(), d.topic.c_str(), d.samples, d.rate_hz, d.unit.c_str(), raw_rate, d.lost, d.errors);
+        out << line;
+        if (!d.last_error.empty()) out << "  last error: " << d.last_error << "\n";
+    }
 }
 
 void printSummaryJson(const RecordingSummary& s, std::ostream& out) {
@@ -156,6 +173,14 @@ void printSummaryJson(const RecordingSummary& s, std::ostream& out) {
             << ",\"last_ns\":" << c.last << ",\"duration_s\":" << fmt("%.9f", toSeconds(c.duration()))
             << ",\"median_period_ns\":" << c.median_period_ns << ",\"largest_gap_ns\":" << c.largest_gap_ns
             << ",\"largest_gap_after_ns\":" << c.largest_gap_after << ",\"gaps\":" << c.gaps << "}";
+    }
+    out << "],\"devices\":[";
+    for (std::size_t i = 0; i < s.devices.size(); ++i) {
+        const auto& d = s.devices[i];
+        out << (i ? "," : "") << "{\"device\":" << jsonString(d.device) << ",\"topic\":" << jsonString(d.topic)
+            << ",\"unit\":" << jsonString(d.unit) << ",\"samples\":" << d.samples << ",\"rate_hz\":" << fmt("%.6f", d.rate_hz)
+            << ",\"first_ns\":" << d.first << ",\"last_ns\":" << d.last << ",\"lost\":" << d.lost
+            << ",\"errors\":" << d.errors << ",\"last_error\":" << jsonString(d.last_error) << "}";
     }
     out << "]}\n";
 }

@@ -118,17 +118,9 @@ Result<ReplayReport> runReplay(const ReplayOptions& o) {
     if (!o.dump_sweeps_dir.empty()) fs::create_directories(o.dump_sweeps_dir, ec);
 
     lio::LaserInertialOdometry pipeline(lioConfig(o, device), calibration);
-    hokuyo::ScanTimingConfig timing;
-    timing.extra_latency_ns = fromSeconds(device.hokuyo.frame_latency_ms * 1e-3);
-    HokuyoStreamDecoder hokuyo(timing);
+    HokuyoStreamDecoder hokuyo(hokuyoTiming(device));
     XsensStreamDecoder xsens;
-    EncoderStreamConfig enc_cfg;
-    enc_cfg.node_id = static_cast<std::uint8_t>(device.motor.encoder_node_id);
-    enc_cfg.unwrapper.units_per_revolution = static_cast<std::uint32_t>(device.motor.encoder_counts_per_rev);
-    // Our encoder is single-turn: its position (6004h) wraps after one revolution (6002h = 6001h).
-    enc_cfg.unwrapper.total_range = enc_cfg.unwrapper.units_per_revolution;
-    enc_cfg.tpdo_period_ns = device.motor.tpdo_period_ms * kNsPerMs;
-    EncoderStreamDecoder encoder(enc_cfg);
+    EncoderStreamDecoder encoder(encoderStreamConfig(device));
 
     ReplayOutputs outputs(o.out_dir, o.map_voxel_m);
     std::unique_ptr<journal::JournalWriter> journal;

@@ -31,9 +31,7 @@ TEST(PipelineDaemonUi, UiRendersTheLiveScan) {
     PipelineDaemon daemon(o);
     const fs::path keep = fs::path(HANDSCAN_BINARY_DIR) / "daemon_ui_shot.png";
     ASSERT_TRUE(daemon.open().isOk());
-    std::atomic<bool> stop{false};
-    Status result;
-    std::thread runner([&] { result = daemon.run(stop); });
+    DaemonThread running(daemon);
 
     const bool up = rig.waitStatus([](const shm::StatusBlock& s) {
         return sensorConnected(s, "hokuyo") && sensorConnected(s, "xsens") && sensorConnected(s, "encoder");
@@ -45,8 +43,7 @@ TEST(PipelineDaemonUi, UiRendersTheLiveScan) {
                                                     "3000", "--timeout", "60", "--width", "1024", "--height", "640"},
                                                    90)
                                    : e2e::ChildResult{};
-    stop = true;
-    runner.join();
+    const Status result = running.stop();
     ASSERT_TRUE(up) << "devices did not come up";
     EXPECT_EQ(ack.state, static_cast<std::uint32_t>(shm::CommandState::kDone));
     ASSERT_TRUE(scanned) << "no points registered";

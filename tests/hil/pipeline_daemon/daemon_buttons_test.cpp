@@ -79,9 +79,7 @@ TEST(PipelineDaemonDevices, AbsentDevicesReportedButtonsStillScan) {
     o.map_capacity_points = 1 << 16;
     PipelineDaemon daemon(o, std::make_unique<LinksWithFakeGpio>(chip));
     ASSERT_TRUE(daemon.open().isOk());
-    std::atomic<bool> stop{false};
-    Status result;
-    std::thread runner([&] { result = daemon.run(stop); });
+    DaemonThread running(daemon);
 
     // Each absent device: not connected, with an error naming it.
     const std::vector<std::pair<std::string, std::string>> expected = {
@@ -129,8 +127,7 @@ TEST(PipelineDaemonDevices, AbsentDevicesReportedButtonsStillScan) {
 
     // The daemon still answers the UI.
     EXPECT_EQ(rig.command(shm::CommandType::kNewScan).state, static_cast<std::uint32_t>(shm::CommandState::kDone));
-    stop = true;
-    runner.join();
+    const Status result = running.stop();
     EXPECT_TRUE(result.isOk()) << result.message();
 
     // LEDs: scanning lit while scanning, fault blinking (devices missing).

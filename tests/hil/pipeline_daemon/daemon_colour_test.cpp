@@ -124,23 +124,16 @@ TEST(PipelineDaemonColour, PointsTheColourCameraSawCarryItsColour) {
     o.map_capacity_points = 1 << 18;
     PipelineDaemon daemon(o, std::make_unique<LinksWithColourCamera>());
     ASSERT_TRUE(daemon.open().isOk());
-    std::atomic<bool> stop{false};
-    Status result;
-    std::thread runner([&] { result = daemon.run(stop); });
-    const auto finish = [&] {
-        stop = true;
-        runner.join();
-    };
+    DaemonThread running(daemon);
 
     auto up = rig.waitStatus([](const shm::StatusBlock& s) {
         return sensorConnected(s, "colour-cam") && sensorConnected(s, "hokuyo") && sensorConnected(s, "encoder") && sensorConnected(s, "xsens");
     }, 10.0);
-    if (!up) finish();
     ASSERT_TRUE(up) << "devices did not come up";
     EXPECT_EQ(rig.command(shm::CommandType::kStartScan).state, static_cast<std::uint32_t>(shm::CommandState::kDone));
     auto scanned = rig.waitStatus([](const shm::StatusBlock& s) { return s.point_count > 60000; }, 15.0);
     EXPECT_EQ(rig.command(shm::CommandType::kStopScan).state, static_cast<std::uint32_t>(shm::CommandState::kDone));
-    finish();
+    const Status result = running.stop();
     ASSERT_TRUE(scanned) << "no points";
     EXPECT_TRUE(result.isOk()) << result.message();
 

@@ -29,23 +29,6 @@ std::uint64_t plyVertexCount(const fs::path& ply) {
     return 0;
 }
 
-struct RunningDaemon {
-    explicit RunningDaemon(DaemonOptions o) : daemon(std::move(o)) {}
-    ~RunningDaemon() { join(); }
-    Status start() {
-        if (Status s = daemon.open(); !s.isOk()) return s;
-        thread = std::thread([this] { result = daemon.run(stop); });
-        return Status::ok();
-    }
-    void join() {
-        if (thread.joinable()) thread.join();
-    }
-    PipelineDaemon daemon;
-    std::atomic<bool> stop{false};
-    Status result;
-    std::thread thread;
-};
-
 TEST(PipelineDaemonFlow, ScanStopExportNewScanSensorLostShutdown) {
     DaemonRig rig("flow");
     fs::create_directories(rig.dir() / "no-usb");
@@ -56,8 +39,9 @@ TEST(PipelineDaemonFlow, ScanStopExportNewScanSensorLostShutdown) {
     o.shm_name = rig.shmName();
     o.map_capacity_points = 1 << 18;
     o.usb_paths.mountinfo = (rig.dir() / "no-usb" / "mountinfo").string();
-    RunningDaemon d(o);
-    ASSERT_TRUE(d.start().isOk());
+    PipelineDaemon daemon(o);
+    ASSERT_TRUE(daemon.open().isOk());
+    DaemonThread running(daemon);
 
     // Every device came up through its real driver; the absent GPIO chip is reported.
     auto up = rig.waitStatus([](const shm::StatusBlock& s) {
@@ -158,8 +142,8 @@ TEST(PipelineDaemonFlow, ScanStopExportNewScanSensorLostShutdown) {
     // Shutdown: acknowledged, the daemon ends cleanly, both journals are finished and intact.
     ack = rig.command(CommandType::kShutdown);
     EXPECT_EQ(ack.state, static_cast<std::uint32_t>(CommandState::kDone));
-    d.join();
-    EXPECT_TRUE(d.result.isOk()) << d.result.message();
+    const Status result = running.join();
+    EXPECT_TRUE(result.isOk()) << result.message();
     for (const fs::path& scan : rig.scanDirs()) {
         auto j = journal::JournalReader::open((scan / "journal.hsj").string());
         ASSERT_TRUE(j.isOk()) << j.status().message();

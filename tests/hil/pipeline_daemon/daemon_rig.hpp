@@ -10,8 +10,10 @@
 #include <memory>
 #include <optional>
 #include <string>
+#include <thread>
 
 #include "handscan/hokuyo_fake/fake_hokuyo_server.hpp"
+#include "handscan/pipeline_daemon/pipeline_daemon.hpp"
 #include "handscan/shm/live_map_reader.hpp"
 #include "handscan/xsens_fake/fake_xsens.hpp"
 #include "handscan/xsens_fake/pty_xsens.hpp"
@@ -59,6 +61,29 @@ private:
     std::unique_ptr<xsens::FakeXsens> xsens_;
     std::unique_ptr<xsens::PtyXsens> pty_;
     std::unique_ptr<shm::LiveMapReader> reader_;
+};
+
+// The daemon's main loop on a thread of the test; stopped (as by SIGTERM) and joined when it goes
+// out of scope, also when an assertion ends the test early.
+class DaemonThread {
+public:
+    explicit DaemonThread(PipelineDaemon& daemon) : thread_([this, &daemon] { result_ = daemon.run(stop_); }) {}
+    ~DaemonThread() { (void)stop(); }
+    // Requests the clean shutdown and waits for it; the result of run().
+    Status stop() {
+        stop_ = true;
+        return join();
+    }
+    // Waits for run() to return by itself (a shutdown command).
+    Status join() {
+        if (thread_.joinable()) thread_.join();
+        return result_;
+    }
+
+private:
+    std::atomic<bool> stop_{false};
+    Status result_;
+    std::thread thread_;
 };
 
 // The status of sensor `name` in a status block, if listed.

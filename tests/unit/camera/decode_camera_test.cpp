@@ -53,7 +53,7 @@ TEST(DecodeCamera, PrintsEachFrameAndResyncsAfterDamage) {
     EXPECT_EQ(out[0],
               "{\"t_host_ns\":null,\"sequence\":0,\"timestamp_ns\":1000,\"timestamp_clock\":\"monotonic\",\"timestamp_source\":"
               "\"start_of_exposure\",\"error_flag\":false,\"flags\":73728,\"format\":\"GREY\",\"width\":4,\"height\":2,\"stride\":4,"
-              "\"bytesused\":8,\"exposure_us\":1000,\"t_mid_exposure_ns\":501000,\"mean_grey\":0}");
+              "\"bytesused\":8,\"coding\":\"raw\",\"stored_bytes\":8,\"exposure_us\":1000,\"t_mid_exposure_ns\":501000,\"mean_grey\":0}");
     EXPECT_NE(out[2].find("\"error\":\"camera frame record: magic is not 'HSVF'\""), std::string::npos) << out[2];
     EXPECT_NE(out[3].find("\"sequence\":3"), std::string::npos);
     EXPECT_NE(out[3].find("\"mean_grey\":150"), std::string::npos) << out[3];

@@ -3,11 +3,19 @@
 #include <sys/mount.h>
 #include <unistd.h>
 
+#include <fstream>
+#include <iterator>
+
 #include "handscan/journal/journal_writer.hpp"
 
 namespace handscan::exporter::testing {
 
 namespace fs = std::filesystem;
+
+std::vector<std::uint8_t> readFile(const std::string& path) {
+    std::ifstream in(path, std::ios::binary);
+    return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
+}
 
 void ExportTest::SetUp() {
     dir_ = fs::temp_directory_path() / ("handscan_export_" + std::to_string(::getpid()) + "_" +

@@ -4,9 +4,14 @@
 #include <gtest/gtest.h>
 
 #include <filesystem>
+#include <cstdint>
 #include <string>
+#include <vector>
 
 namespace handscan::exporter::testing {
+
+// The whole file's bytes (empty when it cannot be read).
+std::vector<std::uint8_t> readFile(const std::string& path);
 
 class ExportTest : public ::testing::Test {
 protected:

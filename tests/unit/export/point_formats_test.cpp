@@ -1,5 +1,6 @@
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cstring>
 #include <fstream>
 #include <iterator>
@@ -11,10 +12,7 @@
 namespace handscan::exporter::testing {
 namespace {
 
-std::vector<std::uint8_t> readFile(const std::string& path) {
-    std::ifstream in(path, std::ios::binary);
-    return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
-}
+namespace fs = std::filesystem;
 
 template <typename T>
 T at(const std::vector<std::uint8_t>& b, std::size_t off) {
@@ -121,9 +119,67 @@ TEST_F(ExportTest, EmptyScanExportsValidEmptyFiles) {
 
 TEST_F(ExportTest, UnknownFormatRejected) {
     const std::string journal = makeJournal(1);
+    auto r = exportScan(journal, dir_.string(), {{"ply", "xyz"}, 0.0, "out", {}, {}});
+    ASSERT_FALSE(r.isOk());
+    EXPECT_EQ(r.status().message(), "export: unknown format 'xyz' (expected ply, las)");
+    EXPECT_FALSE(fs::exists(dir_ / "out" / "cloud.ply"));
+}
+
+TEST_F(ExportTest, E57SaysWhyItIsMissing) {
+    const std::string journal = makeJournal(1);
     auto r = exportScan(journal, dir_.string(), {{"e57"}, 0.0, "out", {}, {}});
     ASSERT_FALSE(r.isOk());
-    EXPECT_EQ(r.status().message(), "export: unknown format 'e57' (expected ply, las)");
+    EXPECT_EQ(r.status().message(),
+              "export: E57 is not available: Debian 12 packages no E57 library (libE57Format); export LAS 1.4 or PLY and convert");
+    // ... and every export's scan.json says so too.
+    ASSERT_TRUE(exportScan(journal, dir_.string(), {{"ply"}, 0.0, "out", {}, {}}).isOk());
+    const auto json = readFile((dir_ / "out" / "scan.json").string());
+    EXPECT_NE(std::string(json.begin(), json.end()).find("\"formats_unavailable\": {\"e57\": \"not available: Debian 12"),
+              std::string::npos);
+}
+
+// The UI's and the CLI's progress bar: fractions only grow, from 0 to exactly 1 with "done", and
+// name each stage; every format is written in one pass, then each file is verified.
+TEST_F(ExportTest, ProgressGrowsThroughTheStagesToDone) {
+    const std::string journal = (dir_ / "three_chunks.hsj").string();
+    {
+        auto w = journal::JournalWriter::create(journal, "{}");
+        ASSERT_TRUE(w.isOk());
+        for (int chunk = 0; chunk < 3; ++chunk) {
+            std::vector<journal::MapPoint> pts(100'000);  // 2.5 + 3.6 MB of output per chunk
+            for (std::size_t i = 0; i < pts.size(); ++i) pts[i] = {chunk + i * 1e-6, i * 1e-4f, chunk * 1.f, 0.f, 1, 2, 3, 4};
+            ASSERT_TRUE((*w)->appendPoints(pts).isOk());
+            ASSERT_TRUE((*w)->flush().isOk());
+        }
+        ASSERT_TRUE((*w)->finish().isOk());
+    }
+    std::vector<std::pair<double, std::string>> seen;
+    ExportOptions opt{{"ply", "las", "ply"}, 0.0, "out", {}, {}};
+    opt.progress = [&](double f, const std::string& stage) { seen.emplace_back(f, stage); };
+    auto r = exportScan(journal, dir_.string(), opt);
+    ASSERT_TRUE(r.isOk()) << r.status().message();
+    ASSERT_GE(seen.size(), 6u);
+    EXPECT_EQ(seen.front(), (std::pair<double, std::string>{0.0, "reading journal"}));
+    EXPECT_EQ(seen.back(), (std::pair<double, std::string>{1.0, "done"}));
+    std::vector<std::string> stages;
+    for (std::size_t i = 0; i < seen.size(); ++i) {
+        if (i > 0) {
+            EXPECT_GE(seen[i].first, seen[i - 1].first) << seen[i].second;
+        }
+        if (stages.empty() || stages.back() != seen[i].second) stages.push_back(seen[i].second);
+    }
+    EXPECT_EQ(stages, (std::vector<std::string>{"reading journal", "writing cloud.ply, cloud.las", "verifying cloud.ply",
+                                                "verifying cloud.las", "writing trajectory and metadata", "done"}));
+    // One update per journal chunk while writing.
+    EXPECT_EQ(std::count_if(seen.begin(), seen.end(), [](const auto& s) { return s.second == "writing cloud.ply, cloud.las"; }), 3);
+    EXPECT_EQ(r->files.size(), 5u);  // the repeated "ply" is written once
+
+    seen.clear();
+    opt.voxel_m = 2.0;
+    ASSERT_TRUE(exportScan(journal, dir_.string(), opt).isOk());
+    EXPECT_EQ(seen.front().second, "thinning");
+    EXPECT_TRUE(std::any_of(seen.begin(), seen.end(), [](const auto& s) { return s.second == "thinning" && s.first == 0.3; }));
+    EXPECT_EQ(seen.back().first, 1.0);
 }
 
 }  // namespace

@@ -1,5 +1,7 @@
 // Camera frames as the camera codec's V4L2 buffer records (drivers/camera frame_record.hpp),
-// with the mid-exposure time computed by the codec's own rule (frame_timing.hpp).
+// with the mid-exposure time computed by the codec's own rule (frame_timing.hpp). Uncompressed
+// buffers (GREY, YUYV) are stored PNG-coded (png_payload.hpp): the same bytes on decoding, at
+// about half the size of the noisy raw pixels.
 #include "handscan/camera/frame_record.hpp"
 #include "handscan/camera/frame_timing.hpp"
 #include "handscan/camera/image_convert.hpp"
@@ -27,7 +29,7 @@ std::vector<std::uint8_t> encodeCameraRecord(const V4l2FrameInfo& info, const Ca
     h.t_host_ns = camera::midExposureTime(info.flags, info.timestamp_ns, info.exposure_ns, info.readout_ns,
                                           info.t_dequeue_ns)
                       .t_mid_exposure;
-    return camera::encodeFrameRecord(h, data);
+    return camera::encodeFrameRecord(h, data, camera::FrameCoding::kPng);
 }
 
 }  // namespace handscan::sim

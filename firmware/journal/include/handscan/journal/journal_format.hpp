@@ -45,6 +45,8 @@ std::uint32_t crc32(std::span<const std::uint8_t> bytes, std::uint32_t seed = 0)
 
 void encodePoints(std::span<const MapPoint> points, std::vector<std::uint8_t>& out);
 void decodePoints(std::span<const std::uint8_t> payload, std::vector<MapPoint>& out);
+// Into `out` (sized by the caller: no allocation, no initialisation of what is overwritten).
+void decodePoints(std::span<const std::uint8_t> payload, std::span<MapPoint> out);
 void encodePoses(std::span<const TrajectoryPose> poses, std::vector<std::uint8_t>& out);
 void decodePoses(std::span<const std::uint8_t> payload, std::vector<TrajectoryPose>& out);
 

@@ -78,6 +78,8 @@ private:
     std::deque<LaserScan> scans_;
     std::deque<Image> images_;
     TimeNs last_status_ = 0;
+    std::uint64_t dropped_reported_ = 0;
+    TimeNs dropped_logged_ = 0;
 
     mutable std::mutex mutex_;
     std::deque<Request> requests_;

@@ -17,7 +17,11 @@
 //                                           without newline, "(sec.usec) can0 181#11223344"
 //                                           (layout owned by drivers/motor candump_format.hpp).
 //   /camera/track   handscan.v4l2_buffer    one dequeued V4L2 buffer per message: metadata header
-//   /camera/colour  handscan.v4l2_buffer    + image bytes (layout owned by the camera codec).
+//   /camera/colour  handscan.v4l2_buffer    + image bytes (layout owned by the camera codec,
+//                                           drivers/camera frame_record.hpp: record version 1
+//                                           holds the buffer's bytes as they are; version 2 holds
+//                                           GREY/YUYV buffers as lossless PNG that decodes back
+//                                           to exactly those bytes; MJPEG is always stored as is).
 //   /gpio/events    handscan.gpio_edge      one line event per message (layout below).
 // Decoded channels (ours, little-endian, layouts below):
 //   /imu/samples      handscan.imu_sample.v1
@@ -54,9 +58,11 @@ inline constexpr ChannelSpec kXsensRaw{"/xsens/raw", "handscan.xbus_bytes", true
 inline constexpr ChannelSpec kMotorCan{"/motor/can", "handscan.candump_line", true,
                                        "one CAN frame per message as a candump -l log line"};
 inline constexpr ChannelSpec kCameraTrack{"/camera/track", "handscan.v4l2_buffer", true,
-                                          "tracking camera: one V4L2 buffer with its metadata per message"};
+                                          "tracking camera: one V4L2 buffer with its metadata per message (HSVF record: "
+                                          "v1 raw bytes, v2 GREY/YUYV as lossless PNG of stride x height)"};
 inline constexpr ChannelSpec kCameraColour{"/camera/colour", "handscan.v4l2_buffer", true,
-                                           "colour camera: one V4L2 buffer with its metadata per message"};
+                                           "colour camera: one V4L2 buffer with its metadata per message (HSVF record: "
+                                           "v1 raw bytes, v2 GREY/YUYV as lossless PNG of stride x height)"};
 inline constexpr ChannelSpec kGpioEvents{"/gpio/events", "handscan.gpio_edge", true,
                                          "GPIO line edges: i64 t_event_ns, u32 line, u8 edge (1 rising, 2 falling)"};
 inline constexpr ChannelSpec kImuSamples{"/imu/samples", "handscan.imu_sample.v1", false,

@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "handscan/core/clock_mapper.hpp"
+#include "handscan/core/config.hpp"
 #include "handscan/core/samples.hpp"
 #include "handscan/hokuyo/scan_timestamper.hpp"
 #include "handscan/hokuyo/scip_stream_parser.hpp"
@@ -88,5 +89,9 @@ private:
     std::int64_t tpdo_index_ = 0;
     StreamCounters c_;
 };
+
+// The decoders' settings from device.yaml: what the streams themselves do not carry.
+hokuyo::ScanTimingConfig hokuyoTiming(const DeviceConfig& device);
+EncoderStreamConfig encoderStreamConfig(const DeviceConfig& device);
 
 }  // namespace handscan::replay

@@ -26,7 +26,12 @@ struct CameraRenderConfig {
     double reference_exposure_s = 0.005;  // exposure at which a white wall reaches ~full scale
     double illumination = 1.0;   // scene light (--dark: 0.02)
     double gain = 1.7;           // analogue gain: indoor auto-exposure puts the mean near mid-grey
-    double read_noise_dn = 1.0;  // sigma, digital numbers (a low-noise global-shutter sensor)
+    // Temporal noise of a low-noise global-shutter pixel (Sony Pregius class, EMVA 1288 figures:
+    // a few e- of dark noise, a ~20 ke- well): 8 bits hold ~85 e- per DN at unity gain, ~50 e-
+    // behind the gain of 1.7, so the read noise is ~0.05-0.1 DN and shot noise dominates with a
+    // variance of ~1/50 DN per DN of signal. (1 DN of read noise, the earlier value, is an old
+    // CMOS sensor's; it added ~0.3 bit per pixel that the lossless recording had to store.)
+    double read_noise_dn = 0.1;     // sigma, digital numbers
     double shot_noise_gain = 0.02;  // variance per DN of signal
     bool motion_blur = false;
     int blur_samples = 3;
@@ -71,7 +76,9 @@ private:
     float pixel_angle_;                     // radians per pixel near the centre
     std::vector<std::uint32_t> plane_id_;   // per triangle: same id = same plane and material
     std::vector<Eigen::Vector4f> planes_;   // per triangle: n, d with n.x = d
-    std::vector<float> gauss_table_;
+    std::vector<float> gauss_table_;        // standard normal quantiles
+    std::vector<std::size_t> up_x0_;        // upsampling: left source column per output column
+    std::vector<float> up_tx_;              // ... and the weight of the right one
     std::vector<Ray> rays_;
     std::vector<RayHit> hits_;
     std::vector<float> rad_, acc_, full_;
