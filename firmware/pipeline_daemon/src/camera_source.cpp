@@ -43,6 +43,7 @@ private:
         Backoff backoff(500 * kNsPerMs, 5 * kNsPerSec);
         while (!stopping()) {
             const Status end = session();
+            if (stopping()) return;  // a clean stop, not a lost device
             health_.setLost("camera " + config_.device + ": " + end.message() + " (check the cable; retrying)");
             health_.markAttempted();
             if (!sleepFor(backoff.next())) return;

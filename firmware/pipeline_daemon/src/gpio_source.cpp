@@ -33,6 +33,7 @@ private:
         Backoff backoff(kNsPerSec, 10 * kNsPerSec);
         while (!stopping()) {
             const Status end = session();
+            if (stopping()) return;  // a clean stop, not a lost device
             health_.setLost("gpio " + config_.chip + ": " + end.message() + " (buttons and LEDs unavailable; retrying)");
             health_.markAttempted();
             if (!sleepFor(backoff.next())) return;

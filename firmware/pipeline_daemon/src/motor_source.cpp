@@ -33,6 +33,7 @@ private:
         Backoff backoff(500 * kNsPerMs, 5 * kNsPerSec);
         while (!stopping()) {
             const Status end = session();
+            if (stopping()) return;  // a clean stop, not a lost device
             health_.setLost("motor " + config_.can_interface + ": " + end.message() + " (retrying)");
             health_.markAttempted();
             if (!sleepFor(backoff.next())) return;
