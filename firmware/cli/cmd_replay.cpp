@@ -41,7 +41,9 @@ const RegisterCommand kReplay{"replay", "Run the pipeline on a recording: trajec
     sub.add_option("--calibration", o->calibration, "calibration.yaml (default: config dir)");
     sub.add_option("--map-voxel", o->map_voxel_m, "map.ply voxel size in metres")->check(CLI::Range(0.001, 1.0));
     sub.add_flag("!--no-colour", o->colourise, "do not colour the map from /camera/colour");
-    sub.add_flag("--imu-feedback", o->imu_feedback, "feed scan-matching poses back to the IMU biases (experimental)");
+    sub.add_flag("--imu-feedback,!--no-imu-feedback", o->imu_feedback,
+                 "scan-matching poses correct the IMU prediction's velocity, biases and gravity (default on; "
+                 "--no-imu-feedback: the IMU runs open loop and only its increments seed the matcher)");
     sub.add_flag("--live", o->live, "publish to the live-map shared memory (the UI shows it)");
     sub.add_flag("--hold", o->hold, "with --live: keep the final state published until Ctrl-C");
     sub.add_option("--shm-name", o->shm_name, "shared-memory region name (default: the daemon's)");

@@ -16,9 +16,8 @@ lio::LioConfig lioConfig(const DeviceConfig& device) {
     lio::LioConfig c;
     c.assembler.boundary = device.motor.sweep_boundary == "full" ? scan::SweepBoundary::kFullRevolution
                                                                  : scan::SweepBoundary::kHalfRevolution;
-    // As in replay: the scan-matching -> IMU bias feedback (section 4.2) still diverges on
-    // simulated walks (see the issue notes), so the matcher's prior is the IMU's relative motion.
-    c.imu_feedback = false;
+    // As in replay: scan-matching feedback corrects the IMU prediction (section 4.2).
+    c.imu_feedback = true;
     return c;
 }
 

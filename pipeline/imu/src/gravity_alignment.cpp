@@ -78,6 +78,10 @@ GravityAlignment StaticStartAligner::estimate() const {
     a.biases.gyro_radps = run_.gyro / n;
     a.R_world_imu = levelRotationFromSpecificForce(a.mean_specific_force_imu);
     a.accel_norm_error_mps2 = a.mean_specific_force_imu.norm() - config_.gravity_mps2;
+    // The accel bias along gravity is observable at rest (the norm error); taking it keeps the
+    // prediction from sinking or rising at (|f| - g) / 2 t^2 until feedback arrives. The
+    // horizontal part is not: it only tilts the levelled frame.
+    a.biases.accel_mps2 = a.mean_specific_force_imu.normalized() * a.accel_norm_error_mps2;
     return a;
 }
 

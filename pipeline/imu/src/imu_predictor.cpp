@@ -8,7 +8,8 @@ ImuPredictor::ImuPredictor(ImuPredictorConfig config, const Eigen::Isometry3d& T
     : config_(config),
       T_imu_body_(T_cam_imu.inverse()),
       aligner_(config.alignment),
-      bias_estimator_(config.bias) {
+      bias_estimator_(config.bias),
+      gravity_world_(gravityWorld(config.gravity_mps2)) {
     config_.alignment.gravity_mps2 = config_.gravity_mps2;
     aligner_ = StaticStartAligner(config_.alignment);
 }
@@ -17,6 +18,7 @@ void ImuPredictor::initialize(const NavState& x, const ImuBiases& biases) {
     history_.clear();
     bias_estimator_.reset();
     biases_ = biases;
+    gravity_world_ = gravityWorld(config_.gravity_mps2);
     pending_init_ = x;
     initialized_ = false;
 }
@@ -145,6 +147,7 @@ Status ImuPredictor::correct(TimeNs t, const Eigen::Isometry3d& T_world_body, co
     Status status = Status::ok();
     if (update) {
         biases_ = update->biases;
+        gravity_world_ = update->gravity_world;
         x.v_world_imu = update->v_world_imu_latest;
     } else {
         ++stats_.rejected_corrections;

@@ -3,6 +3,7 @@
 #include <cmath>
 
 #include "handscan/core/log.hpp"
+#include "handscan/lio/motion_compensation.hpp"
 
 namespace handscan::lio {
 
@@ -58,28 +59,56 @@ void LaserInertialOdometry::finish() {
     if (!config_.laser_enabled) return;
     processSweeps();
     scan::Sweep last = assembler_->flush();
-    if (!last.empty()) matchSweep(last);
+    if (!last.empty()) matchSweep(std::move(last));
 }
 
 void LaserInertialOdometry::processSweeps() {
-    for (const scan::Sweep& sweep : assembler_->takeSweeps()) matchSweep(sweep);
+    for (scan::Sweep& sweep : assembler_->takeSweeps()) matchSweep(std::move(sweep));
 }
 
-void LaserInertialOdometry::matchSweep(const scan::Sweep& sweep) {
+void LaserInertialOdometry::matchSweep(scan::Sweep sweep) {
     // Without a motion estimate for every step (before gravity alignment) the sweep cannot be
     // placed: matching it would put a wrongly oriented copy of the scene into the map.
     if (!predictor_.initialized() || sweep.points.size() < 100 || sweep.t_start <= last_unknown_pose_t_) {
         ++stats_.unplaced_sweeps;
         return;
     }
-    // The prior (eqs. 17-18): the predicted pose at the sweep's start; the odometry adds its
-    // uncertainty since the last refined sweep.
+    // Diagnostics (--reference-motion): the matcher alone, from the reference motion, no feedback.
     const bool reference = static_cast<bool>(config_.reference_motion);
-    scan::SweepResult r = reference ? odometry_->process(sweep, referencePrior(sweep)) : odometry_->process(sweep);
+    std::optional<std::vector<scan::PosePrior>> priors;
+    if (reference) {
+        priors = referencePrior(sweep);
+    } else if (config_.imu_feedback) {
+        // The predictor was corrected by the previous match while this sweep was assembled:
+        // place every point again with the corrected motion, so the sweep is rigid in one frame.
+        auto pose_at = [this](TimeNs t) { return predictor_.poseAt(t); };
+        auto integrated = integrator_.poseAt(sweep.t_start);
+        if (recompensateSweep(sweep, pose_at).isOk() && integrated.isOk()) {
+            // The prior of eq. (18): the transform-integrated pose (section 7), i.e. the last
+            // match composed with the corrected prediction since. It agrees with the map in every
+            // DOF, also where the predictor held its own estimate (unsolved directions), and
+            // counts no correction twice.
+            scan::PosePrior prior;
+            prior.T_world_body = integrated->T_world_body;
+            prior.information.setZero();
+            const double sr = config_.imu_prior_sigma_rot_rad, st = config_.imu_prior_sigma_trans_m;
+            prior.information.diagonal().head<3>().setConstant(1.0 / (sr * sr));
+            prior.information.diagonal().tail<3>().setConstant(1.0 / (st * st));
+            priors.emplace({prior});
+        } else {
+            ++stats_.rejected;
+        }
+    }
+    // The prior (eqs. 17-18): without feedback the odometry composes the last refined pose with
+    // the predicted motion since then and adds its uncertainty.
+    scan::SweepResult r = odometry_->process(sweep, priors);
     ++stats_.sweeps;
     if (config_.imu_feedback && !reference && !r.first_sweep && r.match.enough_matches) {
-        // Feedback to the IMU predictor only in the directions the matcher solved (section 8).
-        if (!predictor_.correct(sweep.t_start, r.pose.T_world_body, r.pose.solved_dof_mask).isOk()) ++stats_.rejected;
+        // Feedback to the IMU predictor only in the directions the matcher solved (section 8):
+        // the eq. (21) subspace itself, in the predictor's world-axis coordinates, not the
+        // per-axis mask (a degenerate corridor axis at 45 degrees to the world axes would
+        // otherwise cost both horizontal axes, or leak into one of them).
+        if (!predictor_.correct(sweep.t_start, r.pose.T_world_body, r.solved_projector_world).isOk()) ++stats_.rejected;
     }
     PoseEstimate scan_pose = r.pose;
     scan_pose.t_host = sweep.t_start;

@@ -200,8 +200,9 @@ void SweepAssembler::processScan(const LaserScan& scan) {
         }
         const double a = scan.stepAngle(i);
         const Eigen::Vector3d p_laser(r * std::cos(a), r * std::sin(a), 0.0);
-        const Eigen::Vector3d p_world = poseAt(t) * (geometry_.bodyFromLaser(*angle) * p_laser);
         SweepPoint pt;
+        pt.p_body = geometry_.bodyFromLaser(*angle) * p_laser;
+        const Eigen::Vector3d p_world = poseAt(t) * pt.p_body;
         pt.t = t;
         pt.p_start = T_start_world_ * p_world;
         pt.range_m = r;

@@ -23,10 +23,11 @@ struct ReplayOptions {
     bool fast = false;                 // as fast as possible instead of recorded pace
     double speed = 1.0;                // pace multiplier without --fast
     bool use_laser = true;             // --modules imu: IMU prediction only
-    // Scan-matching poses correct the IMU predictor's biases and velocity (section 4.2). Off by
-    // default for now: on simulated walks the feedback loop diverges within seconds (see the
-    // issue notes); without it the matcher's prior is the IMU's relative motion per sweep.
-    bool imu_feedback = false;
+    // Scan-matching poses correct the IMU predictor's pose, velocity, biases and gravity
+    // direction (section 4.2) in the solved DOFs; the matcher's prior is then the integrated
+    // pose. Off (--no-imu-feedback): the IMU runs open loop and its relative motion per sweep
+    // seeds the matcher, which drifts (24.8 % on the 60 s office walk vs 0.66 % with feedback).
+    bool imu_feedback = true;
     // Diagnostics: assemble sweeps with this motion (ground truth) and match from it, perturbed
     // (see lio::LioConfig::reference_motion): the scan matcher's own accuracy.
     std::function<Eigen::Isometry3d(TimeNs)> reference_motion;

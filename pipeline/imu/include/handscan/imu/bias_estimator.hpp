@@ -21,14 +21,37 @@
 namespace handscan::imu {
 
 struct BiasEstimatorConfig {
-    double window_s = 4.0;               // feedback kept in the sliding window
+    // Feedback kept in the sliding window. Long enough to span a turn of a walking operator, which
+    // is what tells the body-frame accel bias from the world-frame gravity tilt (below).
+    double window_s = 8.0;
     double min_spacing_s = 0.1;          // feedback closer than this to the last one is skipped
-    double velocity_row_weight = 0.3;    // weight of velocity continuity vs position rows
-                                         // (IMU dv over 1 s ~2 cm/s uncertain through attitude
-                                         // error, positions ~mm: EuRoC V1_02 tuned, see tests)
-    double velocity_prior_weight = 0.01; // pull of each velocity towards the prediction
-    double gyro_prior_weight = 1e-3;     // pull of the gyro bias change towards zero
-    double accel_prior_weight = 0.01;    // pull of the accel bias change towards zero
+    // Noise model: every row of the window problem is whitened by its standard deviation, so
+    // the weights mean something (the previous hand-tuned weights let the velocity follow the
+    // newest pose's noise: +-1 cm/s ringing between consecutive sweeps, and a 15 cm matcher slip
+    // became a 0.26 m/s velocity error that rang for seconds).
+    double feedback_sigma_m = 0.01;      // position of one feedback pose (a scan match: ~5-10 mm)
+    double feedback_sigma_rad = 0.002;   // orientation of one feedback pose (~0.1 deg)
+    // IMU velocity increment over an interval: attitude error x g and accelerometer noise grow
+    // with its length; a floor for short intervals.
+    double velocity_sigma_mps = 0.003;
+    double velocity_sigma_mps2 = 0.02;
+    double velocity_prior_sigma_mps = 1.0;   // each velocity vs the prediction there (weak)
+    double gyro_bias_step_sigma_radps = 0.005;  // change of the gyro bias per update (prior)
+    double accel_bias_step_sigma_mps2 = 0.02;   // change of the accel bias per update (prior)
+    // Gravity in the map frame. The map's frame is the predictor's world at the end of the
+    // static start, levelled with the accelerometer: a horizontal accel bias of 0.02 m/s^2 tilts
+    // it by 0.12 deg, so in the map frame gravity has a 0.02 m/s^2 horizontal part. Rotation
+    // feedback ties the IMU attitude to the (tilted) map, so that part acts as a world-fixed
+    // acceleration error that a body-frame bias can only follow while the heading stays put:
+    // after a turn it drove 4 cm/s/s of velocity error along a corridor the matcher could not
+    // solve. It is estimated as a horizontal correction of the gravity vector (observable from
+    // turns: the body-frame bias turns with the device, the tilt does not).
+    double gravity_step_sigma_mps2 = 0.01;      // change of the horizontal gravity per update
+    double max_gravity_tilt_rad = 0.035;        // 2 deg: beyond, the window is inconsistent
+    // Robust (Tukey biweight) weights on the whitened per-interval residuals: a matcher slip (a
+    // pose a decimetre off) is ignored instead of steering the velocity and biases.
+    double robust_c = 5.0;
+    int robust_iterations = 3;
     double max_gyro_bias_radps = 0.2;    // estimates beyond these are rejected as outliers
     double max_accel_bias_mps2 = 2.0;
 };
@@ -43,6 +66,7 @@ struct FeedbackPose {
 
 struct BiasUpdate {
     ImuBiases biases;
+    Eigen::Vector3d gravity_world = Eigen::Vector3d::Zero();       // refined gravity (map frame)
     Eigen::Vector3d v_world_imu_latest = Eigen::Vector3d::Zero();  // velocity at the newest feedback
     bool gyro_updated = false;
     bool accel_updated = false;

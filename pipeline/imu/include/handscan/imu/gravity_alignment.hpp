@@ -6,7 +6,8 @@
 // shake the readings but leave the block means still). Once the run is long enough it returns
 // roll/pitch from the mean specific force and the gyro bias as the mean rate. Yaw is unobservable and set so that R_world_imu is the smallest rotation taking
 // the measured "up" onto +z. The accelerometer bias is observable only along gravity (as the norm
-// error), so it is left at zero and reported as `accel_norm_error_mps2`.
+// error): that component is taken as the initial accel bias and reported as
+// `accel_norm_error_mps2`; the horizontal part only tilts the levelled frame.
 #pragma once
 
 #include <optional>
@@ -31,7 +32,7 @@ struct GravityAlignment {
     TimeNs t_start = 0;                  // first and last sample of the static interval
     TimeNs t_end = 0;
     Eigen::Matrix3d R_world_imu = Eigen::Matrix3d::Identity();
-    ImuBiases biases;                    // gyro bias = mean static rate, accel bias zero
+    ImuBiases biases;                    // gyro bias = mean static rate, accel bias along gravity
     Eigen::Vector3d mean_specific_force_imu = Eigen::Vector3d::Zero();
     double accel_norm_error_mps2 = 0.0;  // |mean f| - g
     std::size_t samples = 0;

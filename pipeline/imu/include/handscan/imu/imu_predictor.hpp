@@ -73,7 +73,8 @@ public:
     TimeNs oldestTime() const { return history_.empty() ? 0 : history_.front(); }
     const ImuPredictorStats& stats() const { return stats_; }
     const Eigen::Isometry3d& T_imu_body() const { return T_imu_body_; }
-    Eigen::Vector3d gravity() const { return gravityWorld(config_.gravity_mps2); }
+    // Gravity in {W}: (0, 0, -g) until feedback refines its direction in the map frame.
+    const Eigen::Vector3d& gravity() const { return gravity_world_; }
 
 private:
     void startFrom(const NavState& x, const ImuSample& s);
@@ -86,6 +87,7 @@ private:
     BiasEstimator bias_estimator_;
     ImuHistory history_;
     ImuBiases biases_;
+    Eigen::Vector3d gravity_world_;
     std::optional<GravityAlignment> alignment_;
     std::optional<NavState> pending_init_;
     bool initialized_ = false;

@@ -22,6 +22,9 @@ using PoseAtFn = std::function<Eigen::Isometry3d(TimeNs)>;
 struct SweepPoint {
     TimeNs t = 0;                                            // host time of this step
     Eigen::Vector3d p_start = Eigen::Vector3d::Zero();       // m, body frame at the sweep's start
+    // m, body frame at this step's own time (before motion compensation): lets a consumer
+    // re-place the point when the motion estimate is corrected after assembly (IMU feedback).
+    Eigen::Vector3d p_body = Eigen::Vector3d::Zero();
     float range_m = 0.0F;                                    // measured range
     float intensity = 0.0F;                                  // raw intensity (0 when absent)
     std::uint16_t step = 0;                                  // index in the 2D scan (0..1080)
