@@ -30,7 +30,10 @@ Status recompensateSweep(scan::Sweep& sweep, const PoseQuery& pose_at, TimeNs sa
     for (scan::SweepPoint& p : sweep.points) {
         const double u = static_cast<double>(p.t - t0) / static_cast<double>(dt);
         const std::size_t k = std::min(n - 2, static_cast<std::size_t>(std::max(0.0, u)));
-        p.p_start = interpolate(rel[k], rel[k + 1], std::clamp(u - static_cast<double>(k), 0.0, 1.0)) * p.p_body;
+        const Eigen::Isometry3d T_start_point =
+            interpolate(rel[k], rel[k + 1], std::clamp(u - static_cast<double>(k), 0.0, 1.0));
+        p.p_start = T_start_point * p.p_body;
+        p.origin_start = T_start_point * p.origin_body;  // the laser centre moves with it
     }
     sweep.T_world_start_odom = *T_start;
     return Status::ok();

@@ -157,6 +157,7 @@ FeatureCloud extractFeatures(const Sweep& sweep, const FeatureConfig& config) {
                     continue;
                 }
                 out.planars.push_back(p);
+                out.planar_origins.push_back(sweep.points[line.begin + k].origin_start);
                 ++planars;
             }
         }

@@ -94,7 +94,8 @@ SweepResult LaserOdometry::run(const Sweep& sweep, const std::optional<std::vect
         std::lock_guard<std::mutex> lock(map_mutex_);
         // Merge the scan into the map at its refined pose (6.3), at constant density.
         map_.insert(FeatureKind::kEdge, transformed(out.match.T_world_body, features.edges));
-        map_.insert(FeatureKind::kPlanar, transformed(out.match.T_world_body, features.planars));
+        map_.insert(FeatureKind::kPlanar, transformed(out.match.T_world_body, features.planars),
+                    transformed(out.match.T_world_body, features.planar_origins));
         ++map_sweeps_;
         if (!have_refined_ || sweep.index >= refined_index_) {
             have_refined_ = true;

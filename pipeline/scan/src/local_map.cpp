@@ -1,6 +1,7 @@
 #include "handscan/scan/local_map.hpp"
 
 #include <algorithm>
+#include <limits>
 #include <nanoflann.hpp>
 
 namespace handscan::scan {
@@ -35,6 +36,7 @@ struct Cloud {
 
 struct LocalMap::VoxelTrees {
     Cloud clouds[2];
+    std::vector<Eigen::Vector3f> planar_origins;
 };
 
 LocalMap::LocalMap(double fine_size_m, int fine_per_coarse)
@@ -44,8 +46,9 @@ LocalMap::LocalMap(LocalMap&&) noexcept = default;
 LocalMap& LocalMap::operator=(LocalMap&&) noexcept = default;
 
 void LocalMap::addVoxel(const VoxelKey& coarse, std::vector<Eigen::Vector3d> edges,
-                        std::vector<Eigen::Vector3d> planars) {
+                        std::vector<Eigen::Vector3d> planars, std::vector<Eigen::Vector3f> planar_origins) {
     auto trees = std::make_unique<VoxelTrees>();
+    if (planar_origins.size() == planars.size()) trees->planar_origins = std::move(planar_origins);
     counts_[0] += edges.size();
     counts_[1] += planars.size();
     trees->clouds[0].build(std::move(edges));
@@ -54,7 +57,7 @@ void LocalMap::addVoxel(const VoxelKey& coarse, std::vector<Eigen::Vector3d> edg
 }
 
 int LocalMap::nearest(FeatureKind kind, const Eigen::Vector3d& query, int k, Eigen::Vector3d* points,
-                      double* dist_sq) const {
+                      double* dist_sq, Eigen::Vector3f* origins) const {
     const VoxelKey coarse = floorDiv(voxelOf(query, fine_size_m_), fine_per_coarse_);
     const auto it = voxels_.find(coarse);
     if (it == voxels_.end()) {
@@ -68,8 +71,14 @@ int LocalMap::nearest(FeatureKind kind, const Eigen::Vector3d& query, int k, Eig
     std::uint32_t idx[kMaxNeighbours];
     const double q[3] = {query.x(), query.y(), query.z()};
     const auto found = static_cast<int>(cloud.tree->knnSearch(q, static_cast<std::size_t>(k), idx, dist_sq));
+    const auto& known = it->second->planar_origins;
     for (int i = 0; i < found; ++i) {
         points[i] = cloud.data.pts[idx[i]];
+        if (origins != nullptr) {
+            origins[i] = kind == FeatureKind::kPlanar && !known.empty()
+                             ? known[idx[i]]
+                             : Eigen::Vector3f(Eigen::Vector3f::Constant(std::numeric_limits<float>::quiet_NaN()));
+        }
     }
     return found;
 }

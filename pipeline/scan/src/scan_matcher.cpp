@@ -34,6 +34,25 @@ double robustWeight(RobustKernel kernel, double r, double scale) {
     return 1.0;
 }
 
+// Thin walls: a point on one face of a wall has the other face's map points within reach, and
+// both faces fit the same plane shape, so the match would pull the pose by the wall's thickness.
+// The laser centres that saw the map points tell the faces apart: a match is rejected when most
+// of its map points were seen from the other side of the plane than the query point.
+bool seenFromTheSameSide(const Eigen::Vector3d& normal, const Eigen::Vector3d& c, const Eigen::Vector3f* origins,
+                         int n, const Eigen::Vector3d& query_origin, double margin) {
+    const double side = normal.dot(query_origin - c);
+    if (std::abs(side) < margin) return true;  // sensor (nearly) in the plane: no side to tell
+    int same = 0;
+    int other = 0;
+    for (int i = 0; i < n; ++i) {
+        if (!origins[i].allFinite()) continue;
+        const double s = normal.dot(origins[i].cast<double>() - c);
+        if (std::abs(s) < margin) continue;
+        (s * side > 0.0 ? same : other) += 1;
+    }
+    return other <= same;
+}
+
 }  // namespace
 
 double degeneracyEigenvalueThreshold(const ScanMatcherConfig& config) {
@@ -59,6 +78,8 @@ MatchResult ScanMatcher::match(const FeatureCloud& features, const LocalMap& map
     corr.reserve(features.edges.size() + features.planars.size());
     Eigen::Vector3d nb[LocalMap::kMaxNeighbours];
     double d2[LocalMap::kMaxNeighbours];
+    Eigen::Vector3f nb_origin[LocalMap::kMaxNeighbours];
+    const bool with_origins = features.planar_origins.size() == features.planars.size();
 
     Matrix6d H_final = Matrix6d::Identity();
     for (int assoc = 0; assoc < config_.max_associations; ++assoc) {
@@ -69,10 +90,12 @@ MatchResult ScanMatcher::match(const FeatureCloud& features, const LocalMap& map
         for (int kind = 0; kind < 2; ++kind) {
             const bool edge = kind == 0;
             const auto& pts = edge ? features.edges : features.planars;
-            for (const Eigen::Vector3d& p : pts) {
+            for (std::size_t pi = 0; pi < pts.size(); ++pi) {
+                const Eigen::Vector3d& p = pts[pi];
                 const Eigen::Vector3d q = T * p;
                 const int K = edge ? K_edge : K_plane;
-                const int n = map.nearest(edge ? FeatureKind::kEdge : FeatureKind::kPlanar, q, K, nb, d2);
+                const int n = map.nearest(edge ? FeatureKind::kEdge : FeatureKind::kPlanar, q, K, nb, d2,
+                                          edge ? nullptr : nb_origin);
                 if (n < K || d2[n - 1] > max_d2) {
                     continue;
                 }
@@ -105,6 +128,10 @@ MatchResult ScanMatcher::match(const FeatureCloud& features, const LocalMap& map
                         thin = std::abs(nrm.dot(nb[i] - c)) <= config_.plane_max_thickness_m;
                     }
                     if (!thin) continue;
+                    if (with_origins && !seenFromTheSameSide(nrm, c, nb_origin, n, T * features.planar_origins[pi],
+                                                             config_.view_side_margin_m)) {
+                        continue;
+                    }
                     corr.push_back({p, c, nrm, false});
                     ++res.plane_matches;
                 }

@@ -200,11 +200,14 @@ void SweepAssembler::processScan(const LaserScan& scan) {
         }
         const double a = scan.stepAngle(i);
         const Eigen::Vector3d p_laser(r * std::cos(a), r * std::sin(a), 0.0);
+        const Eigen::Isometry3d T_body_laser = geometry_.bodyFromLaser(*angle);
+        const Eigen::Isometry3d T_world_body = poseAt(t);
         SweepPoint pt;
-        pt.p_body = geometry_.bodyFromLaser(*angle) * p_laser;
-        const Eigen::Vector3d p_world = poseAt(t) * pt.p_body;
+        pt.p_body = T_body_laser * p_laser;
+        pt.origin_body = T_body_laser.translation();
         pt.t = t;
-        pt.p_start = T_start_world_ * p_world;
+        pt.p_start = T_start_world_ * (T_world_body * pt.p_body);
+        pt.origin_start = T_start_world_ * (T_world_body * pt.origin_body);
         pt.range_m = r;
         pt.intensity = scan.intensities.empty() ? 0.0F : static_cast<float>(scan.intensities[i]);
         pt.step = static_cast<std::uint16_t>(static_cast<int>(i) + scan.first_step);

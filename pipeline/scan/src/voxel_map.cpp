@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <unordered_set>
 
 namespace handscan::scan {
@@ -73,13 +74,16 @@ std::size_t VoxelMap::recenter(const Eigen::Vector3d& sensor_world) {
     return cleared;
 }
 
-std::size_t VoxelMap::insert(FeatureKind kind, const std::vector<Eigen::Vector3d>& points_world) {
+std::size_t VoxelMap::insert(FeatureKind kind, const std::vector<Eigen::Vector3d>& points_world,
+                             const std::vector<Eigen::Vector3d>& origins_world) {
+    const bool with_origins = origins_world.size() == points_world.size();
     const int k = static_cast<int>(kind);
     const int F = config_.fine_per_coarse;
     const int L = leaves_per_axis_[k];
     const double leaf = fine_size_m_ / L;
     std::size_t kept = 0;
-    for (const Eigen::Vector3d& p : points_world) {
+    for (std::size_t i = 0; i < points_world.size(); ++i) {
+        const Eigen::Vector3d& p = points_world[i];
         const VoxelKey fine = voxelOf(p, fine_size_m_);
         const VoxelKey coarse = floorDiv(fine, F);
         if (!inside(coarse)) {
@@ -109,6 +113,8 @@ std::size_t VoxelMap::insert(FeatureKind kind, const std::vector<Eigen::Vector3d
         }
         word |= mask;
         cell.pts[k].push_back(p.cast<float>());
+        cell.origins[k].push_back(with_origins ? Eigen::Vector3f(origins_world[i].cast<float>())
+                                               : Eigen::Vector3f::Constant(std::numeric_limits<float>::quiet_NaN()));
         ++stats_points_[k];
         ++kept;
     }
@@ -157,6 +163,7 @@ LocalMap VoxelMap::extract(const std::vector<Eigen::Vector3d>& edges_world,
     LocalMap local(fine_size_m_, F);
     for (const auto& [coarse, cells] : per_coarse) {
         std::vector<Eigen::Vector3d> pts[2];
+        std::vector<Eigen::Vector3f> origins[2];
         for (const VoxelKey& f : cells) {
             const FineCell* cell = findCell(f);
             if (cell == nullptr) {
@@ -166,10 +173,11 @@ LocalMap VoxelMap::extract(const std::vector<Eigen::Vector3d>& edges_world,
                 for (const Eigen::Vector3f& p : cell->pts[k]) {
                     pts[k].push_back(p.cast<double>());
                 }
+                origins[k].insert(origins[k].end(), cell->origins[k].begin(), cell->origins[k].end());
             }
         }
         if (!pts[0].empty() || !pts[1].empty()) {
-            local.addVoxel(coarse, std::move(pts[0]), std::move(pts[1]));
+            local.addVoxel(coarse, std::move(pts[0]), std::move(pts[1]), std::move(origins[1]));
         }
     }
     return local;
@@ -215,7 +223,7 @@ VoxelMapStats VoxelMap::stats() const {
         for (const auto& [idx, cell] : v.cells) {
             s.memory_bytes += sizeof(FineCell) + 2 * sizeof(void*);
             for (int k = 0; k < 2; ++k) {
-                s.memory_bytes += cell.pts[k].capacity() * sizeof(Eigen::Vector3f) +
+                s.memory_bytes += (cell.pts[k].capacity() + cell.origins[k].capacity()) * sizeof(Eigen::Vector3f) +
                                   cell.leaves[k].capacity() * sizeof(std::uint64_t);
             }
         }

@@ -33,6 +33,7 @@ struct FeatureConfig {
 struct FeatureCloud {
     std::vector<Eigen::Vector3d> edges;    // E_m, body frame at the sweep's start
     std::vector<Eigen::Vector3d> planars;  // H_m
+    std::vector<Eigen::Vector3d> planar_origins;  // laser centre that saw each planar point
 };
 
 // Per-point smoothness along one line (eq. 12); NaN where the neighbour window is incomplete.

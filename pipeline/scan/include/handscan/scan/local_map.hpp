@@ -26,13 +26,15 @@ public:
     LocalMap& operator=(LocalMap&&) noexcept;
 
     // Builder: the points that queries falling into coarse voxel `coarse` may see.
+    // `planar_origins`: empty, or the laser centre that saw each planar point (NaN: unknown).
     void addVoxel(const VoxelKey& coarse, std::vector<Eigen::Vector3d> edges,
-                  std::vector<Eigen::Vector3d> planars);
+                  std::vector<Eigen::Vector3d> planars, std::vector<Eigen::Vector3f> planar_origins = {});
 
     // The k nearest map points of `kind` to `query` (world frame), closest first; returns how many
-    // were found (0 when the query lies outside the extracted region).
+    // were found (0 when the query lies outside the extracted region). With `origins`, also the
+    // laser centre that saw each planar point (NaN when unknown).
     int nearest(FeatureKind kind, const Eigen::Vector3d& query, int k, Eigen::Vector3d* points,
-                double* dist_sq) const;
+                double* dist_sq, Eigen::Vector3f* origins = nullptr) const;
 
     std::size_t size(FeatureKind kind) const { return counts_[static_cast<int>(kind)]; }
     std::size_t voxelCount() const { return voxels_.size(); }

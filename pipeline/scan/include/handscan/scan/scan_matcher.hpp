@@ -36,6 +36,10 @@ struct ScanMatcherConfig {
     // "normal" is any direction around it (far from the sensor, lines are wider apart than the
     // neighbour search, and such clusters would pull the pose sideways).
     double plane_min_extent_m = 0.03;
+    // A planar match whose map points were mostly seen from the other side of the plane than the
+    // query point (the far face of a thin wall) is rejected; sensors closer to the plane than
+    // this tell no side.
+    double view_side_margin_m = 0.1;
     RobustKernel kernel = RobustKernel::kBisquare;
     double kernel_scale_m = 0.1;       // bisquare zero-weight distance / Huber corner
     // Coarse to fine: the first association uses this scale, each later one half the previous,

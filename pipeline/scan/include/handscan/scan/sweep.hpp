@@ -25,6 +25,11 @@ struct SweepPoint {
     // m, body frame at this step's own time (before motion compensation): lets a consumer
     // re-place the point when the motion estimate is corrected after assembly (IMU feedback).
     Eigen::Vector3d p_body = Eigen::Vector3d::Zero();
+    // The laser's centre when this step was measured, at the sweep's start and at the step's own
+    // time like p_start and p_body: which side of a surface the sensor saw it from (thin walls,
+    // see ScanMatcher).
+    Eigen::Vector3d origin_start = Eigen::Vector3d::Zero();
+    Eigen::Vector3d origin_body = Eigen::Vector3d::Zero();
     float range_m = 0.0F;                                    // measured range
     float intensity = 0.0F;                                  // raw intensity (0 when absent)
     std::uint16_t step = 0;                                  // index in the 2D scan (0..1080)

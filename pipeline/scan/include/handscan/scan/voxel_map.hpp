@@ -47,8 +47,10 @@ public:
     // of points cleared.
     std::size_t recenter(const Eigen::Vector3d& sensor_world);
 
-    // Merges world-frame points at constant density; returns how many were kept.
-    std::size_t insert(FeatureKind kind, const std::vector<Eigen::Vector3d>& points_world);
+    // Merges world-frame points at constant density; returns how many were kept. `origins_world`
+    // (empty, or one per point): the laser centre that saw each point.
+    std::size_t insert(FeatureKind kind, const std::vector<Eigen::Vector3d>& points_world,
+                       const std::vector<Eigen::Vector3d>& origins_world = {});
 
     // Q_{m-1}: map points in the fine voxels occupied by the features (already projected into the
     // world with the best guess of motion), in per-coarse-voxel k-d trees.
@@ -65,6 +67,7 @@ public:
 private:
     struct FineCell {
         std::vector<Eigen::Vector3f> pts[2];
+        std::vector<Eigen::Vector3f> origins[2];   // per point; NaN when unknown
         std::vector<std::uint64_t> leaves[2];
     };
     struct CoarseVoxel {
