@@ -11,6 +11,7 @@ namespace {
 constexpr TimeNs kHoldBack = 100 * kNsPerMs;   // ordering window (see the header)
 constexpr TimeNs kLoopPeriod = 10 * kNsPerMs;
 constexpr TimeNs kStatusPeriod = 100 * kNsPerMs;
+constexpr TimeNs kFinishBudget = 3 * kNsPerSec;  // of systemd's 15 s TimeoutStopSec
 
 lio::LioConfig lioConfig(const DeviceConfig& device) {
     lio::LioConfig c;
@@ -95,10 +96,6 @@ void PipelineWorker::run() {
         if (now - last_status_ >= kStatusPeriod) publishStatus();
         std::this_thread::sleep_for(std::chrono::nanoseconds(kLoopPeriod));
     }
-    // Whatever is still queued belongs to the scan (SIGTERM mid-scan): feed it all, then flush.
-    drainQueues();
-    feed(std::numeric_limits<TimeNs>::max());
-    consume();
     std::lock_guard lock(mutex_);
     for (Request& r : requests_) r.done.set_value(Status(StatusCode::kDisconnected, "the pipeline is shutting down"));
     requests_.clear();
@@ -127,10 +124,11 @@ void PipelineWorker::handle(Request& r) {
             break;
         case ScanControl::kFinish:
             // Everything the drivers delivered belongs to the scan: process it, with the last
-            // partial sweep, before the journal is closed.
+            // partial sweep, before the journal is closed - unless the pipeline is so far behind
+            // that this would outlast systemd's stop timeout (then the backlog is dropped).
             drainQueues();
-            feed(std::numeric_limits<TimeNs>::max());
-            lio_->finish();
+            feed(std::numeric_limits<TimeNs>::max(), monotonicNow() + kFinishBudget);
+            if (imu_.empty() && encoder_.empty() && scans_.empty()) lio_->finish();
             consume();
             if (Status s = session_->finish(); !s.isOk()) out = s;
             else out = std::string("journal closed");
@@ -153,9 +151,17 @@ void PipelineWorker::drainQueues() {
     drain(queues_.colour_images, images_);
 }
 
-void PipelineWorker::feed(TimeNs horizon) {
+void PipelineWorker::feed(TimeNs horizon, TimeNs deadline) {
     // Merge the three streams by time up to the horizon.
-    for (;;) {
+    for (std::uint64_t n = 1;; ++n) {
+        if ((n % 64) == 0 && monotonicNow() > deadline) {
+            log().warn("pipeline: {} IMU, {} encoder samples and {} scans not processed before shutdown", imu_.size(),
+                       encoder_.size(), scans_.size());
+            imu_.clear();
+            encoder_.clear();
+            scans_.clear();
+            break;
+        }
         const TimeNs t_imu = imu_.empty() ? std::numeric_limits<TimeNs>::max() : imu_.front().t_host;
         const TimeNs t_enc = encoder_.empty() ? std::numeric_limits<TimeNs>::max() : encoder_.front().t_host;
         const TimeNs t_scan = scans_.empty() ? std::numeric_limits<TimeNs>::max() : scans_.front().t_host;

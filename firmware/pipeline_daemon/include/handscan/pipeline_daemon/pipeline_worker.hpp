@@ -11,6 +11,7 @@
 #include <condition_variable>
 #include <deque>
 #include <functional>
+#include <limits>
 #include <future>
 #include <memory>
 #include <mutex>
@@ -60,7 +61,7 @@ private:
     void run();
     void handle(Request& r);
     void drainQueues();
-    void feed(TimeNs horizon);
+    void feed(TimeNs horizon, TimeNs deadline = std::numeric_limits<TimeNs>::max());
     void consume();
     void publishStatus();
     void resetPipeline();
