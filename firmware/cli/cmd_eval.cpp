@@ -1,6 +1,9 @@
 // `handscan eval`: accuracy of a replay against ground truth.
 //   handscan eval --gt GT.tum --est EST.tum [--plot out.png]   trajectory: ATE, segment drift, end point
 //   handscan eval --map MAP.ply --mesh scene.ply               map: point-to-surface distance
+//   handscan eval --map MAP.ply --mesh scene.ply --gt GT.tum --est EST.tum
+//       both; the map is first moved into the ground truth's frame by the trajectory's SE(3) alignment
+//       (the pipeline's world frame is its own gravity-aligned start frame, not the scene's).
 // Exit 0 on success, 2 on unreadable or inconsistent input (message says which file and why).
 #include <fmt/format.h>
 
@@ -25,7 +28,8 @@ int fail(const Status& s) {
     return 2;
 }
 
-int evalTrajectory(const EvalOptions& o) {
+// Prints the trajectory figures; `T_gt_est` receives the ATE alignment.
+int evalTrajectory(const EvalOptions& o, Eigen::Isometry3d& T_gt_est) {
     auto gt = eval::readTum(o.gt);
     if (!gt) return fail(gt.status());
     auto est = eval::readTum(o.est);
@@ -39,6 +43,7 @@ int evalTrajectory(const EvalOptions& o) {
                                        gt->empty() ? 0.0 : gt->back().t_s)));
     }
     const auto ate = eval::computeAte(pairs);
+    T_gt_est = ate.T_gt_est;
     const auto drift = eval::computeDrift(pairs);
     const auto end = eval::computeEndPoint(pairs);
     std::cout << fmt::format("poses: {} associated of {} estimated; path length {:.2f} m over {:.1f} s\n",
@@ -69,18 +74,19 @@ int evalTrajectory(const EvalOptions& o) {
     return 0;
 }
 
-int evalMap(const EvalOptions& o) {
+int evalMap(const EvalOptions& o, const Eigen::Isometry3d& T_gt_est) {
     auto map = eval::readPly(o.map);
     if (!map) return fail(map.status());
+    for (Eigen::Vector3d& v : map->vertices) v = T_gt_est * v;
     auto mesh = eval::readPly(o.mesh);
     if (!mesh) return fail(mesh.status());
     auto index = eval::MeshDistance::build(std::move(*mesh));
     if (!index) return fail(Status(index.status().code(), o.mesh + ": " + index.status().message()));
     const auto r = eval::computeMapError(map->vertices, **index);
     if (r.points == 0) return fail(Status(StatusCode::kInvalidArgument, o.map + ": the map has no points"));
-    std::cout << fmt::format("map error over {} points against {} triangles [m]: median {:.4f}  p90 {:.4f}  "
+    std::cout << fmt::format("map error{} over {} points against {} triangles [m]: median {:.4f}  p90 {:.4f}  "
                              "p99 {:.4f}  mean {:.4f}  max {:.4f}\n",
-                             r.points, (*index)->triangles(), r.median_m, r.p90_m, r.p99_m, r.mean_m, r.max_m);
+                             o.gt.empty() ? "" : " (map aligned by the trajectory)", r.points, (*index)->triangles(), r.median_m, r.p90_m, r.p99_m, r.mean_m, r.max_m);
     return 0;
 }
 
@@ -96,12 +102,17 @@ const RegisterCommand kEval{"eval", "Accuracy against ground truth: trajectory (
     return std::function<int()>([o] {
         const bool traj = !o->gt.empty() || !o->est.empty();
         const bool map = !o->map.empty() || !o->mesh.empty();
-        if (traj == map || (traj && (o->gt.empty() || o->est.empty())) ||
+        if ((!traj && !map) || (traj && (o->gt.empty() || o->est.empty())) ||
             (map && (o->map.empty() || o->mesh.empty()))) {
-            std::cerr << "handscan eval: give either --gt and --est, or --map and --mesh\n";
+            std::cerr << "handscan eval: give --gt and --est (trajectory), --map and --mesh (map), or all four "
+                         "(map aligned by the trajectory)\n";
             return 2;
         }
-        return traj ? evalTrajectory(*o) : evalMap(*o);
+        Eigen::Isometry3d T_gt_est = Eigen::Isometry3d::Identity();
+        if (traj) {
+            if (const int rc = evalTrajectory(*o, T_gt_est); rc != 0 || !map) return rc;
+        }
+        return evalMap(*o, T_gt_est);
     });
 }};
 
