@@ -40,14 +40,8 @@ public:
 
 private:
     void run() override {
-        Backoff backoff(500 * kNsPerMs, 5 * kNsPerSec);
-        while (!stopping()) {
-            const Status end = session();
-            if (stopping()) return;  // a clean stop, not a lost device
-            health_.setLost("camera " + config_.device + ": " + end.message() + " (check the cable; retrying)");
-            health_.markAttempted();
-            if (!sleepFor(backoff.next())) return;
-        }
+        runSessions(500 * kNsPerMs, 5 * kNsPerSec, "camera " + config_.device, " (check the cable; retrying)",
+                    [this] { return session(); });
     }
 
     Status session() {

@@ -30,14 +30,8 @@ public:
 
 private:
     void run() override {
-        Backoff backoff(kNsPerSec, 10 * kNsPerSec);
-        while (!stopping()) {
-            const Status end = session();
-            if (stopping()) return;  // a clean stop, not a lost device
-            health_.setLost("gpio " + config_.chip + ": " + end.message() + " (buttons and LEDs unavailable; retrying)");
-            health_.markAttempted();
-            if (!sleepFor(backoff.next())) return;
-        }
+        runSessions(kNsPerSec, 10 * kNsPerSec, "gpio " + config_.chip, " (buttons and LEDs unavailable; retrying)",
+                    [this] { return session(); });
     }
 
     Status session() {

@@ -30,14 +30,8 @@ public:
 
 private:
     void run() override {
-        Backoff backoff(500 * kNsPerMs, 5 * kNsPerSec);
-        while (!stopping()) {
-            const Status end = session();
-            if (stopping()) return;  // a clean stop, not a lost device
-            health_.setLost("motor " + config_.can_interface + ": " + end.message() + " (retrying)");
-            health_.markAttempted();
-            if (!sleepFor(backoff.next())) return;
-        }
+        runSessions(500 * kNsPerMs, 5 * kNsPerSec, "motor " + config_.can_interface, " (retrying)",
+                    [this] { return session(); });
     }
 
     // One connection: open, start, spin, stream until a fault or stop().

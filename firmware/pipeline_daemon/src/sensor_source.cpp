@@ -27,4 +27,16 @@ bool SensorSource::sleepFor(TimeNs t) {
     return false;
 }
 
+void SensorSource::runSessions(TimeNs first_wait, TimeNs max_wait, const std::string& what, const char* hint,
+                               const std::function<Status()>& session) {
+    Backoff backoff(first_wait, max_wait);
+    while (!stopping()) {
+        const Status end = session();
+        if (stopping()) return;  // a clean stop, not a lost device
+        health_.setLost(what + ": " + end.message() + hint);
+        health_.markAttempted();
+        if (!sleepFor(backoff.next())) return;
+    }
+}
+
 }  // namespace handscan::pipeline_daemon

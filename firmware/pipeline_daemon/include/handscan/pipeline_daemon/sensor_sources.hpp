@@ -56,6 +56,11 @@ protected:
     bool stopping() const { return stop_.load(std::memory_order_acquire); }
     // Sleeps `t` unless stop() comes first; false when stopping.
     bool sleepFor(TimeNs t);
+    // Runs `session` (open the device, stream until a fault) again and again until stop(): each
+    // session that ends without stop() marks the device lost with "<what>: <reason><hint>" and is
+    // retried after a back-off growing from `first_wait` to `max_wait`.
+    void runSessions(TimeNs first_wait, TimeNs max_wait, const std::string& what, const char* hint,
+                     const std::function<Status()>& session);
     SensorHealth health_;
 
 private:
