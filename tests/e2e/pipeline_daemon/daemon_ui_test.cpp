@@ -6,12 +6,12 @@
 
 #include <fstream>
 #include <opencv2/imgcodecs.hpp>
-#include <opencv2/imgproc.hpp>
 #include <sstream>
 #include <thread>
 
 #include "child_process.hpp"
 #include "daemon_rig.hpp"
+#include "../ui/screenshot_checks.hpp"
 #include "handscan/pipeline_daemon/pipeline_daemon.hpp"
 
 namespace handscan::pipeline_daemon::test {
@@ -53,15 +53,7 @@ TEST(PipelineDaemonUi, UiRendersTheLiveScan) {
     const cv::Mat img = cv::imread(png.string(), cv::IMREAD_GRAYSCALE);
     ASSERT_FALSE(img.empty());
     fs::copy_file(png, keep, fs::copy_options::overwrite_existing);  // for a look after the run
-    cv::Mat hist;
-    const int channels[] = {0};
-    const int bins[] = {256};
-    const float range[] = {0, 256};
-    const float* ranges[] = {range};
-    cv::calcHist(&img, 1, channels, cv::Mat(), hist, 1, bins, ranges);
-    double background = 0;
-    cv::minMaxLoc(hist, nullptr, &background);
-    EXPECT_GT(1.0 - background / static_cast<double>(img.total()), 0.05) << "the screenshot is nearly uniform";
+    EXPECT_GT(::handscan::test::nonBackgroundFraction(img), 0.05) << "the screenshot is nearly uniform";
 
     std::ifstream in(png.string().substr(0, png.string().size() - 4) + ".json");
     std::stringstream ss;

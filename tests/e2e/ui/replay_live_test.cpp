@@ -7,10 +7,10 @@
 #include <filesystem>
 #include <fstream>
 #include <opencv2/imgcodecs.hpp>
-#include <opencv2/imgproc.hpp>
 #include <sstream>
 
 #include "child_process.hpp"
+#include "screenshot_checks.hpp"
 
 namespace handscan::e2e {
 namespace {
@@ -43,16 +43,7 @@ TEST(ReplayLive, UiRendersAReplayedScan) {
     const cv::Mat img = cv::imread(png.string(), cv::IMREAD_GRAYSCALE);
     ASSERT_FALSE(img.empty());
     // Not blank: many pixels differ from the background (the most common grey level).
-    cv::Mat hist;
-    const int channels[] = {0};
-    const int bins[] = {256};
-    const float range[] = {0, 256};
-    const float* ranges[] = {range};
-    cv::calcHist(&img, 1, channels, cv::Mat(), hist, 1, bins, ranges);
-    double background = 0;
-    cv::minMaxLoc(hist, nullptr, &background);
-    const double other = 1.0 - background / static_cast<double>(img.total());
-    EXPECT_GT(other, 0.05) << "the screenshot is nearly uniform";
+    EXPECT_GT(::handscan::test::nonBackgroundFraction(img), 0.05) << "the screenshot is nearly uniform";
     std::ifstream in(dir / "shot.json");
     std::stringstream ss;
     ss << in.rdbuf();
