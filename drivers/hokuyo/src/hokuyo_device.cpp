@@ -19,14 +19,6 @@ std::string withoutLf(std::string s) {
     return s;
 }
 
-// Bytes of a scan frame on the wire (echo, status, timestamp, blocks with sums, terminator).
-std::size_t frameBytes(const ScipFrame& f) {
-    const std::size_t data =
-        static_cast<std::size_t>(f.scan_request->valuesPerScan() * f.scan_request->charsPerValue());
-    const std::size_t blocks = (data + kScipBlockChars - 1) / kScipBlockChars;
-    return f.echo.size() + 1 + 4 + 6 + data + 2 * blocks + 1;
-}
-
 }  // namespace
 
 HokuyoDeviceConfig hokuyoDeviceConfig(const HokuyoConfig& config) {
@@ -44,13 +36,16 @@ HokuyoDevice::HokuyoDevice(transport::ByteStream& link, HokuyoDeviceConfig confi
       now_(std::move(now)),
       sleep_(sleep ? std::move(sleep)
                    : Sleep([](TimeNs ns) { std::this_thread::sleep_for(std::chrono::nanoseconds(ns)); })),
+      decoder_(config.timing),
       rx_(16384),
-      timestamper_(config.timing),
       backoff_(config.backoff_initial_ns) {}
 
 HokuyoDeviceStats HokuyoDevice::stats() const {
     HokuyoDeviceStats s = stats_;
-    s.parser = parser_.stats();
+    const ScanStreamStats d = decoder_.stats();
+    s.scans = d.scans;
+    s.missed_scans = d.missed_scans;
+    s.parser = d.parser;
     return s;
 }
 
@@ -63,7 +58,7 @@ Status HokuyoDevice::fault(Status status) {
 
 void HokuyoDevice::dropLink(const Status& why) {
     link_.close();
-    parser_.reset();
+    decoder_.resetLink();
     pending_.clear();
     if (state_ == State::kStreaming) ++stats_.disconnects;
     state_ = State::kDisconnected;
@@ -84,8 +79,13 @@ Result<std::size_t> HokuyoDevice::readChunk(TimeNs timeout) {
         const std::span<const std::uint8_t> chunk(rx_.data(), *n);
         if (tap_ != nullptr) tap_->onRaw(last_rx_, chunk);
         scratch_.clear();
-        parser_.feed(chunk, scratch_);
+        const std::size_t scans_before = ready_.size();
+        decoder_.feed(last_rx_, chunk, ready_, scratch_);
         for (auto& e : scratch_) pending_.push_back(std::move(e));
+        if (ready_.size() > scans_before) {
+            last_scan_rx_ = last_rx_;
+            scanned_since_connect_ = true;
+        }
     }
     return n;
 }
@@ -162,7 +162,7 @@ Status HokuyoDevice::handshake() {
 }
 
 Status HokuyoDevice::connect() {
-    parser_.reset();
+    decoder_.resetLink();
     pending_.clear();
     Status s = link_.open();
     if (s) s = handshake();
@@ -178,29 +178,10 @@ Status HokuyoDevice::connect() {
     return Status::ok();
 }
 
-void HokuyoDevice::emitScan(const ScipFrame& frame, std::vector<LaserScan>& out) {
-    const ScanPayload& scan = *frame.scan;
-    const ScanRequest& req = *frame.scan_request;
-    const double period = valuePeriodNs(req, *params_);
-    const TimeNs t0 = timestamper_.stamp(scan.timestamp_ms, last_rx_, frameBytes(frame),
-                                         static_cast<int>(scan.ranges.size()), period);
-    if (last_t_device_) {
-        // Scans lost in between (damaged, or missed while reconnecting), from the sensor's clock.
-        const std::uint32_t dt = (scan.timestamp_ms - *last_t_device_) & 0xFFFFFFu;
-        const double scan_ms = static_cast<double>(params_->scanPeriodNs()) * 1e-6 * (req.interval + 1);
-        if (scan_ms > 0 && dt < 0x800000u) {
-            const long missing = std::lround(static_cast<double>(dt) / scan_ms) - 1;
-            if (missing > 0) stats_.missed_scans += static_cast<std::uint64_t>(missing);
-        }
-    }
-    last_t_device_ = scan.timestamp_ms;
-    out.push_back(toLaserScan(scan, req, *params_, t0));
-    ++stats_.scans;
-    last_scan_rx_ = last_rx_;
-    scanned_since_connect_ = true;
-}
-
 Status HokuyoDevice::handleEvents(std::vector<LaserScan>& out) {
+    // The scans the decoder completed, in stream order with the replies below.
+    out.insert(out.end(), std::make_move_iterator(ready_.begin()), std::make_move_iterator(ready_.end()));
+    ready_.clear();
     Status result = Status::ok();
     while (!pending_.empty()) {
         ScipEvent e = std::move(pending_.front());
@@ -211,10 +192,6 @@ Status HokuyoDevice::handleEvents(std::vector<LaserScan>& out) {
         }
         auto& frame = std::get<ScipFrame>(e);
         if (!frame.scan_request || frame.scan_request->mode != 'M') continue;  // late replies
-        if (frame.scan) {
-            emitScan(frame, out);
-            continue;
-        }
         if (frame.status == "00" || frame.status == "98") continue;  // ack / resumed after an error
         // The sensor stopped the stream on an error (21..49) or a hardware fault (50..97).
         result = fault(Status(StatusCode::kDeviceError, "hokuyo " + link_.describe() + ": " + frame.statusText()));
@@ -260,8 +237,9 @@ Status HokuyoDevice::stop() {
         else if (!qt->ok()) result = Status(StatusCode::kDeviceError, "hokuyo " + link_.describe() + ": " + qt->statusText());
     }
     link_.close();
-    parser_.reset();
+    decoder_.resetLink();
     pending_.clear();
+    ready_.clear();
     state_ = State::kStopped;
     next_attempt_ = 0;
     return result;

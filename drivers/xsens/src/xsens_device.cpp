@@ -12,18 +12,13 @@ namespace {
 constexpr std::size_t kMaxProblems = 32;
 constexpr std::size_t kReadChunk = 4096;
 
-ClockMapperConfig xsensClock() {
-    ClockMapperConfig c;
-    c.counter_bits = 32;  // SampleTimeFine wraps after 2^32 ticks = 4.97 days
-    c.tick_ns = 1e5;      // 10 kHz
-    return c;
-}
-
 }  // namespace
 
 XsensDevice::XsensDevice(transport::ByteStream& stream, XsensDeviceConfig config, RawTap* tap)
-    : stream_(stream), cfg_(std::move(config)), tap_(tap), clock_(xsensClock()), rx_(kReadChunk),
-      link_baud_(cfg_.baudrate) {}
+    : stream_(stream), cfg_(std::move(config)), tap_(tap), decoder_("Xsens " + stream.describe()), rx_(kReadChunk),
+      link_baud_(cfg_.baudrate) {
+    decoder_.onProblem([this](const std::string& p) { note(p); });
+}
 
 std::vector<OutputConfigEntry> XsensDevice::outputConfigurationFor(const XsensDeviceConfig& config) {
     const std::uint16_t hz = config.output_rate_hz;
@@ -42,8 +37,8 @@ std::vector<OutputConfigEntry> XsensDevice::outputConfigurationFor(const XsensDe
 }
 
 const XsensDeviceStats& XsensDevice::stats() const {
-    stats_.checksum_failures = parser_.stats().checksum_failures;
-    stats_.resyncs = parser_.stats().resyncs;
+    static_cast<ImuStreamStats&>(stats_) = decoder_.stats();
+    stats_.device_errors += refused_requests_;
     return stats_;
 }
 
@@ -58,10 +53,11 @@ Status XsensDevice::readSome(TimeNs timeout, TimeNs& t_rx) {
     if (!n.isOk()) return n.status();
     t_rx = cfg_.clock();
     if (*n == 0) return Status::ok();
+    last_rx_ = t_rx;
     const std::span<const std::uint8_t> chunk(rx_.data(), *n);
     if (tap_ != nullptr) tap_->onRaw(t_rx, chunk);
     stats_.bytes += *n;
-    parser_.feed(chunk);
+    decoder_.feedRaw(chunk);
     return Status::ok();
 }
 
@@ -81,10 +77,10 @@ Result<XsensDevice::Reply> XsensDevice::request(MessageId mid, std::span<const s
             if (Status s = readSome(deadline - now, now); !s) {
                 return Status{s.code(), "Xsens " + std::string(step) + ": " + stream_.describe() + ": " + s.message()};
             }
-            while (auto f = parser_.next()) {
+            while (auto f = decoder_.nextFrame()) {
                 if (f->mid == toByte(ack)) return Reply{f->mid, {f->payload.begin(), f->payload.end()}};
                 if (f->mid == toByte(MessageId::kError)) {
-                    ++stats_.device_errors;
+                    ++refused_requests_;
                     auto e = decodeError(f->payload);
                     last_error = e.isOk() ? errorText(e->code) : e.status().message();
                     note("Xsens " + std::string(step) + ": device answered " + messageName(toByte(mid)) +
@@ -134,7 +130,7 @@ Status XsensDevice::enterConfigMode() {
             break;
         }
         link_baud_ = baud;
-        parser_.reset();
+        decoder_.resetLink();
         auto probe = request(MessageId::kGoToConfig, {}, "probing the baud rate");
         if (probe) {
             note("Xsens " + stream_.describe() + ": device found at " + std::to_string(baud) + " baud, not " +
@@ -170,7 +166,7 @@ Status XsensDevice::switchBaudrate(int baud) {
     if (auto r = request(MessageId::kReset, {}, "resetting to apply the baud rate"); !r) return r.status();
     if (Status s = cfg_.set_link_baudrate(baud); !s) return s;
     link_baud_ = baud;
-    parser_.reset();
+    decoder_.resetLink();
     // It reboots (WakeUp, which request() acknowledges) and must be caught in config mode again.
     if (auto r = request(MessageId::kGoToConfig, {}, "entering config mode after the baud change"); !r) {
         return r.status();
@@ -184,7 +180,8 @@ Status XsensDevice::configure() {
     if (!stream_.isOpen()) {
         if (Status s = stream_.open(); !s) return s;
     }
-    parser_.reset();
+    decoder_.resetLink();
+    decoder_.setSource("Xsens " + stream_.describe());
     // 1. Config mode, at the right line rate.
     if (Status s = enterConfigMode(); !s) return s;
     if (cfg_.set_link_baudrate && link_baud_ != cfg_.baudrate) {
@@ -218,85 +215,24 @@ Status XsensDevice::configure() {
     // 4. Measurement.
     if (auto r = request(MessageId::kGoToMeasurement, {}, "starting measurement"); !r) return r.status();
     measuring_ = true;
-    last_counter_.reset();
+    decoder_.forgetCounter();
+    decoder_.setSource("Xsens " + stream_.describe());
     log().info("Xsens {} (id {:08X}) on {} streaming at {} Hz", product_code_, device_id_, stream_.describe(),
                cfg_.output_rate_hz);
     return Status::ok();
 }
 
 Status XsensDevice::poll(std::vector<ImuSample>& out, TimeNs timeout) {
+    // Frames that arrived with the last reply of configure() are stamped with their own receive
+    // time, not with the next read's.
+    decoder_.decodePending(last_rx_, out);
     TimeNs t_rx = 0;
     if (Status s = readSome(timeout, t_rx); !s) {
         measuring_ = false;
         return Status{s.code(), "Xsens " + stream_.describe() + ": " + s.message() + "; reconnect with configure()"};
     }
-    while (auto f = parser_.next()) handleMeasurement(*f, t_rx, &out);
+    decoder_.decodePending(last_rx_, out);
     return Status::ok();
-}
-
-void XsensDevice::handleMeasurement(const XbusFrameView& frame, TimeNs t_rx, std::vector<ImuSample>* out) {
-    if (frame.mid == toByte(MessageId::kError)) {
-        ++stats_.device_errors;
-        auto e = decodeError(frame.payload);
-        note("Xsens " + stream_.describe() + " reported Error " + (e.isOk() ? errorText(e->code) : e.status().message()));
-        return;
-    }
-    if (frame.mid == toByte(MessageId::kWakeUp)) {
-        // Restarted (power glitch, watchdog): without a WakeUpAck it measures again with the
-        // stored output configuration, counters and SampleTimeFine from 0. Start the time
-        // mapping afresh instead of treating the jump as a clock fault.
-        ++stats_.restarts;
-        clock_ = ClockMapper(xsensClock());
-        last_counter_.reset();
-        note("Xsens " + stream_.describe() + " restarted (WakeUp) while measuring; resuming with its stored "
-             "configuration. Check the supply if this repeats.");
-        return;
-    }
-    if (frame.mid != toByte(MessageId::kMtData2)) return;
-    ++stats_.packets;
-    auto packet = decodeMtData2(frame.payload);
-    if (!packet) {
-        ++stats_.malformed;
-        note(packet.status().message());
-        return;
-    }
-    if (auto pc = packet->integer(xdi::kPacketCounter)) {
-        const auto counter = static_cast<std::uint16_t>(*pc);
-        if (last_counter_) {
-            const auto missing = static_cast<std::uint16_t>(counter - *last_counter_ - 1);
-            if (missing != 0) {
-                ++stats_.gaps;
-                stats_.lost_packets += missing;
-                note("Xsens packet counter jumped from " + std::to_string(*last_counter_) + " to " +
-                     std::to_string(counter) + ": " + std::to_string(missing) +
-                     " packet(s) lost (damaged on the wire or a serial overrun)");
-            }
-        }
-        last_counter_ = counter;
-    }
-    const auto stf = packet->integer(xdi::kSampleTimeFine);
-    const auto acc = packet->vector3(xdi::kAcceleration);
-    const auto gyro = packet->vector3(xdi::kRateOfTurn);
-    if (!stf || !acc || !gyro) {
-        ++stats_.incomplete;
-        note("Xsens MTData2 without SampleTimeFine, Acceleration or RateOfTurn (packet counter " +
-             std::to_string(last_counter_.value_or(0)) + "): no sample; is the output configuration ours?");
-        return;
-    }
-    clock_.observe(*stf, t_rx);
-    ImuSample s;
-    s.t_host = *clock_.toHost(*stf);
-    s.t_device_ticks = clock_.unwrap(*stf);
-    s.accel_mps2_imu = *acc;
-    s.gyro_radps_imu = *gyro;
-    if (auto sw = packet->integer(xdi::kStatusWord)) {
-        s.status_word = static_cast<std::uint32_t>(*sw);
-    } else if (auto sb = packet->integer(xdi::kStatusByte)) {
-        s.status_word = static_cast<std::uint32_t>(*sb);  // bits 0-7 of the status word
-    }
-    s.packet_counter = last_counter_.value_or(0);
-    ++stats_.samples;
-    out->push_back(s);
 }
 
 }  // namespace handscan::xsens

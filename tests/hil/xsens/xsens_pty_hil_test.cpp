@@ -23,7 +23,15 @@ struct PtyRig {
             return;
         }
         serial = std::make_unique<transport::SerialStream>(transport::SerialConfig{pty->slavePath(), 921600});
-        device = std::make_unique<XsensDevice>(*serial);
+        host = std::make_unique<PtyXsensHostStream>(*serial, *pty);
+        device = std::make_unique<XsensDevice>(*host, deviceConfig());
+    }
+    // The host stamps receptions with the fake's device time: as fast as the host reads, that
+    // runs far ahead of the real clock, and it is what SampleTimeFine says (see PtyXsens).
+    XsensDeviceConfig deviceConfig() {
+        XsensDeviceConfig dc;
+        dc.clock = [p = pty.get()] { return p->deviceNow(); };
+        return dc;
     }
     std::vector<ImuSample> collect(std::size_t n, TimeNs budget = 20 * kNsPerSec) {
         std::vector<ImuSample> out;
@@ -64,6 +72,7 @@ struct PtyRig {
     FakeXsens fake;
     std::unique_ptr<PtyXsens> pty;
     std::unique_ptr<transport::SerialStream> serial;
+    std::unique_ptr<PtyXsensHostStream> host;
     std::unique_ptr<XsensDevice> device;
     std::string skip_reason;
 };
@@ -94,8 +103,19 @@ TEST(XsensPtyHil, StreamingDeviceIsConfiguredAndEverySampleArrives) {
     expectExactly(samples, rig.truth());
     EXPECT_EQ(rig.device->stats().gaps, 0u);
     EXPECT_EQ(rig.device->stats().checksum_failures, 0u);
-    // Both the 16-bit counter and the 32-bit SampleTimeFine wrapped on the way.
+    // Both the 16-bit counter and the 32-bit SampleTimeFine wrapped on the way, and the time
+    // mapping held all through: SampleTimeFine and the (device-time) receptions agree.
     EXPECT_EQ(rig.device->clock().wraps(), 1);
+    EXPECT_EQ(rig.device->clock().resets(), 0);
+    EXPECT_EQ(rig.device->clock().outliers(), 0);
+    // Every mapped time lies on the 200 Hz line through the last one, within the receive latency
+    // the fake allows (kFastLeadBytes: ~5 packets) plus one packet of chunking.
+    EXPECT_NEAR(rig.device->clock().driftPpm(), 0.0, 100.0);
+    const TimeNs last = samples.back().t_host;
+    for (std::size_t i = 0; i < samples.size(); ++i) {
+        const TimeNs on_line = last - static_cast<TimeNs>(samples.size() - 1 - i) * 5 * kNsPerMs;
+        ASSERT_NEAR(static_cast<double>(samples[i].t_host - on_line), 0.0, 35e6) << "sample " << i;
+    }
 }
 
 TEST(XsensPtyHil, RealTimeSamplesGetHostTimesFiveMillisecondsApart) {
@@ -153,10 +173,10 @@ TEST(XsensPtyHil, FactoryDefaultDeviceAt115200IsFoundAndMovedTo921600) {
     fc.baudrate = 115200;  // as shipped
     PtyRig rig(fc, {}, PtyXsensOptions{.real_time = false});
     if (!rig.pty) GTEST_SKIP() << rig.skip_reason;
-    XsensDeviceConfig dc;
+    XsensDeviceConfig dc = rig.deviceConfig();
     dc.reply_timeout = 100 * kNsPerMs;
     dc.set_link_baudrate = [&rig](int baud) { return rig.serial->setBaudrate(baud); };
-    rig.device = std::make_unique<XsensDevice>(*rig.serial, dc);
+    rig.device = std::make_unique<XsensDevice>(*rig.host, dc);
     Status s = rig.device->configure();
     ASSERT_TRUE(s.isOk()) << s.message();
     EXPECT_EQ(rig.fakeState([](const FakeXsens& d) { return d.baudrate(); }), 921600);

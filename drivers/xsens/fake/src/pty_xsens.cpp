@@ -2,6 +2,7 @@
 
 #include <fcntl.h>
 #include <poll.h>
+#include <sys/eventfd.h>
 #include <stdlib.h>  // posix_openpt, grantpt, unlockpt, ptsname_r
 #include <termios.h>
 #include <unistd.h>
@@ -23,6 +24,13 @@ PtyXsens::PtyXsens(FakeXsens& device, PtyXsensOptions options) : device_(device)
         throw std::runtime_error("pty setup: " + err);
     }
     slave_path_ = name;
+    wake_fd_ = ::eventfd(0, EFD_NONBLOCK | EFD_CLOEXEC);
+    if (wake_fd_ < 0) {
+        const std::string err = std::strerror(errno);
+        ::close(master_);
+        throw std::runtime_error("eventfd: " + err);
+    }
+    device_time_ = device_time_anchor_ = monotonicNow();
     termios tio{};
     if (::tcgetattr(master_, &tio) == 0) {
         ::cfmakeraw(&tio);
@@ -31,7 +39,10 @@ PtyXsens::PtyXsens(FakeXsens& device, PtyXsensOptions options) : device_(device)
     thread_ = std::thread([this] { run(); });
 }
 
-PtyXsens::~PtyXsens() { hangUp(); }
+PtyXsens::~PtyXsens() {
+    hangUp();
+    ::close(wake_fd_);
+}
 
 namespace {
 
@@ -68,24 +79,84 @@ std::vector<StreamedPacket> PtyXsens::streamed() {
     return device_.streamed();
 }
 
+TimeNs PtyXsens::deviceNow() {
+    if (options_.real_time) return monotonicNow();
+    std::lock_guard lock(mutex_);
+    return device_time_runs_ ? device_time_ + (monotonicNow() - device_time_anchor_) : device_time_;
+}
+
+void PtyXsens::updateDeviceClock(bool producing_fast) {
+    if (device_time_runs_) {
+        const TimeNs now = monotonicNow();
+        device_time_ += now - device_time_anchor_;
+        device_time_anchor_ = now;
+    }
+    device_time_runs_ = !producing_fast;
+}
+
+void PtyXsens::hostOpening() {
+    std::lock_guard lock(mutex_);
+    writes_held_ = true;
+}
+
+void PtyXsens::hostOpened() {
+    std::lock_guard lock(mutex_);
+    // Opening flushed the host's input, and nothing was written since: the count starts afresh.
+    host_took_ = bytes_written_;
+    writes_held_ = false;
+}
+
+void PtyXsens::hostTook(std::size_t n) {
+    {
+        std::lock_guard lock(mutex_);
+        host_took_ += n;
+    }
+    const std::uint64_t one = 1;
+    [[maybe_unused]] const ssize_t w = ::write(wake_fd_, &one, sizeof one);
+}
+
+Status PtyXsensHostStream::open() {
+    // SerialStream::open() flushes what is in flight; the fake holds its writes meanwhile so that
+    // it knows exactly which bytes the host can still read.
+    pty_.hostOpening();
+    Status s = link_.open();
+    pty_.hostOpened();
+    unreported_ = 0;
+    return s;
+}
+
+Result<std::size_t> PtyXsensHostStream::read(std::span<std::uint8_t> buffer, TimeNs timeout) {
+    // The previous chunk is processed: only now may the fake produce past it.
+    if (unreported_ != 0) pty_.hostTook(unreported_);
+    unreported_ = 0;
+    auto n = link_.read(buffer, timeout);
+    if (n.isOk()) unreported_ = *n;
+    return n;
+}
+
 void PtyXsens::run() {
     std::vector<std::uint8_t> pending;
     std::uint8_t buf[1024];
     TimeNs next_packet = monotonicNow();
     while (!stop_) {
-        // 1. Host bytes -> device.
-        pollfd p{master_, POLLIN, 0};
+        // 1. Host bytes -> device (or a receipt from the host: it took bytes).
+        pollfd p[2]{{master_, POLLIN, 0}, {wake_fd_, POLLIN, 0}};
         const TimeNs now = monotonicNow();
         int wait_ms = 1;
         if (options_.real_time && next_packet > now) wait_ms = static_cast<int>(std::min<TimeNs>((next_packet - now) / kNsPerMs, 5));
         if (!pending.empty()) wait_ms = std::min(wait_ms, 1);
-        if (::poll(&p, 1, wait_ms) > 0 && (p.revents & POLLIN) != 0) {
+        const int ready = ::poll(p, 2, wait_ms);
+        if (ready > 0 && (p[1].revents & POLLIN) != 0) {
+            std::uint64_t receipts = 0;
+            [[maybe_unused]] const ssize_t r = ::read(wake_fd_, &receipts, sizeof receipts);
+        }
+        if (ready > 0 && (p[0].revents & POLLIN) != 0) {
             const ssize_t n = ::read(master_, buf, sizeof buf);
             std::lock_guard lock(mutex_);
             if (n > 0 && hostBaudrate(master_) == device_.baudrate()) {  // else the device hears noise
                 device_.receive(std::span<const std::uint8_t>(buf, static_cast<std::size_t>(n)));
             }
-        } else if ((p.revents & POLLHUP) != 0) {
+        } else if ((p[0].revents & POLLHUP) != 0) {
             // No slave open yet (or it was closed): nothing to talk to.
             ::usleep(1000);
         }
@@ -96,11 +167,14 @@ void PtyXsens::run() {
             auto out = device_.takeOutput();
             if (mismatched) FakeXsens::garble(out);
             pending.insert(pending.end(), out.begin(), out.end());
-            if (device_.measuring() && !paused_) {
+            const bool producing = device_.measuring() && !paused_;
+            updateDeviceClock(producing && !options_.real_time);
+            if (producing) {
                 const TimeNs t = monotonicNow();
                 const TimeNs period = kNsPerSec / device_.rateHz();
                 if (options_.real_time) {
-                    if (t - next_packet > 10 * period) next_packet = t;  // do not burst after a pause
+                    // The device's clock does not stop when this thread is held up: catch up with
+                    // the packets that fell due meanwhile, as a UART FIFO would deliver them.
                     while (next_packet <= t) {
                         device_.emitPacket();
                         next_packet += period;
@@ -109,9 +183,15 @@ void PtyXsens::run() {
                     if (mismatched) FakeXsens::garble(out);
                     pending.insert(pending.end(), out.begin(), out.end());
                 } else {
-                    // As fast as the host reads: keep about one pty buffer's worth in flight.
-                    while (pending.size() < 4096) {
+                    // As fast as the host reads: at most kFastLeadBytes ahead of what it took,
+                    // each packet one period of device time.
+                    const auto ahead = [&] {
+                        const std::uint64_t written = bytes_written_;
+                        return pending.size() + (written - std::min(host_took_, written));
+                    };
+                    while (ahead() < kFastLeadBytes) {
                         device_.emitPacket();
+                        device_time_ += period;
                         out = device_.takeOutput();
                         if (mismatched) FakeXsens::garble(out);
                         pending.insert(pending.end(), out.begin(), out.end());
@@ -122,7 +202,9 @@ void PtyXsens::run() {
             }
         }
         if (!pending.empty()) {
-            const ssize_t n = ::write(master_, pending.data(), pending.size());
+            // Under the lock, so that hostOpening() knows no write is under way (non-blocking).
+            std::lock_guard lock(mutex_);
+            const ssize_t n = writes_held_ ? 0 : ::write(master_, pending.data(), pending.size());
             if (n > 0) {
                 pending.erase(pending.begin(), pending.begin() + n);
                 bytes_written_ += static_cast<std::uint64_t>(n);

@@ -7,8 +7,9 @@
 //
 // poll() does one step and never blocks longer than one handshake (a few reply timeouts) or one
 // read slice, so a driver thread can call it in a loop and check a stop flag in between. Every raw
-// chunk goes to the optional RawTap with its host receive time before it is decoded. Faults are
-// reported (returned, logged, counted) and recovered from; only damaged scans are lost.
+// chunk goes to the optional RawTap with its host receive time before it is decoded by the
+// ScanStreamDecoder (the same one replay uses). Faults are reported (returned, logged, counted)
+// and recovered from; only damaged scans are lost.
 #pragma once
 
 #include <deque>
@@ -20,8 +21,7 @@
 #include "handscan/core/config.hpp"
 #include "handscan/core/raw_tap.hpp"
 #include "handscan/core/samples.hpp"
-#include "handscan/hokuyo/scan_timestamper.hpp"
-#include "handscan/hokuyo/scip_stream_parser.hpp"
+#include "handscan/hokuyo/scan_stream_decoder.hpp"
 #include "handscan/hokuyo/sensor_parameters.hpp"
 #include "handscan/transport/byte_stream.hpp"
 
@@ -71,7 +71,7 @@ public:
     const std::optional<SensorParameters>& parameters() const { return params_; }
     const SensorIdentity& identity() const { return identity_; }
     HokuyoDeviceStats stats() const;
-    const ClockMapper& clock() const { return timestamper_.mapper(); }
+    const ClockMapper& clock() const { return decoder_.clock(); }
     const std::string& lastFault() const { return last_fault_; }
     const ScanRequest& request() const { return request_; }
 
@@ -81,7 +81,6 @@ private:
     Result<ScipFrame> transact(const std::string& command);
     Result<std::size_t> readChunk(TimeNs timeout);
     Status handleEvents(std::vector<LaserScan>& out);
-    void emitScan(const ScipFrame& frame, std::vector<LaserScan>& out);
     Status fault(Status status);
     void dropLink(const Status& why);
 
@@ -92,7 +91,8 @@ private:
     Sleep sleep_;
 
     State state_ = State::kDisconnected;
-    ScipStreamParser parser_;
+    ScanStreamDecoder decoder_;
+    std::vector<LaserScan> ready_;        // decoded, not handed out yet
     std::deque<ScipEvent> pending_;
     std::vector<ScipEvent> scratch_;
     std::vector<std::uint8_t> rx_;
@@ -102,13 +102,11 @@ private:
     std::optional<SensorParameters> params_;
     SensorIdentity identity_;
     ScanRequest request_;
-    ScanTimestamper timestamper_;
 
     TimeNs next_attempt_ = 0;
     TimeNs backoff_;
     TimeNs last_scan_rx_ = 0;
     bool scanned_since_connect_ = false;
-    std::optional<std::uint32_t> last_t_device_;
     HokuyoDeviceStats stats_;
     std::string last_fault_;
 };

@@ -3,11 +3,10 @@
 // since power-up) into config mode with GoToConfig (resent until acknowledged), reads its id and
 // product code, sets the 200 Hz output configuration (PacketCounter, SampleTimeFine,
 // Acceleration, RateOfTurn, StatusWord, optional DeltaQ/DeltaV) and starts measurement. poll()
-// then hands out ImuSamples whose SampleTimeFine (10 kHz, 32 bit) is mapped to host time by a
-// ClockMapper; packet-counter gaps, checksum failures, resyncs and Error messages are counted
-// and described, never fatal. A device that restarts mid-stream (WakeUp) is let resume measuring
-// with its stored configuration; its clocks restart, so the time mapping starts afresh. Every
-// received byte chunk goes to the optional RawTap first.
+// then hands out ImuSamples decoded by the ImuStreamDecoder (the same one replay uses):
+// SampleTimeFine mapped to host time, gaps, damage and Error messages counted and described,
+// never fatal; a device that restarts mid-stream (WakeUp) is let resume measuring with its stored
+// configuration. Every received byte chunk goes to the optional RawTap first.
 #pragma once
 
 #include <cstdint>
@@ -21,9 +20,9 @@
 #include "handscan/core/samples.hpp"
 #include "handscan/core/status.hpp"
 #include "handscan/transport/byte_stream.hpp"
+#include "handscan/xsens/imu_stream_decoder.hpp"
 #include "handscan/xsens/mtdata2.hpp"
 #include "handscan/xsens/xbus_messages.hpp"
-#include "handscan/xsens/xbus_parser.hpp"
 
 namespace handscan::xsens {
 
@@ -42,18 +41,9 @@ struct XsensDeviceConfig {
     std::function<Status(int baud)> set_link_baudrate;
 };
 
-struct XsensDeviceStats {
+// The decoder's counts (device_errors also counts Error replies to requests) and the bytes read.
+struct XsensDeviceStats : ImuStreamStats {
     std::uint64_t bytes = 0;
-    std::uint64_t packets = 0;         // MTData2 frames received in measurement
-    std::uint64_t samples = 0;         // ImuSamples handed out
-    std::uint64_t gaps = 0;            // packet-counter discontinuities
-    std::uint64_t lost_packets = 0;    // packets missing across those gaps
-    std::uint64_t incomplete = 0;      // MTData2 without SampleTimeFine / Acceleration / RateOfTurn
-    std::uint64_t malformed = 0;       // MTData2 whose items could not be decoded
-    std::uint64_t device_errors = 0;   // Error (0x42) messages received
-    std::uint64_t restarts = 0;        // WakeUp seen while measuring (power glitch, reset)
-    std::uint64_t checksum_failures = 0;
-    std::uint64_t resyncs = 0;
 };
 
 class XsensDevice {
@@ -79,7 +69,7 @@ public:
     // Human-readable descriptions of the last problems seen (gaps, device errors, damage); the
     // oldest are dropped beyond 32.
     const std::vector<std::string>& problems() const { return problems_; }
-    const ClockMapper& clock() const { return clock_; }
+    const ClockMapper& clock() const { return decoder_.clock(); }
     bool measuring() const { return measuring_; }
 
     // The output configuration configure() sends for `config`.
@@ -93,21 +83,20 @@ private:
     Result<Reply> request(MessageId mid, std::span<const std::uint8_t> payload, const char* step);
     Status readSome(TimeNs timeout, TimeNs& t_rx);
     Status enterConfigMode();
-    void handleMeasurement(const XbusFrameView& frame, TimeNs t_rx, std::vector<ImuSample>* out);
     void note(std::string problem);
 
     transport::ByteStream& stream_;
     XsensDeviceConfig cfg_;
     RawTap* tap_;
-    XbusParser parser_;
-    ClockMapper clock_;
+    ImuStreamDecoder decoder_;
     std::vector<std::uint8_t> rx_;
+    TimeNs last_rx_ = 0;  // host time of the last read that returned bytes
     std::uint32_t device_id_ = 0;
     std::string product_code_;
     std::vector<OutputConfigEntry> output_config_;
     bool measuring_ = false;
     int link_baud_ = 0;
-    std::optional<std::uint16_t> last_counter_;
+    std::uint64_t refused_requests_ = 0;  // Error replies to our requests
     mutable XsensDeviceStats stats_;
     std::vector<std::string> problems_;
 };

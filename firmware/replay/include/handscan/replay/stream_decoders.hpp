@@ -1,7 +1,7 @@
 // Passive decoders of recorded device streams: the sensor->host bytes a driver received (as the
-// recorder's tap stored them, with host receive times) back into typed samples, through the same
-// codecs, parsers and clock mapping the live drivers use. Replay, `handscan decode` and the
-// hardware-in-the-loop tests use them; the live drivers add the command side on top.
+// recorder's tap stored them, with host receive times) back into typed samples. The Hokuyo and
+// Xsens ones are the drivers' own receive sides (hokuyo::ScanStreamDecoder,
+// xsens::ImuStreamDecoder, which the live devices delegate to) with replay's counters on top.
 #pragma once
 
 #include <cstdint>
@@ -13,11 +13,9 @@
 #include "handscan/core/clock_mapper.hpp"
 #include "handscan/core/config.hpp"
 #include "handscan/core/samples.hpp"
-#include "handscan/hokuyo/scan_timestamper.hpp"
-#include "handscan/hokuyo/scip_stream_parser.hpp"
-#include "handscan/hokuyo/sensor_parameters.hpp"
+#include "handscan/hokuyo/scan_stream_decoder.hpp"
 #include "handscan/motor/position_unwrapper.hpp"
-#include "handscan/xsens/xbus_parser.hpp"
+#include "handscan/xsens/imu_stream_decoder.hpp"
 
 namespace handscan::replay {
 
@@ -34,33 +32,29 @@ struct StreamCounters {
 // LaserScan with per-step host times from the 24-bit millisecond clock.
 class HokuyoStreamDecoder {
 public:
-    explicit HokuyoStreamDecoder(hokuyo::ScanTimingConfig timing = {}) : timestamper_(timing) {}
+    explicit HokuyoStreamDecoder(hokuyo::ScanTimingConfig timing = {}) : decoder_(timing) {}
     void feed(TimeNs t_rx, std::span<const std::uint8_t> bytes, std::vector<LaserScan>& out);
     StreamCounters counters() const;
-    const std::optional<hokuyo::SensorParameters>& parameters() const { return params_; }
+    const std::optional<hokuyo::SensorParameters>& parameters() const { return decoder_.parameters(); }
 
 private:
-    hokuyo::ScipStreamParser parser_;
-    hokuyo::ScanTimestamper timestamper_;
-    std::optional<hokuyo::SensorParameters> params_;
-    std::optional<std::uint32_t> last_t_device_;
+    hokuyo::ScanStreamDecoder decoder_;
     std::vector<hokuyo::ScipEvent> events_;
-    StreamCounters c_;
+    std::uint64_t faults_ = 0;
+    std::string last_fault_;
 };
 
 // Xbus stream of an MTi: MTData2 packets with SampleTimeFine, Acceleration and RateOfTurn become
 // ImuSamples on the host clock.
 class XsensStreamDecoder {
 public:
-    XsensStreamDecoder();
-    void feed(TimeNs t_rx, std::span<const std::uint8_t> bytes, std::vector<ImuSample>& out);
+    void feed(TimeNs t_rx, std::span<const std::uint8_t> bytes, std::vector<ImuSample>& out) {
+        decoder_.feed(t_rx, bytes, out);
+    }
     StreamCounters counters() const;
 
 private:
-    xsens::XbusParser parser_;
-    ClockMapper clock_;
-    std::optional<std::uint16_t> last_counter_;
-    StreamCounters c_;
+    xsens::ImuStreamDecoder decoder_;
 };
 
 // CANopen traffic of a CiA 406 encoder, one candump -l line per message: TPDO1 positions become
