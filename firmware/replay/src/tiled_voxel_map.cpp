@@ -133,7 +133,7 @@ Status TiledVoxelMap::flush(Tile& tile) {
         fragment.cells += chunk.size();
         chunk.clear();
     };
-    tile.voxels->forEachCell([&](const VoxelFilter::Cell& c) {
+    tile.voxels->forEachCellSpread([&](const VoxelFilter::Cell& c) {
         if (!status.isOk()) return;
         chunk.push_back(c);
         if (chunk.size() == kChunkCells) put();
@@ -151,6 +151,10 @@ Status TiledVoxelMap::flush(Tile& tile) {
 
 Result<std::unique_ptr<VoxelFilter>> TiledVoxelMap::mergedTile(Tile& tile) {
     std::unique_ptr<VoxelFilter> voxels = tile.voxels ? std::move(tile.voxels) : std::make_unique<VoxelFilter>(config_.voxel_m);
+    // At least as many voxels as the largest part holds: no rehashing for most of the merge.
+    std::uint64_t largest = voxels->size();
+    for (const Fragment& f : tile.fragments) largest = std::max(largest, f.cells);
+    voxels->reserve(static_cast<std::size_t>(largest));
     std::vector<VoxelFilter::Cell> chunk;
     for (const Fragment& f : tile.fragments) {
         for (std::uint64_t done = 0; done < f.cells;) {

@@ -75,6 +75,21 @@ public:
             if (c.n != 0) fn(c);
         }
     }
+    // The same, in an order spread over the whole hash space: for cells that will be merged into
+    // another table. In slot order they would arrive sorted by hash, and linear probing fed keys
+    // sorted by hash into a smaller table piles them into one ever longer run (quadratic time).
+    template <class Fn>
+    void forEachCellSpread(Fn&& fn) const {
+        const std::size_t mask = cells_.size() - 1;
+        const std::size_t stride = (static_cast<std::size_t>(static_cast<double>(cells_.size()) * 0.6180339887) | 1) & mask;
+        for (std::size_t i = 0, s = 0; i < cells_.size(); ++i, s = (s + stride) & mask) {
+            if (cells_[s].n != 0) fn(cells_[s]);
+        }
+    }
+    // Sizes the table for `voxels` occupied voxels at once (no rehashing on the way there).
+    void reserve(std::size_t voxels) {
+        while (voxels * 10 > cells_.size() * 7) grow();
+    }
 
     // Occupied voxels so far.
     std::size_t size() const { return occupied_; }
