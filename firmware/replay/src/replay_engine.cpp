@@ -122,8 +122,12 @@ Result<ReplayReport> runReplay(const ReplayOptions& o) {
     XsensStreamDecoder xsens;
     EncoderStreamDecoder encoder(encoderStreamConfig(device));
 
-    ReplayOutputs outputs(o.out_dir, {o.map_voxel_m, o.map_tile_m, static_cast<std::uint64_t>(o.map_memory_mib * (1 << 20)),
-                                      o.map_spill_dir.empty() ? o.out_dir : o.map_spill_dir});
+    TiledMapConfig map_config;
+    map_config.voxel_m = o.map_voxel_m;
+    map_config.tile_m = o.map_tile_m;
+    map_config.memory_budget_bytes = static_cast<std::uint64_t>(o.map_memory_mib * (1 << 20));
+    map_config.spill_dir = o.map_spill_dir.empty() ? o.out_dir : o.map_spill_dir;
+    ReplayOutputs outputs(o.out_dir, map_config);
     std::unique_ptr<journal::JournalWriter> journal;
     if (o.write_journal) {
         const std::string path = (fs::path(o.out_dir) / "journal.hsj").string();

@@ -104,7 +104,9 @@ Result<std::string> ReplayOutputs::writeStats(const StatsInputs& in) const {
        << ", \"memory_budget_mib\": " << static_cast<double>(map_.config().memory_budget_bytes) * kMiB
        << ", \"tiles\": " << m.tiles << ", \"peak_resident_mib\": " << static_cast<double>(m.peak_resident_bytes) * kMiB
        << ", \"fragments_flushed\": " << m.fragments_flushed << ", \"voxels_flushed\": " << m.cells_flushed
-       << ", \"spill_mib\": " << static_cast<double>(m.spill_bytes) * kMiB << "},\n";
+       << ", \"consolidations\": " << m.consolidations << ", \"compactions\": " << m.compactions
+       << ", \"peak_spill_mib\": " << static_cast<double>(m.peak_spill_bytes) * kMiB
+       << ", \"spill_written_mib\": " << static_cast<double>(m.spill_written_bytes) * kMiB << "},\n";
     callsJson(os, in.calls);
     os << "  \"streams\": {\n";
     streamJson(os, "hokuyo", in.hokuyo, false);

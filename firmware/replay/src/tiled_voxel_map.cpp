@@ -20,6 +20,8 @@ static_assert(std::is_trivially_copyable_v<VoxelFilter::Cell> && std::is_trivial
 
 constexpr std::size_t kChunkCells = std::size_t{1} << 16;   // flush / read-back granularity
 constexpr std::size_t kOutputBatch = std::size_t{1} << 16;  // points per sink() call
+// A tile flushed with this many fragments on disk is merged with them into one.
+constexpr std::size_t kMaxFragments = 4;
 
 std::int64_t floorDiv(std::int64_t a, std::int64_t b) { return a / b - ((a % b != 0) && ((a < 0) != (b < 0))); }
 
@@ -121,15 +123,31 @@ Status TiledVoxelMap::spillOpen(std::unique_ptr<SpillFile>& file, const char* na
     return Status::ok();
 }
 
+Status TiledVoxelMap::appendSpill(SpillFile& file, std::span<const std::uint8_t> bytes, std::uint64_t* offset) {
+    auto r = file.append(bytes);
+    if (!r.isOk()) return r.status();
+    if (offset != nullptr) *offset = *r;
+    stats_.spill_written_bytes += bytes.size();
+    stats_.spill_bytes = (fragments_ ? fragments_->size() : 0) + (runs_ ? runs_->size() : 0);
+    stats_.peak_spill_bytes = std::max(stats_.peak_spill_bytes, stats_.spill_bytes);
+    return Status::ok();
+}
+
 Status TiledVoxelMap::flush(Tile& tile) {
     if (Status s = spillOpen(fragments_, ".map-fragments.spill", "map spill file"); !s.isOk()) return s;
+    if (tile.fragments.size() + 1 >= kMaxFragments) {
+        // A tile flushed again and again (the sensor keeps seeing it): fold its fragments into
+        // the table (one tile's worth of memory, briefly) so it goes back as one.
+        for (const Fragment& f : tile.fragments) dead_bytes_ += f.cells * sizeof(VoxelFilter::Cell);
+        if (Status s = mergeFragments(tile, *tile.voxels); !s.isOk()) return s;
+        ++stats_.consolidations;
+    }
     Fragment fragment{fragments_->size(), 0};
     std::vector<VoxelFilter::Cell> chunk;
     chunk.reserve(std::min(kChunkCells, tile.voxels->size()));
     Status status = Status::ok();
     auto put = [&] {
-        auto r = fragments_->append(bytesOf(std::span<const VoxelFilter::Cell>(chunk)));
-        if (!r.isOk()) status = r.status();
+        status = appendSpill(*fragments_, bytesOf(std::span<const VoxelFilter::Cell>(chunk)), nullptr);
         fragment.cells += chunk.size();
         chunk.clear();
     };
@@ -145,27 +163,61 @@ Status TiledVoxelMap::flush(Tile& tile) {
     if (last_tile_ == &tile) last_key_ = ~0ull;  // the cache must not hand out the flushed table
     ++stats_.fragments_flushed;
     stats_.cells_flushed += fragment.cells;
+    const std::uint64_t live = fragments_->size() - dead_bytes_;
+    if (dead_bytes_ > std::max(live, config_.spill_slack_bytes)) return compactFragments();
+    return Status::ok();
+}
+
+Status TiledVoxelMap::compactFragments() {
+    // Copy the live fragments into a fresh scratch file (the old one's name is free: it was
+    // unlinked at creation), then drop the old one, which returns its space.
+    std::unique_ptr<SpillFile> old = std::move(fragments_);
+    if (Status s = spillOpen(fragments_, ".map-fragments.spill", "map spill file"); !s.isOk()) return s;
+    std::vector<std::uint8_t> buffer;
+    for (auto& [key, tile] : tiles_) {
+        for (Fragment& f : tile.fragments) {
+            const std::uint64_t bytes = f.cells * sizeof(VoxelFilter::Cell);
+            std::uint64_t offset = 0;
+            for (std::uint64_t done = 0; done < bytes;) {
+                buffer.resize(static_cast<std::size_t>(std::min<std::uint64_t>(kChunkCells * sizeof(VoxelFilter::Cell), bytes - done)));
+                if (Status s = old->read(f.offset + done, buffer); !s.isOk()) return s;
+                std::uint64_t at = 0;
+                if (Status s = appendSpill(*fragments_, buffer, &at); !s.isOk()) return s;
+                if (done == 0) offset = at;
+                done += buffer.size();
+            }
+            f.offset = offset;
+        }
+    }
+    old.reset();
+    dead_bytes_ = 0;
+    ++stats_.compactions;
     stats_.spill_bytes = fragments_->size() + (runs_ ? runs_->size() : 0);
     return Status::ok();
 }
 
-Result<std::unique_ptr<VoxelFilter>> TiledVoxelMap::mergedTile(Tile& tile) {
-    std::unique_ptr<VoxelFilter> voxels = tile.voxels ? std::move(tile.voxels) : std::make_unique<VoxelFilter>(config_.voxel_m);
+Status TiledVoxelMap::mergeFragments(Tile& tile, VoxelFilter& voxels) {
     // At least as many voxels as the largest part holds: no rehashing for most of the merge.
-    std::uint64_t largest = voxels->size();
+    std::uint64_t largest = voxels.size();
     for (const Fragment& f : tile.fragments) largest = std::max(largest, f.cells);
-    voxels->reserve(static_cast<std::size_t>(largest));
+    voxels.reserve(static_cast<std::size_t>(largest));
     std::vector<VoxelFilter::Cell> chunk;
     for (const Fragment& f : tile.fragments) {
         for (std::uint64_t done = 0; done < f.cells;) {
             chunk.resize(static_cast<std::size_t>(std::min<std::uint64_t>(kChunkCells, f.cells - done)));
             const std::uint64_t offset = f.offset + done * sizeof(VoxelFilter::Cell);
             if (Status s = fragments_->read(offset, bytesOf(std::span<VoxelFilter::Cell>(chunk))); !s.isOk()) return s;
-            for (const VoxelFilter::Cell& c : chunk) voxels->merge(c);
+            for (const VoxelFilter::Cell& c : chunk) voxels.merge(c);
             done += chunk.size();
         }
     }
     tile.fragments.clear();
+    return Status::ok();
+}
+
+Result<std::unique_ptr<VoxelFilter>> TiledVoxelMap::mergedTile(Tile& tile) {
+    std::unique_ptr<VoxelFilter> voxels = tile.voxels ? std::move(tile.voxels) : std::make_unique<VoxelFilter>(config_.voxel_m);
+    if (Status s = mergeFragments(tile, *voxels); !s.isOk()) return s;
     return voxels;
 }
 
@@ -181,12 +233,11 @@ Result<std::uint64_t> TiledVoxelMap::drain(const BeginFn& begin, const SinkFn& s
         voxels->reset();
         if (pts.empty()) continue;
         if (Status s = spillOpen(runs_, ".map-runs.spill", "map merge file"); !s.isOk()) return s;
-        auto offset = runs_->append(bytesOf(std::span<const MapPoint>(pts)));
-        if (!offset.isOk()) return offset.status();
-        runs.push_back({*offset, pts.size(), {}, 0});
+        std::uint64_t offset = 0;
+        if (Status s = appendSpill(*runs_, bytesOf(std::span<const MapPoint>(pts)), &offset); !s.isOk()) return s;
+        runs.push_back({offset, pts.size(), {}, 0});
         total += pts.size();
     }
-    stats_.spill_bytes = (fragments_ ? fragments_->size() : 0) + (runs_ ? runs_->size() : 0);
     tiles_.clear();
     fragments_.reset();  // no longer needed: give the disk space back before the output is written
     stats_.resident_bytes = 0;

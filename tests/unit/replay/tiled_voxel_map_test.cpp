@@ -168,7 +168,33 @@ TEST_F(TiledVoxelMapTest, EqualsTheInMemoryFilterWithRevisitsAndFlushing) {
     auto out = drainAll(map);
     ASSERT_TRUE(out.isOk()) << out.status().message();
     expectSamePoints(*out, reference.take());
-    EXPECT_GT(map.stats().spill_bytes, 0u);
+    EXPECT_GT(map.stats().peak_spill_bytes, 0u);
+    EXPECT_TRUE(dirEmpty(dir_));
+}
+
+TEST_F(TiledVoxelMapTest, RepeatedFlushesAreConsolidatedAndTheScratchFileStaysNearTheMapSize) {
+    // Eight laps under a budget far below the map: the same tiles are flushed over and over.
+    const auto steps = loopWalk(8, 40, 2000, 17);
+    VoxelFilter reference(0.1);
+    TiledMapConfig cfg{0.1, 8.0, 2u << 20, dir_.string()};
+    cfg.spill_slack_bytes = 1u << 20;
+    TiledVoxelMap map(cfg);
+    for (const Step& s : steps) {
+        reference.add(s.points);
+        Status added = map.add(s.points, s.sensor);
+        ASSERT_TRUE(added.isOk()) << added.message();
+    }
+    const TiledMapStats st = map.stats();
+    EXPECT_GT(st.consolidations, 0u);
+    EXPECT_GT(st.compactions, 0u);
+    const std::uint64_t map_bytes = reference.size() * sizeof(VoxelFilter::Cell);
+    EXPECT_GT(st.spill_written_bytes, 3 * map_bytes) << "the test must flush the map several times over";
+    // Live fragments hold each voxel at most kMaxFragments (4) times; dead ones at most as much
+    // again (plus the slack) before a rewrite.
+    EXPECT_LE(st.peak_spill_bytes, 2 * 4 * map_bytes + 2 * cfg.spill_slack_bytes);
+    auto out = drainAll(map);
+    ASSERT_TRUE(out.isOk()) << out.status().message();
+    expectSamePoints(*out, reference.take());
     EXPECT_TRUE(dirEmpty(dir_));
 }
 

@@ -2,7 +2,9 @@
 // (one point per voxel at the centroid, exact integer sums) split into cubic tiles. Tiles near the
 // sensor stay in memory; when the tiles held exceed the budget, the ones farthest from the sensor
 // are flushed (their voxel sums, already deduplicated) to an unlinked scratch file as a fragment.
-// A flushed tile that receives points again starts a new fragment. At the end every tile's
+// A flushed tile that receives points again starts a new fragment; a tile flushed with several
+// fragments on disk already is merged with them into one (so the scratch file holds about one copy
+// of the map, rewritten without the superseded fragments when they dominate). At the end every tile's
 // fragments are merged one tile at a time into a time-sorted run, and the runs are merged into
 // the output. Because the voxel sums are exact, the result equals, byte for byte, what one
 // in-memory VoxelFilter fed the same points gives, whatever was flushed when.
@@ -34,6 +36,9 @@ struct TiledMapConfig {
     double tile_m = 8.0;                               // edge of a tile (rounded to whole voxels)
     std::uint64_t memory_budget_bytes = 256ull << 20;  // voxel tables held in memory
     std::string spill_dir = ".";                       // where the scratch files go
+    // Superseded fragments tolerated in the scratch file (beyond as many bytes as the live ones)
+    // before it is rewritten without them.
+    std::uint64_t spill_slack_bytes = 64ull << 20;
 };
 
 struct TiledMapStats {
@@ -42,7 +47,11 @@ struct TiledMapStats {
     std::uint64_t peak_resident_bytes = 0;  // after any add(), before flushing
     std::uint64_t fragments_flushed = 0;
     std::uint64_t cells_flushed = 0;
-    std::uint64_t spill_bytes = 0;          // fragments + sorted runs
+    std::uint64_t consolidations = 0;       // flushes that merged the tile's fragments into one
+    std::uint64_t compactions = 0;          // rewrites of the scratch file without dead fragments
+    std::uint64_t spill_bytes = 0;          // scratch file(s) now
+    std::uint64_t peak_spill_bytes = 0;
+    std::uint64_t spill_written_bytes = 0;  // all writes to the scratch files
 };
 
 class TiledVoxelMap {
@@ -78,6 +87,9 @@ private:
     Tile& tileOf(const journal::MapPoint& p);
     Status flushFarthest(const Eigen::Vector3d& sensor_world);
     Status flush(Tile& tile);
+    Status mergeFragments(Tile& tile, exporter::VoxelFilter& into);
+    Status compactFragments();
+    Status appendSpill(SpillFile& file, std::span<const std::uint8_t> bytes, std::uint64_t* offset);
     Status spillOpen(std::unique_ptr<SpillFile>& file, const char* name, const char* what);
     Result<std::unique_ptr<exporter::VoxelFilter>> mergedTile(Tile& tile);
 
@@ -89,6 +101,7 @@ private:
     std::unique_ptr<exporter::VoxelFilter> probe_;  // voxel indices, same arithmetic as the tiles'
     std::unique_ptr<SpillFile> fragments_;
     std::unique_ptr<SpillFile> runs_;
+    std::uint64_t dead_bytes_ = 0;  // superseded fragments still in fragments_
     TiledMapStats stats_;
 };
 
