@@ -47,7 +47,7 @@ struct BiasEstimatorConfig {
     // solve. It is estimated as a horizontal correction of the gravity vector (observable from
     // turns: the body-frame bias turns with the device, the tilt does not).
     double gravity_step_sigma_mps2 = 0.01;      // change of the horizontal gravity per update
-    double max_gravity_tilt_rad = 0.035;        // 2 deg: beyond, the window is inconsistent
+    double max_gravity_tilt_rad = 0.06;         // 3.4 deg: beyond, the window is inconsistent
     // Robust (Tukey biweight) weights on the whitened per-interval residuals: a matcher slip (a
     // pose a decimetre off) is ignored instead of steering the velocity and biases.
     double robust_c = 5.0;
