@@ -36,4 +36,8 @@ const char* toString(ScanState state) {
     return "unknown";
 }
 
+bool isFinal(CommandState state) {
+    return state == CommandState::kDone || state == CommandState::kFailed || state == CommandState::kRejected;
+}
+
 }  // namespace handscan::shm

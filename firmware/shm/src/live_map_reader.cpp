@@ -143,6 +143,25 @@ std::uint64_t LiveMapReader::poseCount() const {
 
 namespace {
 
+// How long a slot stays reserved for an answer its UI has not read (a UI that died meanwhile),
+// and for a request the pipeline has not answered at all (a pipeline that is not taking
+// commands). A long export keeps its slot: each progress answer renews it.
+constexpr TimeNs kUnreadAnswerKeepNs = 2 * kNsPerSec;
+constexpr TimeNs kUnansweredRequestKeepNs = 10 * kNsPerSec;
+
+// True while `held` (the request in `slot`, read with the slot claimed) must not be overwritten.
+bool slotInUse(CommandSlot& slot, const CommandRequest& held, TimeNs writer_started, TimeNs now) {
+    if (held.seq == 0) return false;                                  // never used
+    if (held.sent_ns < writer_started) return false;                  // sent to a previous pipeline
+    if (atomicWord(slot.collected_seq).load(std::memory_order_acquire) == held.seq) return false;
+    CommandAck ack;
+    if (!seqlockRead(slot.ack_lock, slot.ack, ack, 16)) return true;  // being answered right now
+    if (ack.seq != held.seq) return now - held.sent_ns < kUnansweredRequestKeepNs;
+    if (!isFinal(static_cast<CommandState>(ack.state))) return now - ack.t_ns < kUnansweredRequestKeepNs;
+    if (!SharedRegion::processExists(held.sender_pid)) return false;  // its UI died: nobody will read it
+    return now - ack.t_ns < kUnreadAnswerKeepNs;
+}
+
 // Pose n, if its slot still holds it and it was not being rewritten while we copied.
 bool readPoseSlot(PoseSlot& slot, std::uint64_t n, PoseRecord& out) {
     auto seq = atomicWord(slot.seq);
@@ -236,15 +255,25 @@ Result<std::uint64_t> LiveMapReader::sendCommand(CommandType type, std::string_v
     CommandRequest req;
     req.type = static_cast<std::uint32_t>(type);
     req.sent_ns = monotonicNow();
+    req.sender_pid = static_cast<std::uint32_t>(SharedRegion::currentProcessId());
     setText(req.argument, argument);
     // Each try claims a fresh sequence number and its slot; a slot still held by another UI (or by
-    // one that crashed mid-write) is skipped rather than waited for.
+    // one that crashed mid-write) is skipped rather than waited for, and so is a slot whose command
+    // is still in flight or whose answer its UI has not read yet: other UIs' traffic never loses a
+    // command (the check runs with the slot claimed, so two UIs cannot both take it).
+    const TimeNs writer_started = atomicWord(h->writer_started_ns).load(std::memory_order_relaxed);
     for (std::size_t attempt = 0; attempt < 2 * kCommandSlots; ++attempt) {
         const std::uint64_t seq = atomicWord(h->next_command_seq).fetch_add(1, std::memory_order_relaxed) + 1;
         CommandSlot& slot = h->commands[seq % kCommandSlots];
         auto lock = atomicWord(slot.request_lock);
         std::uint64_t s = lock.load(std::memory_order_relaxed);
         if ((s & 1u) || !lock.compare_exchange_strong(s, s + 1, std::memory_order_acquire, std::memory_order_relaxed)) {
+            continue;
+        }
+        CommandRequest held;
+        loadRelaxed(held, slot.request);
+        if (slotInUse(slot, held, writer_started, req.sent_ns)) {
+            lock.store(s + 2, std::memory_order_release);  // unchanged: readers' copies stay valid
             continue;
         }
         std::atomic_thread_fence(std::memory_order_release);
@@ -278,6 +307,9 @@ Result<CommandAck> LiveMapReader::commandResult(std::uint64_t seq) const {
         pending.seq = seq;
         pending.state = static_cast<std::uint32_t>(CommandState::kPending);
         return pending;
+    }
+    if (isFinal(static_cast<CommandState>(ack.state))) {
+        atomicWord(slot.collected_seq).store(seq, std::memory_order_release);  // the slot may be reused
     }
     return ack;
 }

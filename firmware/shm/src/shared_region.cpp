@@ -2,6 +2,7 @@
 #include "handscan/shm/shared_region.hpp"
 
 #include <fcntl.h>
+#include <signal.h>
 #include <sys/mman.h>
 #include <sys/stat.h>
 #include <unistd.h>
@@ -103,6 +104,11 @@ Result<SharedRegion::Identity> SharedRegion::identityOf(const std::string& name)
 void SharedRegion::unlink(const std::string& name) { ::shm_unlink(name.c_str()); }
 
 std::uint64_t SharedRegion::currentProcessId() { return static_cast<std::uint64_t>(::getpid()); }
+
+bool SharedRegion::processExists(std::uint64_t pid) {
+    // Signal 0 checks existence only; EPERM means it exists under another user.
+    return pid != 0 && (::kill(static_cast<pid_t>(pid), 0) == 0 || errno != ESRCH);
+}
 
 Result<std::shared_ptr<SharedRegion>> SharedRegion::anonymous(std::size_t bytes) {
     void* p = ::mmap(nullptr, bytes, PROT_READ | PROT_WRITE, MAP_SHARED | MAP_ANONYMOUS, -1, 0);

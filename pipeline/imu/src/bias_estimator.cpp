@@ -1,5 +1,7 @@
 #include "handscan/imu/bias_estimator.hpp"
 
+#include "handscan/imu/dof_projector.hpp"
+
 #include <Eigen/Dense>
 #include <algorithm>
 #include <cmath>
@@ -153,9 +155,15 @@ Result<BiasUpdate> BiasEstimator::add(const FeedbackPose& f, const ImuHistory& h
     ImuBiases b2 = b1;
     Eigen::Vector3d g2 = gravity;
     if (solve_ba) {
-        b2.accel_mps2 += x.segment<3>(nv);
+        // Nothing is fed from unsolved translation directions (section 8): the changes of the
+        // accel bias and of gravity are kept only where they act along directions the newest
+        // feedback solved. Along an unsolved axis they were set by the weak velocity priors
+        // alone, i.e. by the IMU's own runaway velocity.
+        const Eigen::Matrix3d keep = Eigen::Matrix3d::Identity() - unsolvedTranslation(window_.back().solved);
+        const Eigen::Matrix3d& Rn = window_.back().R_world_imu;
+        b2.accel_mps2 += Rn.transpose() * keep * Rn * x.segment<3>(nv);
         // The correction turns gravity; its magnitude stays (the vertical is the accel bias's).
-        g2 = (gravity + E * x.segment<2>(ng)).normalized() * gravity.norm();
+        g2 = (gravity + keep * E * x.segment<2>(ng)).normalized() * gravity.norm();
         out.accel_updated = true;
     }
     const double tilt = std::acos(std::clamp(-g2.z() / g2.norm(), -1.0, 1.0));

@@ -1,5 +1,7 @@
 #include "handscan/imu/dof_projector.hpp"
 
+#include <Eigen/Eigenvalues>
+
 namespace handscan::imu {
 
 Matrix6d projectorFromMask(std::uint8_t solved_dof_mask) {
@@ -23,6 +25,16 @@ std::uint8_t maskFromProjector(const Matrix6d& P, double tolerance) {
         if ((P * e - e).norm() <= tolerance) mask = static_cast<std::uint8_t>(mask | (1u << i));
     }
     return mask;
+}
+
+Eigen::Matrix3d unsolvedTranslation(const Matrix6d& P) {
+    const Eigen::Matrix3d S = P.bottomRightCorner<3, 3>();
+    const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> es(0.5 * (S + S.transpose()));
+    Eigen::Matrix3d U = Eigen::Matrix3d::Zero();
+    for (int i = 0; i < 3; ++i) {
+        if (es.eigenvalues()(i) < 0.5) U += es.eigenvectors().col(i) * es.eigenvectors().col(i).transpose();
+    }
+    return U;
 }
 
 }  // namespace handscan::imu

@@ -9,6 +9,7 @@ ImuPredictor::ImuPredictor(ImuPredictorConfig config, const Eigen::Isometry3d& T
       T_imu_body_(T_cam_imu.inverse()),
       aligner_(config.alignment),
       bias_estimator_(config.bias),
+      motion_prior_(config.motion_prior),
       gravity_world_(gravityWorld(config.gravity_mps2)) {
     config_.alignment.gravity_mps2 = config_.gravity_mps2;
     aligner_ = StaticStartAligner(config_.alignment);
@@ -17,6 +18,7 @@ ImuPredictor::ImuPredictor(ImuPredictorConfig config, const Eigen::Isometry3d& T
 void ImuPredictor::initialize(const NavState& x, const ImuBiases& biases) {
     history_.clear();
     bias_estimator_.reset();
+    motion_prior_.reset();
     biases_ = biases;
     gravity_world_ = gravityWorld(config_.gravity_mps2);
     pending_init_ = x;
@@ -153,6 +155,9 @@ Status ImuPredictor::correct(TimeNs t, const Eigen::Isometry3d& T_world_body, co
         ++stats_.rejected_corrections;
         status = update.status();  // the pose is still applied; only the biases are kept
     }
+    // In unsolved translation directions the velocity is the walker's motion prior, not the
+    // IMU's double integral (unsolved_motion_prior.hpp).
+    x.v_world_imu = motion_prior_.apply(t, x.v_world_imu, unsolvedTranslation(solved));
     ++stats_.corrections;
     repropagateFrom(x);
     return status;

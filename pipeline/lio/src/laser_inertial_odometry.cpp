@@ -109,6 +109,11 @@ void LaserInertialOdometry::matchSweep(scan::Sweep sweep) {
         // per-axis mask (a degenerate corridor axis at 45 degrees to the world axes would
         // otherwise cost both horizontal axes, or leak into one of them).
         if (!predictor_.correct(sweep.t_start, r.pose.T_world_body, r.solved_projector_world).isOk()) ++stats_.rejected;
+    } else if (config_.imu_feedback && !reference && !r.first_sweep) {
+        // A sweep that solved nothing (too few matches: an open field, a fog of noise) is still
+        // feedback: every direction is unsolved, so the pose stays the prediction's and the
+        // velocity gets the motion prior instead of running on with the IMU alone.
+        if (!predictor_.correct(sweep.t_start, r.pose.T_world_body, Matrix6d::Zero()).isOk()) ++stats_.rejected;
     }
     PoseEstimate scan_pose = r.pose;
     scan_pose.t_host = sweep.t_start;

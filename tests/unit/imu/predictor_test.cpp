@@ -228,33 +228,73 @@ TEST_F(PredictorOnMotion, AMatcherSlipDoesNotRingTheVelocity) {
 }
 
 // Feedback degenerate along a direction that is no world axis (a corridor at 45 degrees): with
-// the eq. (21) projector, position and velocity along it stay the prediction's, however wrong the
-// matcher's value there; across it they follow the feedback.
+// the eq. (21) projector, the position along it stays the prediction's and the velocity along it
+// is the motion prior's (unsolved_motion_prior.hpp), however wrong the matcher's value there: a
+// twin predictor fed the truth ends in exactly the same state. Across it they follow the feedback.
 TEST_F(PredictorOnMotion, FeedbackInADiagonalDegenerateDirectionIsIgnored) {
     predictor_->initialize(m_.state(0.0), {});
+    ImuPredictor twin(ImuPredictorConfig{}, T_cam_imu_);
+    twin.initialize(m_.state(0.0), {});
     int next = 0;
     auto feedUntil = [&](double t) {
-        for (; next * kDt <= t + 1e-9; ++next) ASSERT_TRUE(predictor_->addImu(m_.sample(next * kDt, trueBiases())).isOk());
+        for (; next * kDt <= t + 1e-9; ++next) {
+            ASSERT_TRUE(predictor_->addImu(m_.sample(next * kDt, trueBiases())).isOk());
+            ASSERT_TRUE(twin.addImu(m_.sample(next * kDt, trueBiases())).isOk());
+        }
     };
     const Eigen::Vector3d d = Eigen::Vector3d(1.0, 1.0, 0.0).normalized();
     Matrix6d P = Matrix6d::Identity();
     P.bottomRightCorner<3, 3>() -= d * d.transpose();
+    EXPECT_LT((unsolvedTranslation(P) - d * d.transpose()).norm(), 1e-12);
     for (int sweep = 1; sweep <= 10; ++sweep) {
         const double t = sweep * 0.5;
         feedUntil(t + 0.3);
         const Eigen::Isometry3d before = *predictor_->poseAt(fromSeconds(t));
-        const Eigen::Vector3d v_before = predictor_->stateAt(fromSeconds(t))->v_world_imu;
         Eigen::Isometry3d garbage = trueBody(t);
         garbage.translation() += 0.7 * d;
         ASSERT_TRUE(predictor_->correct(fromSeconds(t), garbage, P).isOk());
+        ASSERT_TRUE(twin.correct(fromSeconds(t), trueBody(t), P).isOk());
         const Eigen::Isometry3d after = *predictor_->poseAt(fromSeconds(t));
         const Eigen::Vector3d v_after = predictor_->stateAt(fromSeconds(t))->v_world_imu;
         EXPECT_NEAR(d.dot(after.translation()), d.dot(before.translation()), 1e-9);
-        EXPECT_NEAR(d.dot(v_after), d.dot(v_before), 1e-9);
+        EXPECT_LT((after.translation() - twin.poseAt(fromSeconds(t))->translation()).norm(), 1e-9);
+        EXPECT_LT((v_after - twin.stateAt(fromSeconds(t))->v_world_imu).norm(), 1e-9);
         const Eigen::Vector3d across = (after.translation() - trueBody(t).translation()) -
                                        d * d.dot(after.translation() - trueBody(t).translation());
         EXPECT_LT(across.norm(), 1e-9);
     }
+}
+
+// The motion prior on its own: solved directions pass through and renew the held velocity;
+// unsolved ones relax from the IMU's value to the held one, which decays to zero.
+TEST(UnsolvedMotionPrior, HoldsTheLastSolvedVelocityAndForgetsTheImuRunaway) {
+    UnsolvedMotionPriorConfig c;
+    c.held_velocity_decay_s = 20.0;
+    c.imu_velocity_leak_s = 2.0;
+    UnsolvedMotionPrior prior(c);
+    const Eigen::Matrix3d none = Eigen::Matrix3d::Zero();
+    Eigen::Matrix3d along_x = Eigen::Matrix3d::Zero();
+    along_x(0, 0) = 1.0;
+    // Walking at 1.4 m/s along x, all solved.
+    EXPECT_LT((prior.apply(fromSeconds(1.0), Eigen::Vector3d(1.4, 0.1, 0.0), none) - Eigen::Vector3d(1.4, 0.1, 0.0)).norm(), 1e-12);
+    // Into a tunnel along x: the IMU's velocity there runs off by 0.1 m/s per second.
+    Eigen::Vector3d v(1.4, 0.1, 0.0);
+    for (int k = 2; k <= 60; ++k) {
+        Eigen::Vector3d imu = v + Eigen::Vector3d(0.1, 0.0, 0.0);  // the IMU-only velocity at t = k
+        imu.y() = 0.05;                                             // a solved direction: passes
+        v = prior.apply(fromSeconds(k), imu, along_x);
+        EXPECT_DOUBLE_EQ(v.y(), 0.05);
+        const double held = 1.4 * std::exp(-(k - 1) / 20.0);
+        EXPECT_NEAR(prior.held().x(), held, 1e-9);
+        // Steady state of the leak: held + 0.1 * e^-1/2 / (1 - e^-1/2) = held + 0.154.
+        if (k > 20) {
+            EXPECT_NEAR(v.x(), held, 0.2);
+        }
+    }
+    // Without the prior the IMU's value is kept (the held velocity is still tracked).
+    c.enabled = false;
+    UnsolvedMotionPrior off(c);
+    EXPECT_DOUBLE_EQ(off.apply(fromSeconds(1.0), Eigen::Vector3d(3.0, 0.0, 0.0), along_x).x(), 3.0);
 }
 
 TEST(ImuPredictor, StaticStartTakesTheAccelBiasAlongGravity) {

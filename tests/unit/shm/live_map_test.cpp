@@ -261,6 +261,57 @@ TEST(LiveMap, CommandsRoundTripInOrder) {
     EXPECT_EQ(static_cast<CommandState>(ui1.commandResult(*a)->state), CommandState::kRejected);
 }
 
+TEST(LiveMap, AnswerNotYetReadSurvivesOtherUisTraffic) {
+    // A UI that looks at its answer only at its next frame must still find it, even when another
+    // UI sent more commands than there are slots in the meantime.
+    auto region = SharedRegion::anonymous(regionBytes(1));
+    ASSERT_TRUE(region.isOk());
+    WriterOptions o;
+    o.map_capacity_points = 1;
+    auto writer = LiveMapWriter::attach(*region, o);
+    ASSERT_TRUE(writer.isOk());
+    LiveMapReader slow(*region);
+    LiveMapReader busy(*region);
+    const auto answerAll = [&] {
+        while (auto c = (*writer)->pollCommand()) (*writer)->ack(c->seq, CommandState::kDone, "ack " + c->argument);
+    };
+    auto mine = slow.sendCommand(CommandType::kExport, "/media/slow");
+    ASSERT_TRUE(mine.isOk());
+    answerAll();
+    for (std::size_t i = 0; i < 3 * kCommandSlots; ++i) {
+        auto seq = busy.sendCommand(CommandType::kStopScan, std::to_string(i));
+        ASSERT_TRUE(seq.isOk()) << seq.status().message();
+        answerAll();
+        auto r = busy.commandResult(*seq);
+        ASSERT_TRUE(r.isOk()) << r.status().message();
+        EXPECT_EQ(getText(r->message), "ack " + std::to_string(i));
+    }
+    auto r = slow.commandResult(*mine);
+    ASSERT_TRUE(r.isOk()) << r.status().message();
+    EXPECT_EQ(static_cast<CommandState>(r->state), CommandState::kDone);
+    EXPECT_EQ(getText(r->message), "ack /media/slow");
+}
+
+TEST(LiveMap, EverySlotAwaitingAnAnswerMakesSendFailClearly) {
+    // A pipeline that takes no commands: the 17th request finds no free slot and says why,
+    // instead of silently overwriting an earlier request.
+    auto region = SharedRegion::anonymous(regionBytes(1));
+    ASSERT_TRUE(region.isOk());
+    WriterOptions o;
+    o.map_capacity_points = 1;
+    auto writer = LiveMapWriter::attach(*region, o);
+    ASSERT_TRUE(writer.isOk());
+    LiveMapReader ui(*region);
+    for (std::size_t i = 0; i < kCommandSlots; ++i) ASSERT_TRUE(ui.sendCommand(CommandType::kStopScan).isOk());
+    auto extra = ui.sendCommand(CommandType::kStopScan);
+    ASSERT_FALSE(extra.isOk());
+    EXPECT_EQ(extra.status().code(), StatusCode::kTimeout);
+    EXPECT_NE(extra.status().message().find("every command slot is busy"), std::string::npos);
+    std::size_t taken = 0;
+    while ((*writer)->pollCommand()) ++taken;
+    EXPECT_EQ(taken, kCommandSlots);  // none of the 16 was overwritten
+}
+
 TEST(LiveMap, CommandSlotHeldByCrashedUiIsSkipped) {
     auto region = SharedRegion::anonymous(regionBytes(1));
     ASSERT_TRUE(region.isOk());
@@ -357,7 +408,8 @@ TEST(LiveMap, OtherLayoutVersionIsRejectedWithReason) {
     reinterpret_cast<RegionHeader*>((*raw)->data())->version = kLayoutVersion + 1;
     LiveMapReader reader(fastReader(name));
     EXPECT_EQ(reader.poll(), Connection::kIncompatible);
-    EXPECT_NE(reader.message().find("layout version 2"), std::string::npos) << reader.message();
+    EXPECT_NE(reader.message().find("layout version " + std::to_string(kLayoutVersion + 1)), std::string::npos)
+        << reader.message();
 }
 
 }  // namespace

@@ -159,6 +159,7 @@ ReaderStats runReader(LiveMapReader& reader, std::chrono::milliseconds duration)
                 if (getText(r->message).rfind("ack " + std::to_string(*it) + " /media/usb", 0) != 0) ++st.bad_answers;
                 it = pending.erase(it);
             } else if (!r && r.status().code() == StatusCode::kNotFound) {
+                ++st.commands_lost;
                 it = pending.erase(it);
             } else {
                 ++it;

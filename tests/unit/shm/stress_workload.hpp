@@ -20,6 +20,7 @@ struct ReaderStats {
     std::uint64_t nonces_seen = 0;
     std::uint64_t commands_sent = 0;
     std::uint64_t commands_answered = 0;
+    std::uint64_t commands_lost = 0;  // slot reused or writer replaced before the answer was read
     std::uint64_t torn = 0;          // records whose fields disagree: must stay 0
     std::uint64_t bad_points = 0;    // map points not where append-only order puts them: must stay 0
     std::uint64_t bad_answers = 0;   // acks with the wrong text for their command: must stay 0

@@ -15,7 +15,7 @@
 namespace handscan::shm {
 
 inline constexpr std::uint64_t kMagic = 0x314D48534E435348ull;  // "HSCNSHM1" little-endian
-inline constexpr std::uint32_t kLayoutVersion = 1;
+inline constexpr std::uint32_t kLayoutVersion = 2;
 inline constexpr const char* kDefaultRegionName = "/handscan-live";
 
 inline constexpr std::size_t kPoseRingCapacity = 2048;  // > 10 s of 200 Hz poses
@@ -129,7 +129,7 @@ struct StatusBlock {
 struct CommandRequest {
     std::uint64_t seq = 0;             // unique, increasing; 0 = slot never used
     std::uint32_t type = 0;            // CommandType
-    std::uint32_t reserved = 0;
+    std::uint32_t sender_pid = 0;      // the UI's process: its unread answers are freed when it dies
     std::int64_t sent_ns = 0;
     char argument[kArgumentChars] = {};  // e.g. the export target directory
 };
@@ -154,6 +154,7 @@ struct CommandSlot {
     CommandRequest request;
     std::uint64_t ack_lock = 0;        // seqlock, odd while the pipeline writes the ack
     CommandAck ack;
+    std::uint64_t collected_seq = 0;   // the sending UI has read the final answer to this request
 };
 
 struct RegionHeader {
@@ -196,6 +197,8 @@ inline constexpr std::size_t regionBytes(std::size_t map_capacity_points) {
 
 const char* toString(CommandType type);
 const char* toString(CommandState state);
+// Done, failed or rejected: no further answer will come.
+bool isFinal(CommandState state);
 const char* toString(ScanState state);
 
 }  // namespace handscan::shm

@@ -32,6 +32,8 @@ public:
     static Result<Identity> identityOf(const std::string& name);
     static void unlink(const std::string& name);
     static std::uint64_t currentProcessId();
+    // False once process `pid` has exited (and been reaped); true while it runs or cannot be told.
+    static bool processExists(std::uint64_t pid);
     // A zero-filled MAP_SHARED|MAP_ANONYMOUS mapping (shared across fork(), no name).
     static Result<std::shared_ptr<SharedRegion>> anonymous(std::size_t bytes);
 

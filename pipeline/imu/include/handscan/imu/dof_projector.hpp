@@ -22,5 +22,10 @@ Matrix6d projectorFromMask(std::uint8_t solved_dof_mask);
 Matrix6d projectorFromEigenvectors(const Matrix6d& V, int well_conditioned);
 // The world-axis DOFs a projector (nearly) contains: bit i set when e_i is within the subspace.
 std::uint8_t maskFromProjector(const Matrix6d& P, double tolerance = 1e-3);
+// The orthogonal projector onto the translation directions (world axes) a projector leaves
+// unsolved: the eigenvectors of the symmetrized translation block with eigenvalue below 1/2 (the
+// block of an eq. (21) projector whose eigenvectors mix rotation and translation is no projector
+// itself).
+Eigen::Matrix3d unsolvedTranslation(const Matrix6d& P);
 
 }  // namespace handscan::imu

@@ -19,6 +19,7 @@
 #include "handscan/imu/dof_projector.hpp"
 #include "handscan/imu/gravity_alignment.hpp"
 #include "handscan/imu/imu_history.hpp"
+#include "handscan/imu/unsolved_motion_prior.hpp"
 
 namespace handscan::imu {
 
@@ -29,6 +30,7 @@ struct ImuPredictorConfig {
     double max_gap_s = 0.1;              // a longer gap between samples is counted as a dropout
     GravityAlignmentConfig alignment;
     BiasEstimatorConfig bias;
+    UnsolvedMotionPriorConfig motion_prior;  // the velocity in unsolved directions (section 8)
 };
 
 struct ImuPredictorStats {
@@ -75,6 +77,8 @@ public:
     const Eigen::Isometry3d& T_imu_body() const { return T_imu_body_; }
     // Gravity in {W}: (0, 0, -g) until feedback refines its direction in the map frame.
     const Eigen::Vector3d& gravity() const { return gravity_world_; }
+    // The velocity held in unsolved translation directions (see unsolved_motion_prior.hpp).
+    const UnsolvedMotionPrior& motionPrior() const { return motion_prior_; }
 
 private:
     void startFrom(const NavState& x, const ImuSample& s);
@@ -85,6 +89,7 @@ private:
     Eigen::Isometry3d T_imu_body_;
     StaticStartAligner aligner_;
     BiasEstimator bias_estimator_;
+    UnsolvedMotionPrior motion_prior_;
     ImuHistory history_;
     ImuBiases biases_;
     Eigen::Vector3d gravity_world_;
