@@ -40,6 +40,12 @@ const RegisterCommand kReplay{"replay", "Run the pipeline on a recording: trajec
     sub.add_option("--device", o->device_config, "device.yaml (default: config dir)");
     sub.add_option("--calibration", o->calibration, "calibration.yaml (default: config dir)");
     sub.add_option("--map-voxel", o->map_voxel_m, "map.ply voxel size in metres")->check(CLI::Range(0.001, 1.0));
+    sub.add_option("--map-memory", o->map_memory_mib,
+                   "MiB of map voxels held in memory; beyond it the tiles farthest from the sensor go to a "
+                   "scratch file and are merged back at the end (same map.ply)")
+        ->check(CLI::Range(1.0, 1e6));
+    sub.add_option("--map-tile", o->map_tile_m, "edge of the map's tiles in metres")->check(CLI::Range(1.0, 1000.0));
+    sub.add_option("--map-spill-dir", o->map_spill_dir, "directory for the map's scratch file (default: --out)");
     sub.add_flag("!--no-colour", o->colourise, "do not colour the map from /camera/colour");
     sub.add_flag("--imu-feedback,!--no-imu-feedback", o->imu_feedback,
                  "scan-matching poses correct the IMU prediction's velocity, biases and gravity (default on; "

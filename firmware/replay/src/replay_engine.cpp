@@ -122,7 +122,13 @@ Result<ReplayReport> runReplay(const ReplayOptions& o) {
     XsensStreamDecoder xsens;
     EncoderStreamDecoder encoder(encoderStreamConfig(device));
 
-    ReplayOutputs outputs(o.out_dir, o.map_voxel_m);
+    TiledMapConfig map_config;
+    map_config.voxel_m = o.map_voxel_m;
+    map_config.tile_m = o.map_tile_m;
+    map_config.memory_budget_bytes = static_cast<std::uint64_t>(o.map_memory_mib * (1 << 20));
+    map_config.spill_dir = o.map_spill_dir.empty() ? o.out_dir : o.map_spill_dir;
+    ReplayOutputs outputs(o.out_dir, map_config);
+    if (Status st = outputs.open(); !st.isOk()) return st;
     std::unique_ptr<journal::JournalWriter> journal;
     if (o.write_journal) {
         const std::string path = (fs::path(o.out_dir) / "journal.hsj").string();
@@ -151,7 +157,7 @@ Result<ReplayReport> runReplay(const ReplayOptions& o) {
 
     auto consume = [&]() -> Status {
         for (PoseEstimate& p : pipeline.takePoses()) {
-            outputs.addPose(p);
+            if (Status st = outputs.addPose(p); !st.isOk()) return st;
             if (journal) (void)journal->appendPose(live_output::trajectoryPose(p));
             if (live) live->pose(p);
         }
@@ -173,7 +179,7 @@ Result<ReplayReport> runReplay(const ReplayOptions& o) {
                 colours = timer.time("colourisation", [&] { return colouriser->colourise(s.points_world, s.times, pose_at); });
             }
             const std::vector<journal::MapPoint> pts = live_output::sweepMapPoints(s, colours ? &*colours : nullptr);
-            outputs.addSweep(s, pts);
+            if (Status st = outputs.addSweep(s, pts); !st.isOk()) return st;
             if (journal) {
                 if (Status st = journal->appendPoints(pts); !st.isOk()) return st;
                 if (Status st = journal->flushIfDue(); !st.isOk()) return st;

@@ -41,9 +41,14 @@ void streamJson(std::ostringstream& os, const char* name, const StreamCounters& 
 
 }  // namespace
 
-ReplayOutputs::ReplayOutputs(std::string out_dir, double map_voxel_m) : dir_(std::move(out_dir)), map_(map_voxel_m) {}
+ReplayOutputs::ReplayOutputs(std::string out_dir, TiledMapConfig map) : dir_(std::move(out_dir)), map_(std::move(map)) {}
 
-void ReplayOutputs::addPose(const PoseEstimate& pose) {
+Status ReplayOutputs::open() {
+    trajectory_ = std::make_unique<exporter::SafeFileWriter>((fs::path(dir_) / "trajectory.tum").string());
+    return trajectory_->open();
+}
+
+Status ReplayOutputs::addPose(const PoseEstimate& pose) {
     const Eigen::Vector3d t = pose.T_world_body.translation();
     const Eigen::Quaterniond q(pose.T_world_body.linear());
     char line[200];
@@ -53,10 +58,16 @@ void ReplayOutputs::addPose(const PoseEstimate& pose) {
     if (poses_ > 0) distance_m_ += (t - last_position_).norm();
     last_position_ = t;
     ++poses_;
+    // Handed on in 1 MiB pieces: memory stays constant however long the recording.
+    if (tum_.size() < (std::size_t{1} << 20)) return Status::ok();
+    Status s = trajectory_->write({reinterpret_cast<const std::uint8_t*>(tum_.data()), tum_.size()});
+    tum_.clear();
+    return s;
 }
 
-void ReplayOutputs::addSweep(const lio::RegisteredSweep& s, std::span<const journal::MapPoint> pts) {
-    map_.add(pts);
+Status ReplayOutputs::addSweep(const lio::RegisteredSweep& s, std::span<const journal::MapPoint> pts) {
+    // The sensor's position at the sweep start decides which map tiles stay in memory.
+    if (Status st = map_.add(pts, s.result.pose.T_world_body.translation()); !st.isOk()) return st;
     registered_points_ += pts.size();
     SweepSummary sum;
     sum.index = s.result.sweep_index;
@@ -71,19 +82,24 @@ void ReplayOutputs::addSweep(const lio::RegisteredSweep& s, std::span<const jour
     sum.T_world_body = s.result.pose.T_world_body;
     sum.T_world_prior = s.result.T_world_prior;
     sweeps_.push_back(sum);
+    return Status::ok();
 }
 
-Status ReplayOutputs::writeTrajectory() const { return writeText((fs::path(dir_) / "trajectory.tum").string(), tum_); }
+Status ReplayOutputs::writeTrajectory() {
+    if (Status s = trajectory_->write({reinterpret_cast<const std::uint8_t*>(tum_.data()), tum_.size()}); !s.isOk()) return s;
+    tum_.clear();
+    return trajectory_->commit();
+}
 
-Result<std::uint64_t> ReplayOutputs::writeMap() const {
-    const std::vector<journal::MapPoint> pts = map_.take();
+Result<std::uint64_t> ReplayOutputs::writeMap() {
     exporter::SafeFileWriter file((fs::path(dir_) / "map.ply").string());
     if (Status s = file.open(); !s.isOk()) return s;
     auto writer = exporter::makePlyWriter(file);
-    if (Status s = writer->begin(pts.size()); !s.isOk()) return s;
-    if (Status s = writer->write(pts); !s.isOk()) return s;
+    auto n = map_.drain([&](std::uint64_t total) { return writer->begin(total); },
+                        [&](std::span<const journal::MapPoint> pts) { return writer->write(pts); });
+    if (!n.isOk()) return n.status();
     if (Status s = writer->end(); !s.isOk()) return s;
-    return static_cast<std::uint64_t>(pts.size());
+    return *n;
 }
 
 Result<std::string> ReplayOutputs::writeStats(const StatsInputs& in) const {
@@ -96,6 +112,15 @@ Result<std::string> ReplayOutputs::writeStats(const StatsInputs& in) const {
        << ",\n  \"distance_m\": " << distance_m_ << ",\n  \"sweeps\": " << sweeps_.size()
        << ",\n  \"registered_points\": " << registered_points_ << ",\n  \"map_points\": " << r.map_points
        << ",\n  \"peak_rss_mib\": " << in.peak_rss_mib << ",\n";
+    const TiledMapStats& m = map_.stats();
+    constexpr double kMiB = 1.0 / (1 << 20);
+    os << "  \"map\": {\"voxel_m\": " << map_.config().voxel_m << ", \"tile_m\": " << map_.config().tile_m
+       << ", \"memory_budget_mib\": " << static_cast<double>(map_.config().memory_budget_bytes) * kMiB
+       << ", \"tiles\": " << m.tiles << ", \"peak_resident_mib\": " << static_cast<double>(m.peak_resident_bytes) * kMiB
+       << ", \"fragments_flushed\": " << m.fragments_flushed << ", \"voxels_flushed\": " << m.cells_flushed
+       << ", \"consolidations\": " << m.consolidations << ", \"compactions\": " << m.compactions
+       << ", \"peak_spill_mib\": " << static_cast<double>(m.peak_spill_bytes) * kMiB
+       << ", \"spill_written_mib\": " << static_cast<double>(m.spill_written_bytes) * kMiB << "},\n";
     callsJson(os, in.calls);
     os << "  \"streams\": {\n";
     streamJson(os, "hokuyo", in.hokuyo, false);

@@ -158,6 +158,9 @@ Status ImuPredictor::correct(TimeNs t, const Eigen::Isometry3d& T_world_body, co
     // In unsolved translation directions the velocity is the walker's motion prior, not the
     // IMU's double integral (unsolved_motion_prior.hpp).
     x.v_world_imu = motion_prior_.apply(t, x.v_world_imu, unsolvedTranslation(solved));
+    if (!motion_prior_.gravityStep().isZero()) {
+        gravity_world_ = (gravity_world_ + motion_prior_.gravityStep()).normalized() * gravity_world_.norm();
+    }
     ++stats_.corrections;
     repropagateFrom(x);
     return status;

@@ -12,17 +12,36 @@ Eigen::Vector3d UnsolvedMotionPrior::apply(TimeNs t, const Eigen::Vector3d& v, c
     const double dt = have_last_ && t > last_t_ ? toSeconds(t - last_t_) : 0.0;
     have_last_ = true;
     last_t_ = t;
+    gravity_step_.setZero();
+    if (!config_.enabled) {
+        held_ = v;
+        return v;
+    }
     const Eigen::Matrix3d solved = Eigen::Matrix3d::Identity() - unsolved;
+    // The IMU's velocity change along the unsolved directions since the last feedback.
+    Eigen::Vector3d dv = unsolved * (v - held_);
+    if (dt > 0.0) {
+        // Its persistent small part is tilt / bias: tracked robustly, removed, and handed on.
+        const Eigen::Vector3d a = dv / dt;
+        const double r = a.norm() / config_.tilt_robust_mps2;
+        Eigen::Vector3d step = (1.0 - decay(dt, config_.tilt_time_constant_s)) / (1.0 + r * r) * a;
+        const Eigen::Vector3d total = accel_error_ + step;
+        if (total.norm() > config_.max_accel_error_mps2) {
+            step = total.normalized() * config_.max_accel_error_mps2 - accel_error_;
+        }
+        accel_error_ += step;
+        gravity_step_ = -step;
+        dv -= step * dt;
+    }
     const Eigen::Vector3d held_u = unsolved * held_ * decay(dt, config_.held_velocity_decay_s);
-    held_ = solved * v + held_u;
-    if (!config_.enabled) return v;
-    // The IMU's deviation from the held velocity since the last feedback, relaxed.
-    const Eigen::Vector3d v_u = held_u + unsolved * (v - held_u) * decay(dt, config_.imu_velocity_leak_s);
-    return solved * v + v_u;
+    held_ = solved * v + held_u + dv;
+    return held_;
 }
 
 void UnsolvedMotionPrior::reset() {
     held_.setZero();
+    accel_error_.setZero();
+    gravity_step_.setZero();
     have_last_ = false;
 }
 

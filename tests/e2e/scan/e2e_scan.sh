@@ -27,6 +27,12 @@ for f in trajectory.tum map.ply; do
   cmp -s "$work/r1/$f" "$work/r2/$f" || fail "$f differs between two --fast replays (not deterministic)"
 done
 grep -q '"realtime_factor"' "$work/r1/stats.json" || fail "stats.json without realtime_factor"
+# The map within a 1 MiB budget (tiles flushed to a scratch file and merged back at the end): the
+# same map.ply, and no scratch file left behind.
+"$bin" -q replay "$work/office.mcap" --out "$work/r3" --fast --map-memory 1 --map-tile 2
+cmp -s "$work/r1/map.ply" "$work/r3/map.ply" || fail "map.ply differs when built out of core (--map-memory 1)"
+grep -q '"fragments_flushed": [1-9]' "$work/r3/stats.json" || fail "a 1 MiB map budget flushed no tiles"
+if ls -A "$work/r3" | grep -q spill; then fail "the map's scratch file was left behind"; fi
 
 "$bin" eval --gt "$work/office.gt.tum" --est "$work/r1/trajectory.tum" > "$work/eval.txt"
 cat "$work/eval.txt"

@@ -38,6 +38,12 @@ struct ReplayOptions {
     std::string device_config;         // default: <config dir>/device.yaml
     std::string calibration;           // default: <config dir>/calibration.yaml
     double map_voxel_m = 0.02;         // map.ply density
+    // map.ply is built in tiles of this edge; when their voxel tables exceed the budget, the tiles
+    // farthest from the sensor go to a scratch file in map_spill_dir (default: out_dir) and are
+    // merged back at the end (same bytes as all in memory; see TiledVoxelMap).
+    double map_tile_m = 4.0;
+    double map_memory_mib = 256.0;
+    std::string map_spill_dir;
     bool write_journal = true;
     bool live = false;                 // publish to shared memory
     bool hold = false;                 // keep the final state published until interrupted

@@ -47,7 +47,9 @@ struct BiasEstimatorConfig {
     // solve. It is estimated as a horizontal correction of the gravity vector (observable from
     // turns: the body-frame bias turns with the device, the tilt does not).
     double gravity_step_sigma_mps2 = 0.01;      // change of the horizontal gravity per update
-    double max_gravity_tilt_rad = 0.035;        // 2 deg: beyond, the window is inconsistent
+    // 3.4 deg: beyond, the window is inconsistent (the unsolved-direction prior may turn gravity
+    // by up to 3 deg where a smooth tunnel bends the map, unsolved_motion_prior.hpp).
+    double max_gravity_tilt_rad = 0.06;
     // Robust (Tukey biweight) weights on the whitened per-interval residuals: a matcher slip (a
     // pose a decimetre off) is ignored instead of steering the velocity and biases.
     double robust_c = 5.0;

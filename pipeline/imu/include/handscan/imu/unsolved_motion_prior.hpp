@@ -1,13 +1,21 @@
 // The motion prior in the translation directions no exteroceptive module solved (paper section 8,
 // for a handheld device). There the pose comes from the IMU prediction, but the IMU's velocity
-// must not be trusted for long: every attitude error turns gravity into a world-fixed
-// acceleration along the unsolved axis (1 deg of pitch = 0.17 m/s^2) and the accelerometer
-// bias there is unobservable, so integrated twice over a 90 s tunnel walk it ran to kilometres.
-// The prior for a walking operator: the velocity in the unsolved directions is the last
-// well-observed velocity there, decaying to zero with `held_velocity_decay_s` (a walker who is
-// not seen does not keep running away); the IMU contributes only its short-term velocity changes,
-// relaxing to the held velocity with `imu_velocity_leak_s` (a step, a stop, a turn within a few
-// seconds). In solved directions the velocity is the feedback's, and it renews the held one.
+// cannot be trusted for long: every attitude error of the map frame turns gravity into a
+// world-fixed acceleration along the unsolved axis (1 deg of pitch = 0.17 m/s^2; a smooth tunnel
+// bends the map by ~2 deg over 50 m even with ground-truth motion) and the accelerometer bias
+// there is unobservable, so integrated twice over a 90 s tunnel walk the error ran to kilometres.
+//
+// The prior of a walking operator, applied at every feedback:
+//  - the velocity in the unsolved directions is the held one (the velocity after the previous
+//    feedback) plus the IMU's velocity change since then, decaying to zero with
+//    `held_velocity_decay_s` (an unseen walker does not keep running away);
+//  - a walker's acceleration is zero-mean: a small, persistent apparent acceleration along the
+//    unsolved directions is a tilt of gravity in the map frame (or accel bias), not motion. It
+//    is tracked with `tilt_time_constant_s`, robustly (Cauchy weight with scale
+//    `tilt_robust_mps2`, so a walker's starts, stops and turns - large accelerations - pass as
+//    motion), removed from the velocity change and handed to the predictor as a gravity
+//    correction along the unsolved directions (gravityStep()).
+// In solved directions the velocity is the feedback's and passes unchanged.
 #pragma once
 
 #include <Eigen/Core>
@@ -18,15 +26,15 @@ namespace handscan::imu {
 
 struct UnsolvedMotionPriorConfig {
     bool enabled = true;
-    // How long a walker keeps the velocity last seen in a direction that is no longer solved
-    // (walking into a tunnel at 1.4 m/s keeps about that pace for a while).
-    double held_velocity_decay_s = 20.0;
-    // The IMU-only velocity there relaxes to the held one with this time constant: the balance of
-    // a walker's speed changes (~1 m/s) against the unobservable acceleration error (tilt and
-    // accel bias, 0.02-0.1 m/s^2). Measured on 90 s simulated walks (seed 1), ATE in m for
-    // 2/5/10/15/60 s: tunnel 18/18/16/12/274, open field 12/13/15/17/34; without the prior
-    // 1484 and 47 (and 2961 and 67 with the bias and gravity also fed from unsolved directions).
-    double imu_velocity_leak_s = 10.0;
+    // Measured on 90 s simulated walks (seed 1), ATE (m) tunnel / open field: 5.4 / 10.1 with
+    // these; decay 30 s: 11.2 / 9.9, 120 s: 3.9 / 17.5; tilt time constant 1 s: 5.2 / 9.1, 3 s
+    // (decay 30 s): 10.8 / 11.8, 5 s: 8.0 / 16.9; robust scale 0.05: 6.7 / 15.4, 0.2: 7.1 / 12.4.
+    // Without the tilt (velocity relaxing to the held one, 10 s): 16.2 / 15.2. Without a prior:
+    // 1484 / 47 (2961 / 67 with the accel bias and gravity also fed from unsolved directions).
+    double held_velocity_decay_s = 60.0;
+    double tilt_time_constant_s = 2.0;
+    double tilt_robust_mps2 = 0.1;
+    double max_accel_error_mps2 = 0.5;   // 3 deg of tilt: beyond, the map frame is broken
 };
 
 class UnsolvedMotionPrior {
@@ -34,16 +42,24 @@ public:
     explicit UnsolvedMotionPrior(UnsolvedMotionPriorConfig config = {}) : config_(config) {}
 
     // At a feedback time t: `v` is the velocity after the feedback (the estimate in the solved
-    // directions, the IMU's in the others), `unsolved` the orthogonal projector onto the unsolved
-    // translation directions in world axes. Returns the velocity to continue the prediction with.
+    // directions, the IMU's prediction in the others), `unsolved` the orthogonal projector onto
+    // the unsolved translation directions in world axes. Returns the velocity to continue the
+    // prediction with; gravityStep() tells how to turn gravity.
     Eigen::Vector3d apply(TimeNs t, const Eigen::Vector3d& v, const Eigen::Matrix3d& unsolved);
     void reset();
-    // The held velocity (world, m/s) after the last apply().
+    // The velocity (world, m/s) after the last apply().
     const Eigen::Vector3d& held() const { return held_; }
+    // The change of gravity (world, m/s^2) the last apply() attributes to a tilt of the map frame
+    // along the unsolved directions; the predictor adds it to its gravity.
+    const Eigen::Vector3d& gravityStep() const { return gravity_step_; }
+    // The apparent acceleration removed so far (world, m/s^2).
+    const Eigen::Vector3d& accelError() const { return accel_error_; }
 
 private:
     UnsolvedMotionPriorConfig config_;
     Eigen::Vector3d held_ = Eigen::Vector3d::Zero();
+    Eigen::Vector3d accel_error_ = Eigen::Vector3d::Zero();
+    Eigen::Vector3d gravity_step_ = Eigen::Vector3d::Zero();
     TimeNs last_t_ = 0;
     bool have_last_ = false;
 };
