@@ -128,6 +128,7 @@ Result<ReplayReport> runReplay(const ReplayOptions& o) {
     map_config.memory_budget_bytes = static_cast<std::uint64_t>(o.map_memory_mib * (1 << 20));
     map_config.spill_dir = o.map_spill_dir.empty() ? o.out_dir : o.map_spill_dir;
     ReplayOutputs outputs(o.out_dir, map_config);
+    if (Status st = outputs.open(); !st.isOk()) return st;
     std::unique_ptr<journal::JournalWriter> journal;
     if (o.write_journal) {
         const std::string path = (fs::path(o.out_dir) / "journal.hsj").string();
@@ -156,7 +157,7 @@ Result<ReplayReport> runReplay(const ReplayOptions& o) {
 
     auto consume = [&]() -> Status {
         for (PoseEstimate& p : pipeline.takePoses()) {
-            outputs.addPose(p);
+            if (Status st = outputs.addPose(p); !st.isOk()) return st;
             if (journal) (void)journal->appendPose(live_output::trajectoryPose(p));
             if (live) live->pose(p);
         }

@@ -43,7 +43,12 @@ void streamJson(std::ostringstream& os, const char* name, const StreamCounters& 
 
 ReplayOutputs::ReplayOutputs(std::string out_dir, TiledMapConfig map) : dir_(std::move(out_dir)), map_(std::move(map)) {}
 
-void ReplayOutputs::addPose(const PoseEstimate& pose) {
+Status ReplayOutputs::open() {
+    trajectory_ = std::make_unique<exporter::SafeFileWriter>((fs::path(dir_) / "trajectory.tum").string());
+    return trajectory_->open();
+}
+
+Status ReplayOutputs::addPose(const PoseEstimate& pose) {
     const Eigen::Vector3d t = pose.T_world_body.translation();
     const Eigen::Quaterniond q(pose.T_world_body.linear());
     char line[200];
@@ -53,6 +58,11 @@ void ReplayOutputs::addPose(const PoseEstimate& pose) {
     if (poses_ > 0) distance_m_ += (t - last_position_).norm();
     last_position_ = t;
     ++poses_;
+    // Handed on in 1 MiB pieces: memory stays constant however long the recording.
+    if (tum_.size() < (std::size_t{1} << 20)) return Status::ok();
+    Status s = trajectory_->write({reinterpret_cast<const std::uint8_t*>(tum_.data()), tum_.size()});
+    tum_.clear();
+    return s;
 }
 
 Status ReplayOutputs::addSweep(const lio::RegisteredSweep& s, std::span<const journal::MapPoint> pts) {
@@ -75,7 +85,11 @@ Status ReplayOutputs::addSweep(const lio::RegisteredSweep& s, std::span<const jo
     return Status::ok();
 }
 
-Status ReplayOutputs::writeTrajectory() const { return writeText((fs::path(dir_) / "trajectory.tum").string(), tum_); }
+Status ReplayOutputs::writeTrajectory() {
+    if (Status s = trajectory_->write({reinterpret_cast<const std::uint8_t*>(tum_.data()), tum_.size()}); !s.isOk()) return s;
+    tum_.clear();
+    return trajectory_->commit();
+}
 
 Result<std::uint64_t> ReplayOutputs::writeMap() {
     exporter::SafeFileWriter file((fs::path(dir_) / "map.ply").string());

@@ -2,11 +2,13 @@
 #pragma once
 
 #include <map>
+#include <memory>
 #include <string>
 #include <vector>
 
 #include "handscan/core/samples.hpp"
 #include "handscan/core/status.hpp"
+#include "handscan/export/safe_file.hpp"
 #include "handscan/lio/laser_inertial_odometry.hpp"
 #include "handscan/replay/call_timer.hpp"
 #include "handscan/replay/replay_engine.hpp"
@@ -43,12 +45,14 @@ class ReplayOutputs {
 public:
     ReplayOutputs(std::string out_dir, TiledMapConfig map);
 
-    void addPose(const PoseEstimate& pose);
+    // Opens trajectory.tum (written as the poses come, committed by writeTrajectory()).
+    [[nodiscard]] Status open();
+    [[nodiscard]] Status addPose(const PoseEstimate& pose);
     // `points`: the sweep's registered points as journaled (coloured where the camera saw them).
     // Fails only when the map cannot flush tiles to its spill file (disk full, write error).
     [[nodiscard]] Status addSweep(const lio::RegisteredSweep& sweep, std::span<const journal::MapPoint> points);
 
-    Status writeTrajectory() const;
+    Status writeTrajectory();
     // Streams the map into map.ply (once: the map is consumed).
     Result<std::uint64_t> writeMap();
     Result<std::string> writeStats(const StatsInputs& in) const;
@@ -60,7 +64,8 @@ public:
 
 private:
     std::string dir_;
-    std::string tum_;
+    std::unique_ptr<exporter::SafeFileWriter> trajectory_;
+    std::string tum_;  // lines not yet handed to trajectory_
     std::uint64_t poses_ = 0;
     double distance_m_ = 0.0;
     Eigen::Vector3d last_position_ = Eigen::Vector3d::Zero();

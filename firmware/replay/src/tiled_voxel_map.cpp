@@ -20,6 +20,8 @@ static_assert(std::is_trivially_copyable_v<VoxelFilter::Cell> && std::is_trivial
 
 constexpr std::size_t kChunkCells = std::size_t{1} << 16;   // flush / read-back granularity
 constexpr std::size_t kOutputBatch = std::size_t{1} << 16;  // points per sink() call
+// A tile's table starts at 256 voxels (22 KiB): the far tiles a sweep touches get a few points each.
+constexpr unsigned kTileInitialBits = 8;
 // A tile flushed with this many fragments on disk is merged with them into one.
 constexpr std::size_t kMaxFragments = 4;
 
@@ -48,7 +50,7 @@ struct RunCursor {
 TiledVoxelMap::TiledVoxelMap(TiledMapConfig config)
     : config_(std::move(config)),
       voxels_per_tile_(std::max<std::int64_t>(1, std::llround(config_.tile_m / config_.voxel_m))),
-      probe_(std::make_unique<VoxelFilter>(config_.voxel_m)) {}
+      probe_(std::make_unique<VoxelFilter>(config_.voxel_m, kTileInitialBits)) {}
 
 TiledVoxelMap::~TiledVoxelMap() = default;
 
@@ -68,7 +70,7 @@ TiledVoxelMap::Tile& TiledVoxelMap::tileOf(const MapPoint& p) {
                        Eigen::Vector3d::Constant(0.5)) * edge;
         ++stats_.tiles;
     }
-    if (!tile.voxels) tile.voxels = std::make_unique<VoxelFilter>(config_.voxel_m);  // a new fragment
+    if (!tile.voxels) tile.voxels = std::make_unique<VoxelFilter>(config_.voxel_m, kTileInitialBits);  // a new fragment
     last_key_ = key;
     last_tile_ = &tile;
     return tile;
@@ -216,7 +218,8 @@ Status TiledVoxelMap::mergeFragments(Tile& tile, VoxelFilter& voxels) {
 }
 
 Result<std::unique_ptr<VoxelFilter>> TiledVoxelMap::mergedTile(Tile& tile) {
-    std::unique_ptr<VoxelFilter> voxels = tile.voxels ? std::move(tile.voxels) : std::make_unique<VoxelFilter>(config_.voxel_m);
+    std::unique_ptr<VoxelFilter> voxels =
+        tile.voxels ? std::move(tile.voxels) : std::make_unique<VoxelFilter>(config_.voxel_m, kTileInitialBits);
     if (Status s = mergeFragments(tile, *voxels); !s.isOk()) return s;
     return voxels;
 }

@@ -31,7 +31,10 @@ public:
         std::uint64_t r = 0, g = 0, b = 0, i = 0;
     };
 
-    explicit VoxelFilter(double voxel_m) : voxel_(voxel_m), inv_(1.0 / voxel_m) { cells_.resize(std::size_t{1} << bits_); }
+    // `initial_bits`: the table starts with 2^initial_bits slots (it doubles as voxels come).
+    explicit VoxelFilter(double voxel_m, unsigned initial_bits = 12) : voxel_(voxel_m), inv_(1.0 / voxel_m), bits_(initial_bits) {
+        cells_.resize(std::size_t{1} << bits_);
+    }
 
     void add(std::span<const journal::MapPoint> points) {
         for (const journal::MapPoint& p : points) {
@@ -163,7 +166,7 @@ private:
 
     double voxel_;
     double inv_;
-    unsigned bits_ = 12;
+    unsigned bits_;
     std::size_t occupied_ = 0;
     std::vector<Cell> cells_;
 };

@@ -41,7 +41,7 @@ struct ReplayOptions {
     // map.ply is built in tiles of this edge; when their voxel tables exceed the budget, the tiles
     // farthest from the sensor go to a scratch file in map_spill_dir (default: out_dir) and are
     // merged back at the end (same bytes as all in memory; see TiledVoxelMap).
-    double map_tile_m = 8.0;
+    double map_tile_m = 4.0;
     double map_memory_mib = 256.0;
     std::string map_spill_dir;
     bool write_journal = true;

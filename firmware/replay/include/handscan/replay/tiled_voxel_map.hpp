@@ -33,7 +33,7 @@ class SpillFile;
 
 struct TiledMapConfig {
     double voxel_m = 0.02;
-    double tile_m = 8.0;                               // edge of a tile (rounded to whole voxels)
+    double tile_m = 4.0;  // edge of a tile (rounded to whole voxels); small, so a flush is selective
     std::uint64_t memory_budget_bytes = 256ull << 20;  // voxel tables held in memory
     std::string spill_dir = ".";                       // where the scratch files go
     // Superseded fragments tolerated in the scratch file (beyond as many bytes as the live ones)
