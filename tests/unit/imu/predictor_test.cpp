@@ -267,45 +267,66 @@ TEST_F(PredictorOnMotion, FeedbackInADiagonalDegenerateDirectionIsIgnored) {
 
 // The motion prior on its own, in a closed loop with a simulated IMU: along the unsolved x axis
 // the IMU's velocity carries a world-fixed 0.05 m/s^2 tilt error (minus the gravity correction
-// the prior handed back so far). Solved directions pass unchanged; the tilt is learnt and the
-// walking speed held (decaying slowly), while a real manoeuvre (1 m/s^2 for 2 s) passes.
-TEST(UnsolvedMotionPrior, HoldsTheWalkLearnsTheTiltAndPassesManoeuvres) {
-    UnsolvedMotionPriorConfig c;
-    UnsolvedMotionPrior prior(c);
-    Eigen::Matrix3d along_x = Eigen::Matrix3d::Zero();
-    along_x(0, 0) = 1.0;
-    // Walking at 1.4 m/s along x, all solved.
-    const Eigen::Vector3d v0(1.4, 0.1, 0.0);
-    EXPECT_LT((prior.apply(fromSeconds(1.0), v0, Eigen::Matrix3d::Zero()) - v0).norm(), 1e-12);
-    const double tilt = 0.05, dt = 0.5;
-    Eigen::Vector3d v = v0, gravity_correction = Eigen::Vector3d::Zero();
-    auto step = [&](double t, double true_accel) {
-        // The IMU integrates the true acceleration plus the tilt error not yet corrected.
-        Eigen::Vector3d imu = v + Eigen::Vector3d(true_accel + tilt + gravity_correction.x(), 0.0, 0.0) * dt;
+// the prior handed back so far).
+class PriorLoop {
+public:
+    explicit PriorLoop(double tilt) : tilt_(tilt) { along_x_(0, 0) = 1.0; }
+    UnsolvedMotionPrior prior;
+    Eigen::Vector3d v = Eigen::Vector3d(1.4, 0.1, 0.0);
+    Eigen::Vector3d gravity_correction = Eigen::Vector3d::Zero();
+    double t = 1.0;
+    // One feedback 0.5 s later; the IMU integrated the true acceleration plus the tilt error.
+    void step(double true_accel, bool x_solved = false) {
+        t += 0.5;
+        Eigen::Vector3d imu = v + Eigen::Vector3d(true_accel + tilt_ + gravity_correction.x(), 0.0, 0.0) * 0.5;
         imu.y() = 0.05;  // a solved direction: passes
-        v = prior.apply(fromSeconds(t), imu, along_x);
+        v = prior.apply(fromSeconds(t), imu, x_solved ? Eigen::Matrix3d::Zero() : along_x_);
         gravity_correction += prior.gravityStep();
         EXPECT_DOUBLE_EQ(v.y(), 0.05);
-    };
-    double t = 1.0;
-    for (; t < 40.0; t += dt) step(t + dt, 0.0);
-    // 40 s in the tunnel: the tilt learnt, the speed held (decay 60 s: 1.4 e^-2/3 = 0.72 would be
-    // the decayed speed alone; the walk's speed is what stays, less what the tilt learning took).
-    EXPECT_NEAR(prior.accelError().x(), tilt, 0.015);  // 0.059: it also took some of the decay
-    EXPECT_NEAR(gravity_correction.x(), -prior.accelError().x(), 1e-12);
-    EXPECT_GT(v.x(), 0.5);
-    EXPECT_LT(v.x(), 1.5);
-    // Without the tilt tracking the velocity would have run 40 s x 0.05 = 2 m/s off; it did not.
-    const double before = v.x();
-    for (int k = 0; k < 4; ++k, t += dt) step(t + dt, 1.0);  // a turn: +2 m/s in 2 s
+    }
+
+private:
+    double tilt_;
+    Eigen::Matrix3d along_x_ = Eigen::Matrix3d::Zero();
+};
+
+// A tunnel from the start (x never solved): the tilt is learnt and the walking speed held
+// (decaying slowly), while a real manoeuvre (1 m/s^2 for 2 s) passes.
+TEST(UnsolvedMotionPrior, NeverSolvedHoldsTheWalkLearnsTheTiltAndPassesManoeuvres) {
+    PriorLoop loop(0.05);
+    while (loop.t < 40.0) loop.step(0.0);
+    const double before = loop.v.x();
+    for (int k = 0; k < 4; ++k) loop.step(1.0);  // a turn: +2 m/s in 2 s
     std::printf("after 40 s: tilt learnt %.4f m/s^2, speed %.3f m/s; the turn added %.3f m/s\n",
-                prior.accelError().x(), before, v.x() - before);
-    EXPECT_GT(v.x() - before, 1.8);
-    EXPECT_EQ(prior.held(), v);
+                loop.prior.accelError().x(), before, loop.v.x() - before);
+    // Decay 60 s alone: 1.4 e^-2/3 = 0.72; without the tilt tracking it would have run 2 m/s off.
+    EXPECT_NEAR(loop.prior.accelError().x(), 0.05, 0.015);  // 0.059: it also took some decay
+    EXPECT_NEAR(loop.gravity_correction.x(), -loop.prior.accelError().x(), 1e-12);
+    EXPECT_GT(before, 0.5);
+    EXPECT_LT(before, 1.5);
+    EXPECT_GT(loop.v.x() - before, 1.8);
+    EXPECT_EQ(loop.prior.held(), loop.v);
     // Without the prior the IMU's value is kept.
+    UnsolvedMotionPriorConfig c;
     c.enabled = false;
     UnsolvedMotionPrior off(c);
+    Eigen::Matrix3d along_x = Eigen::Matrix3d::Zero();
+    along_x(0, 0) = 1.0;
     EXPECT_DOUBLE_EQ(off.apply(fromSeconds(1.0), Eigen::Vector3d(3.0, 0.0, 0.0), along_x).x(), 3.0);
+}
+
+// A corridor seen along its axis after every direction was solved: the IMU (its biases just
+// learnt) is trusted for imu_trusted_s, then the prior ramps in.
+TEST(UnsolvedMotionPrior, AfterASolvedFeedbackTheImuIsTrustedForAWhile) {
+    PriorLoop loop(0.05);
+    loop.step(0.0, true);  // all solved at t = 1.5 s
+    const double v0 = loop.v.x();
+    while (loop.t < 21.0) loop.step(0.0);
+    // 19.5 s of IMU alone: its tilt error integrated, nothing learnt, nothing decayed.
+    EXPECT_NEAR(loop.v.x(), v0 + 0.05 * 19.5, 1e-9);
+    EXPECT_EQ(loop.prior.accelError().x(), 0.0);
+    while (loop.t < 80.0) loop.step(0.0);
+    EXPECT_NEAR(loop.prior.accelError().x(), 0.05, 0.015);  // then the prior took over
 }
 
 TEST(ImuPredictor, StaticStartTakesTheAccelBiasAlongGravity) {

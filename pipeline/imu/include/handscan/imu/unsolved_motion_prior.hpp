@@ -15,7 +15,11 @@
 //    `tilt_robust_mps2`, so a walker's starts, stops and turns - large accelerations - pass as
 //    motion), removed from the velocity change and handed to the predictor as a gravity
 //    correction along the unsolved directions (gravityStep()).
-// In solved directions the velocity is the feedback's and passes unchanged.
+// In solved directions the velocity is the feedback's and passes unchanged. After a feedback that
+// solved every translation, the IMU is trusted for `imu_trusted_s` (its velocity and biases along
+// the now unsolved direction were just learnt there: a corridor seen along its axis for a while),
+// then the prior ramps in over `imu_trust_ramp_s`; along a direction never solved since the
+// start (a tunnel from the static start on, an open field) it acts at once.
 #pragma once
 
 #include <Eigen/Core>
@@ -34,6 +38,11 @@ struct UnsolvedMotionPriorConfig {
     double held_velocity_decay_s = 60.0;
     double tilt_time_constant_s = 2.0;
     double tilt_robust_mps2 = 0.1;
+    // Simulated corridor (60 s, seed 1; stretches along its axis unsolved): ATE 0.098 m without
+    // the prior, 1.94 m with it acting at once, 0.15 m trusting the IMU 10 s (+10 s ramp),
+    // 0.076 m with 20 s (+20 s); tunnel and field unchanged (never solved).
+    double imu_trusted_s = 20.0;
+    double imu_trust_ramp_s = 20.0;
     double max_accel_error_mps2 = 0.5;   // 3 deg of tilt: beyond, the map frame is broken
 };
 
@@ -61,6 +70,8 @@ private:
     Eigen::Vector3d accel_error_ = Eigen::Vector3d::Zero();
     Eigen::Vector3d gravity_step_ = Eigen::Vector3d::Zero();
     TimeNs last_t_ = 0;
+    TimeNs solved_t_ = 0;   // the last feedback that solved every translation
+    bool ever_solved_ = false;
     bool have_last_ = false;
 };
 
