@@ -23,7 +23,10 @@ std::string hex32(std::uint32_t v) {
 }  // namespace
 
 CameraDevice::CameraDevice(transport::V4l2Device& device, CameraConfig config, RawTap* tap, Clock clock)
-    : dev_(device), cfg_(std::move(config)), tap_(tap), clock_(std::move(clock)) {}
+    : dev_(device),
+      cfg_(std::move(config)),
+      record_tap_(tap != nullptr ? std::make_unique<FrameRecordTap>(*tap) : nullptr),
+      clock_(std::move(clock)) {}
 
 CameraDevice::~CameraDevice() { release(); }
 
@@ -192,7 +195,7 @@ Result<std::optional<Image>> CameraDevice::grab(TimeNs timeout) {
     if (Status s = requeue(); !s) return s;  // hand the buffer back before anything slow
     ++stats_.frames;
 
-    if (tap_ != nullptr) {
+    if (record_tap_) {
         FrameRecordHeader h;
         h.sequence = buf->sequence;
         h.flags = buf->flags;
@@ -203,8 +206,8 @@ Result<std::optional<Image>> CameraDevice::grab(TimeNs timeout) {
         h.stride = bpp > 0 ? format_.bytesperline : 0;
         h.exposure_us = static_cast<std::uint32_t>(exposure_ / kNsPerUs);
         h.t_host_ns = img.t_host;
-        const auto rec = encodeFrameRecord(h, img.data);
-        tap_->onRaw(t_dequeue, rec);
+        record_tap_->submit(t_dequeue, h, img.data);  // queued: coded on the tap's thread
+        stats_.unrecorded = record_tap_->dropped();
     }
     return std::optional<Image>(std::move(img));
 }

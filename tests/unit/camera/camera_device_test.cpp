@@ -1,6 +1,11 @@
 // The V4L2 ioctl sequence and buffer handling against the fake device layer.
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <atomic>
+#include <condition_variable>
+#include <mutex>
+
 #include "handscan/camera/camera_device.hpp"
 #include "handscan/camera/frame_record.hpp"
 #include "handscan/camera/replay_v4l2_device.hpp"
@@ -196,6 +201,14 @@ TEST(CameraDevice, TapsEachBufferAsAFrameRecordThatReplaysIdentically) {
             first.push_back(**r);
         }
     }
+    // Coded as the simulator codes uncompressed frames: version-2 PNG records.
+    for (std::span<const std::uint8_t> rest(tap.bytes); !rest.empty();) {
+        auto rec = decodeFrameRecord(rest);
+        ASSERT_TRUE(rec) << rec.status().message();
+        EXPECT_EQ(rest[4], kFrameRecordCodedVersion);
+        EXPECT_EQ(rec->coding, FrameCoding::kPng);
+        rest = rest.subspan(rec->record_size);
+    }
     ReplayV4l2Device replay(greyCamera());
     auto added = replay.addRecords(tap.bytes);
     ASSERT_TRUE(added) << added.status().message();
@@ -214,6 +227,97 @@ TEST(CameraDevice, TapsEachBufferAsAFrameRecordThatReplaysIdentically) {
         EXPECT_EQ(second[i].exposure_ns, first[i].exposure_ns);
     }
     EXPECT_EQ(cam.stats().dropped, 4u);
+}
+
+TEST(CameraDevice, ASlowRecordingTapDoesNotHoldUpCapture) {
+    // The recorder's side is stuck (a slow disk, the coding): capture goes on at full pace, and
+    // every frame reaches the tap, in order, once it moves again.
+    struct StuckTap : RawTap {
+        void onRaw(TimeNs t, std::span<const std::uint8_t> b) override {
+            std::unique_lock lock(m);
+            moving.wait(lock, [this] { return released; });
+            times.push_back(t);
+            records.emplace_back(b.begin(), b.end());
+        }
+        void release() {
+            {
+                std::lock_guard lock(m);
+                released = true;
+            }
+            moving.notify_all();
+        }
+        std::mutex m;
+        std::condition_variable moving;
+        bool released = false;
+        std::vector<TimeNs> times;
+        std::vector<std::vector<std::uint8_t>> records;
+    } tap;
+    ReplayV4l2Device live(greyCamera());
+    for (std::uint32_t i = 0; i < 8; ++i) live.addFrame(header(i, (i + 1) * kNsPerSec), greyFrame(static_cast<std::uint8_t>(i)));
+    CameraConfig cfg;
+    cfg.width = 8;
+    cfg.height = 4;
+    TimeNs now = 100 * kNsPerSec;
+    std::vector<Image> grabbed;
+    {
+        CameraDevice cam(live, cfg, &tap, [&now] { return now += kNsPerMs; });
+        ASSERT_TRUE(cam.start());
+        for (int i = 0; i < 8; ++i) {
+            auto r = cam.grab(kNsPerMs);  // would wait forever if the tap ran on this thread
+            ASSERT_TRUE(r && *r) << (r ? "no frame" : r.status().message());
+            grabbed.push_back(**r);
+        }
+        EXPECT_EQ(cam.stats().frames, 8u);
+        EXPECT_EQ(cam.stats().unrecorded, 0u);
+        tap.release();
+    }  // the camera's tap hands on what is queued before it goes
+    ASSERT_EQ(tap.records.size(), 8u);
+    for (std::size_t i = 0; i < 8; ++i) {
+        auto rec = decodeFrameRecord(tap.records[i]);
+        ASSERT_TRUE(rec) << rec.status().message();
+        EXPECT_EQ(rec->header.sequence, i);
+        EXPECT_EQ(rec->header.t_host_ns, grabbed[i].t_host);
+        EXPECT_TRUE(std::equal(rec->payload.begin(), rec->payload.end(), grabbed[i].data.begin(), grabbed[i].data.end()));
+        if (i > 0) {
+            EXPECT_GT(tap.times[i], tap.times[i - 1]);
+        }
+    }
+}
+
+TEST(FrameRecordTap, DropsAndCountsBeyondItsBoundRatherThanWait) {
+    struct CountingTap : RawTap {
+        void onRaw(TimeNs, std::span<const std::uint8_t>) override { ++n; }
+        std::atomic<int> n{0};
+    } counting;
+    struct BlockedTap : RawTap {
+        void onRaw(TimeNs, std::span<const std::uint8_t>) override {
+            std::unique_lock lock(m);
+            cv.wait(lock, [this] { return go; });
+        }
+        std::mutex m;
+        std::condition_variable cv;
+        bool go = false;
+    } blocked;
+    FrameRecordHeader h = header(0, kNsPerSec);
+    {
+        FrameRecordTap t(blocked, 3 * 64);  // three 64-byte frames
+        for (int i = 0; i < 10; ++i) t.submit(i, h, greyFrame(static_cast<std::uint8_t>(i)));
+        // One may be with the worker already; the rest wait up to the bound.
+        EXPECT_GE(t.dropped(), 6u);
+        EXPECT_LE(t.dropped(), 7u);
+        {
+            std::lock_guard lock(blocked.m);
+            blocked.go = true;
+        }
+        blocked.cv.notify_all();
+        t.flush();
+        EXPECT_EQ(t.recorded() + t.dropped(), 10u);
+    }
+    FrameRecordTap t(counting);
+    for (int i = 0; i < 5; ++i) t.submit(i, h, greyFrame(1));
+    t.flush();
+    EXPECT_EQ(counting.n.load(), 5);
+    EXPECT_EQ(t.dropped(), 0u);
 }
 
 }  // namespace

@@ -5,15 +5,18 @@
 //            REQBUFS (the driver may grant fewer) -> QUERYBUF + mmap each -> QBUF all -> STREAMON.
 //   grab():  poll -> DQBUF -> copy the bytes out -> re-QBUF at once (the driver never starves),
 //            mid-exposure host time (frame_timing.hpp), dropped frames from sequence gaps,
-//            buffers flagged ERROR or too short skipped and counted; the raw buffer goes to the
-//            recording tap as a frame record (frame_record.hpp).
+//            buffers flagged ERROR or too short skipped and counted; the buffer goes to the
+//            recording tap as a frame record coded like the simulator's (PNG for GREY / YUYV),
+//            the coding done on the FrameRecordTap's thread, never on the capture thread.
 #pragma once
 
 #include <functional>
+#include <memory>
 #include <optional>
 #include <string>
 #include <vector>
 
+#include "handscan/camera/frame_record_tap.hpp"
 #include "handscan/camera/frame_timing.hpp"
 #include "handscan/core/raw_tap.hpp"
 #include "handscan/core/samples.hpp"
@@ -37,6 +40,7 @@ struct CameraStats {
     std::uint64_t error_buffers = 0;   // V4L2_BUF_FLAG_ERROR or short payload
     std::uint64_t host_timestamps = 0; // frames timed by the host (no monotonic device stamp)
     std::uint64_t restarts = 0;        // sequence went backwards
+    std::uint64_t unrecorded = 0;      // frames the recording tap dropped (its coder fell behind)
 };
 
 class CameraDevice {
@@ -67,7 +71,7 @@ private:
 
     transport::V4l2Device& dev_;
     CameraConfig cfg_;
-    RawTap* tap_;
+    std::unique_ptr<FrameRecordTap> record_tap_;  // when constructed with a tap
     Clock clock_;
     transport::V4l2PixFormat format_;
     PixelFormat pixel_format_ = PixelFormat::kGrey8;
