@@ -3,7 +3,6 @@
 // through a chunk is cut back so the journal ends on a whole chunk.
 #include <gtest/gtest.h>
 #include <signal.h>
-#include <sys/mount.h>
 #include <sys/resource.h>
 #include <sys/wait.h>
 #include <unistd.h>
@@ -12,6 +11,7 @@
 
 #include "handscan/journal/journal_reader.hpp"
 #include "handscan/journal/journal_writer.hpp"
+#include "../common/scratch_dir.hpp"
 
 namespace handscan::journal {
 namespace {
@@ -20,24 +20,8 @@ namespace fs = std::filesystem;
 
 class JournalDiskFull : public ::testing::Test {
 protected:
-    void SetUp() override {
-        dir_ = fs::temp_directory_path() / ("handscan_journal_full_" + std::to_string(::getpid()) + "_" +
-                                            ::testing::UnitTest::GetInstance()->current_test_info()->name());
-        fs::remove_all(dir_);
-        fs::create_directories(dir_);
-    }
-    void TearDown() override {
-        if (mounted_) ::umount2((dir_ / "disk").c_str(), MNT_DETACH);
-        fs::remove_all(dir_);
-    }
     // An 8 MiB tmpfs standing in for the internal storage; empty when mounting is not permitted.
-    std::string smallDisk() {
-        const fs::path m = dir_ / "disk";
-        fs::create_directories(m);
-        if (::mount("tmpfs", m.c_str(), "tmpfs", 0, "size=8m") != 0) return "";
-        mounted_ = true;
-        return m.string();
-    }
+    std::string smallDisk() { return scratch_.mountSmallDisk("8m").string(); }
     static std::vector<MapPoint> batch(std::uint64_t first, std::size_t n) {
         std::vector<MapPoint> v(n);
         for (std::size_t i = 0; i < n; ++i) v[i] = {(first + i) * 1e-5, static_cast<float>(first + i), 0, 0, 1, 2, 3, 4};
@@ -59,8 +43,8 @@ protected:
         EXPECT_EQ(next, points);
     }
 
-    fs::path dir_;
-    bool mounted_ = false;
+    testing::ScratchDir scratch_{"handscan_journal_full_"};
+    const fs::path dir_ = scratch_.path();
 };
 
 TEST_F(JournalDiskFull, WarnsFirstThenStopsAtTheReserveWithEverythingReadable) {

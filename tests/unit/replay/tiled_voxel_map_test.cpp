@@ -1,7 +1,6 @@
 // The out-of-core map equals the in-memory voxel filter byte for byte (on a stream that leaves
 // and revisits tiles under a budget that forces flushing), stays within its budget, and leaves no
 // scratch file behind, whether it succeeds or fails.
-#include <sys/mount.h>
 #include <sys/resource.h>
 #include <unistd.h>
 
@@ -14,6 +13,7 @@
 
 #include "handscan/export/voxel_filter.hpp"
 #include "handscan/replay/tiled_voxel_map.hpp"
+#include "../common/scratch_dir.hpp"
 
 namespace handscan::replay {
 namespace {
@@ -71,16 +71,6 @@ void expectSamePoints(const std::vector<MapPoint>& a, const std::vector<MapPoint
 
 class TiledVoxelMapTest : public ::testing::Test {
 protected:
-    void SetUp() override {
-        dir_ = fs::temp_directory_path() / ("handscan_tiled_map_" + std::to_string(::getpid()) + "_" +
-                                            ::testing::UnitTest::GetInstance()->current_test_info()->name());
-        fs::remove_all(dir_);
-        fs::create_directories(dir_);
-    }
-    void TearDown() override {
-        if (mounted_) ::umount2((dir_ / "disk").c_str(), MNT_DETACH);
-        fs::remove_all(dir_);
-    }
     bool dirEmpty(const fs::path& d) const { return fs::is_empty(d); }
 
     static Result<std::vector<MapPoint>> drainAll(TiledVoxelMap& map) {
@@ -97,8 +87,8 @@ protected:
         return out;
     }
 
-    fs::path dir_;
-    bool mounted_ = false;
+    handscan::testing::ScratchDir scratch_{"handscan_tiled_map_"};
+    const fs::path dir_ = scratch_.path();
 };
 
 TEST(VoxelFilterExactSums, OrderAndGroupingDoNotChangeTheResult) {
@@ -252,10 +242,8 @@ TEST_F(TiledVoxelMapTest, AMissingSpillDirectoryIsAClearError) {
 }
 
 TEST_F(TiledVoxelMapTest, AFullDiskIsAnErrorNamingTheSpillFile) {
-    const fs::path disk = dir_ / "disk";
-    fs::create_directories(disk);
-    if (::mount("tmpfs", disk.c_str(), "tmpfs", 0, "size=1m") != 0) GTEST_SKIP() << "mounting a tmpfs is not permitted here";
-    mounted_ = true;
+    const fs::path disk = scratch_.mountSmallDisk("1m");
+    if (disk.empty()) GTEST_SKIP() << "mounting a tmpfs is not permitted here";
     const auto steps = loopWalk(3, 40, 4000, 9);
     TiledVoxelMap map({0.1, 8.0, 1u << 20, disk.string()});
     Status s = Status::ok();
