@@ -53,6 +53,10 @@ int evalTrajectory(const EvalOptions& o, Eigen::Isometry3d& T_gt_est) {
                              t.rmse, t.mean, t.median, t.max);
     std::cout << fmt::format("rotation error (aligned) [deg]: rmse {:.3f}  max {:.3f}\n", ate.rotation_deg.rmse,
                              ate.rotation_deg.max);
+    if (ate.orientation_chose_branch) {
+        std::cout << "alignment: the path is planar and its positions fit the mirrored, upside-down branch "
+                     "better; the orientations chose the upright one (the estimate is distorted in plane)\n";
+    }
     for (const auto& d : drift.per_length) {
         if (d.segments == 0) {
             std::cout << fmt::format("drift {:>4.0f} m: no segment (path too short)\n", d.length_m);

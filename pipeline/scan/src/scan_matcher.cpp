@@ -5,6 +5,8 @@
 #include <cmath>
 #include <optional>
 
+#include "handscan/scan/surface_offset.hpp"
+
 namespace handscan::scan {
 namespace {
 
@@ -55,11 +57,17 @@ bool seenFromTheSameSide(const Eigen::Vector3d& normal, const Eigen::Vector3d& c
 }
 
 // Association (6.1): for each feature at pose T, the cluster of its closest map points, checked
-// by its eigenvalues; `corr` is overwritten.
+// by its eigenvalues; `corr` is overwritten. With `curvature`, planar matches measure to the
+// surface under the query (surface_offset.hpp), a millimetre refinement for the final kernel
+// scale (the extra neighbours cost a third of the matching time when searched every time).
 void associate(const ScanMatcherConfig& config, const FeatureCloud& features, const LocalMap& map,
-               const Eigen::Isometry3d& T, std::vector<Correspondence>& corr, int& edges, int& planes) {
+               const Eigen::Isometry3d& T, bool curvature, std::vector<Correspondence>& corr, int& edges,
+               int& planes) {
     const int K_edge = std::min(config.neighbours, LocalMap::kMaxNeighbours);
     const int K_plane = std::min(config.plane_neighbours, LocalMap::kMaxNeighbours);
+    const int K_curv = curvature ? std::min(config.curvature_neighbours, LocalMap::kMaxNeighbours) : 0;
+    SurfaceOffsetLimits curvature_limits;
+    curvature_limits.max_rms_m = config.curvature_max_rms_m;
     const double max_d2 = config.max_neighbour_dist_m * config.max_neighbour_dist_m;
     Eigen::Vector3d nb[LocalMap::kMaxNeighbours];
     double d2[LocalMap::kMaxNeighbours];
@@ -75,8 +83,10 @@ void associate(const ScanMatcherConfig& config, const FeatureCloud& features, co
             const Eigen::Vector3d& p = pts[pi];
             const Eigen::Vector3d q = T * p;
             const int K = edge ? K_edge : K_plane;
-            const int n = map.nearest(edge ? FeatureKind::kEdge : FeatureKind::kPlanar, q, K, nb, d2,
-                                      edge ? nullptr : nb_origin);
+            // Planar: the nearest K fit the plane, up to K_curv (closest first) its curvature.
+            const int found = map.nearest(edge ? FeatureKind::kEdge : FeatureKind::kPlanar, q,
+                                          edge ? K : std::max(K, K_curv), nb, d2, edge ? nullptr : nb_origin);
+            const int n = std::min(found, K);
             if (n < K || d2[n - 1] > max_d2) {
                 continue;
             }
@@ -113,7 +123,14 @@ void associate(const ScanMatcherConfig& config, const FeatureCloud& features, co
                                                          config.view_side_margin_m)) {
                     continue;
                 }
-                corr.push_back({p, c, nrm, false});
+                // The plane through the surface under the query, not through the cluster's
+                // centroid, which a curved surface moves off it (surface_offset.hpp).
+                int n_curv = n;
+                while (n_curv < found && d2[n_curv] <= max_d2) ++n_curv;
+                const auto offset = K_curv > K ? surfaceOffsetAt(nb, n_curv, c, nrm, es.eigenvectors().col(2),
+                                                                 es.eigenvectors().col(1), q, curvature_limits)
+                                               : std::nullopt;
+                corr.push_back({p, offset ? Eigen::Vector3d(c + *offset * nrm) : c, nrm, false});
                 ++planes;
             }
         }
@@ -219,7 +236,10 @@ MatchResult ScanMatcher::match(const FeatureCloud& features, const LocalMap& map
     };
 
     for (int assoc = 0; assoc < config_.max_associations; ++assoc) {
-        associate(config_, features, map, T, corr, res.edge_matches, res.plane_matches);
+        const double scale = std::max(config_.kernel_scale_m,
+                                      config_.kernel_scale_initial_m * std::pow(0.5, assoc));
+        associate(config_, features, map, T, scale <= config_.kernel_scale_m, corr, res.edge_matches,
+                  res.plane_matches);
         ++res.associations;
         if (static_cast<int>(corr.size()) < config_.min_correspondences) {
             res.enough_matches = false;
@@ -230,8 +250,6 @@ MatchResult ScanMatcher::match(const FeatureCloud& features, const LocalMap& map
         res.enough_matches = true;
 
         const Eigen::Isometry3d T_assoc = T;
-        const double scale = std::max(config_.kernel_scale_m,
-                                      config_.kernel_scale_initial_m * std::pow(0.5, assoc));
         res.converged = iterate(threshold, scale);
         const Vector6d moved = logSE3(T_assoc.inverse() * T);
         if (res.converged && moved.head<3>().norm() < 10 * config_.converged_rot_rad &&
@@ -263,7 +281,7 @@ MatchResult ScanMatcher::match(const FeatureCloud& features, const LocalMap& map
     if (res.confirmed_directions > 0) {
         // Eq. (21) again with the confirmed directions among the solved ones: the pose moves
         // along them too, from a fresh association at the finest scale.
-        associate(config_, features, map, T, corr, res.edge_matches, res.plane_matches);
+        associate(config_, features, map, T, true, corr, res.edge_matches, res.plane_matches);
         ++res.associations;
         if (static_cast<int>(corr.size()) >= config_.min_correspondences) {
             res.converged = iterate(confirmed_threshold, config_.kernel_scale_m);
@@ -285,7 +303,8 @@ std::optional<double> ScanMatcher::comesBack(const FeatureCloud& features, const
     auto descend = [&](Eigen::Isometry3d from, double scale) -> std::optional<double> {
         double travelled = 0.0;
         for (int it = 0; it < config_.degeneracy_probe_iterations; ++it) {
-            associate(config_, features, map, from, corr, edges, planes);
+            // Centimetre steps: the curvature refinement would only cost time here.
+            associate(config_, features, map, from, false, corr, edges, planes);
             const NormalEquations ne = accumulate(config_, corr, from, scale);
             const double lambda = v.dot(ne.JtJ * v);
             if (lambda <= 0.0) return std::nullopt;

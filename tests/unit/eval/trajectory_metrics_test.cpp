@@ -56,6 +56,38 @@ TEST(Ate, StatisticsOfAKnownErrorPattern) {
     EXPECT_NEAR(ate.translation_m.max, 0.05, 2e-3);
 }
 
+// A walk over flat ground: positions alone fit the estimate's mirror image as well as the estimate
+// (a proper rotation turning it upside down does the mirroring). A drifting estimate that happens
+// to look mirrored must not be reported 180 degrees off: the orientations choose the branch.
+TEST(Ate, PlanarPathDoesNotFlipUpsideDown) {
+    Trajectory gt = loop(10.0);
+    for (auto& p : gt) p.T.translation().z() = 1.5;
+    Trajectory est = gt;
+    for (auto& p : est) p.T.translation().y() = -p.T.translation().y() + 0.5;  // the mirror image
+    const auto pairs = associate(gt, est);
+    const Alignment a = alignTrajectories(pairs);
+    EXPECT_TRUE(a.planar);
+    EXPECT_TRUE(a.took_other_branch);
+    const AteResult ate = computeAte(pairs);
+    EXPECT_TRUE(ate.orientation_chose_branch);
+    EXPECT_LT(ate.rotation_deg.max, 0.01);  // the orientations are the truth's
+    EXPECT_GT(ate.translation_m.rmse, 1.0);  // the positions are not: the error stays visible
+    EXPECT_GT((ate.T_gt_est.linear() * Eigen::Vector3d::UnitZ()).z(), 0.999);  // up stays up
+}
+
+// A path with real extent in all three directions keeps the plain position fit: a mirrored
+// estimate is then reported as the poor fit it is, whatever the orientations say.
+TEST(Ate, NonPlanarPathKeepsThePositionFit) {
+    Trajectory gt = loop(10.0);
+    for (auto& p : gt) p.T.translation().z() = 3.0 * std::sin(2 * M_PI * p.t_s / 30.0);
+    Trajectory est = gt;
+    for (auto& p : est) p.T.translation().y() = -p.T.translation().y();
+    const AteResult ate = computeAte(associate(gt, est));
+    EXPECT_FALSE(ate.planar_path);
+    EXPECT_FALSE(ate.orientation_chose_branch);
+    EXPECT_GT(ate.rotation_deg.rmse, 1.0);
+}
+
 TEST(Drift, ScaleDriftGivesItsPercentage) {
     // Straight 100 m walk; the estimate is 1 % too long.
     Trajectory gt, est;

@@ -10,9 +10,11 @@
 #include <iostream>
 #include <sstream>
 #include <string>
+#include <unordered_set>
 
 #include "handscan/scan/laser_odometry.hpp"
 #include "handscan/scan/sweep_assembler.hpp"
+#include "point_icp.hpp"
 #include "spin_sim.hpp"
 
 namespace handscan::scan {
@@ -88,11 +90,16 @@ Eigen::Isometry3d load3dtkFinalFrame(const std::string& path) {
 }
 
 // 3DTK published four versions of dat/*.frames in 2009 before deleting them (27cdbeb3). They
-// disagree by up to 4 deg: the version in the shared data (d24c9ed6, 2009-08-18) reaches its
-// result in one 3.6 deg pitch jump and tilts scan001's floor 3.4 deg against scan000's, while
-// the last version (595b8e1d, 2009-09-30, dat/scan001.frames and dat/scan002.frames, last line)
-// keeps the floors within 0.7 deg and lies 0.2 deg from a full-resolution point-to-plane ICP.
-// The last version is the reference; the shared file's pose is printed for comparison.
+// disagree by up to 4 deg. The last one (595b8e1d = svn r66, 2009-09-30; its lines below) is
+// slam6D run with its defaults: point-to-point ICP on every point, pairs within 25 cm, scan002
+// against the metascan of scan000 + scan001 (Tilting3dtkPublishedPosesAreSlam6dIcp reproduces
+// it to 0.1 deg; 0.00 deg offline with every point). Its scan001 pose is that ICP's converged minimum. Its scan002 pose is NOT a
+// registration: slam6D writes a frame after the first iteration and on convergence only, and
+// its scan002 ICP did not converge in 50 iterations, so the last line is the pose after one
+// iteration from the odometry (its 50-iteration pose lies 0.8 deg and 3.6 cm further on). The
+// shared .frames (d24c9ed6) is the README's "slam6D --max=500 -r 10.2 -i 20": points within 5 m,
+// 10 cm octree cells; it lands 3 deg lower in pitch (reproduced offline to 0.02 deg / 0.1 cm with
+// the ICP of point_icp.hpp on octree-cell centres, returns under 0.3 m dropped).
 const char* const kPublished595b8e1d[3] = {
     "1 0 0 0 0 1 0 0 0 0 1 0 0 0 0 1 2",
     "0.999913 -0.00438033 0.0124237 0 0.00421739 0.999905 0.0131114 0 -0.0124799 -0.0130579 0.999837 0 "
@@ -159,15 +166,36 @@ struct Case3dtk {
 
 // slam6d registered scan001 against scan000 and scan002 against both (its metascan); the pair
 // scan001 -> scan002 is checked on its own too. Each starts from the odometry and is compared
-// with the published registration (kPublished595b8e1d).
+// with the published poses (kPublished595b8e1d): for scan001 slam6D's converged point-to-point
+// minimum, for scan002 its pose after one ICP iteration (see above), i.e. near the odometry.
 //
-// How good can the published poses be matched? The scans disagree with themselves: at the
-// published scan001 pose the floor and ceiling fit best ~3 deg lower in pitch than the walls and
-// the far points (the shared .frames version sits at that lower pitch), and a full-resolution
-// point-to-plane ICP (Open3D, 0.3 m normals, from the odometry, run offline) lands 0.2 deg from
-// the published scan001 but 1.5 deg from the published scan001 -> scan002 and 1.2 deg from the
-// published scan002 against the metascan: the published poses are no ground truth at the level
-// of tenths of a degree.
+// Why scan001 lands 1.1 deg from the published pose (measured offline with PointIcp and a dense
+// point-to-plane ICP on the same points): not the start (12 starts 1 deg / 5 cm around the odometry, and the published pose itself, all
+// converge to the same pose within 0.03 deg), not a bug of the matcher, but the objective. The
+// scans are not rigid copies of one scene: this scanner pitches its 2D laser about x (each
+// profile is a half-plane through the x axis), and the surfaces disagree in that direction -
+// point-to-plane ICP on the walls alone lands 1.3 deg from the published pose, mostly pitch.
+// Which pitch wins then depends on how the objective weighs the points, and the minima of
+// reasonable objectives spread over two degrees, mostly in pitch (x): dense point-to-point is
+// the published pose (0.07 deg from it with every 3rd scan point), dense point-to-plane 0.38
+// deg from it, point-to-plane and point-to-point at constant density (one point per 5, 10,
+// 20 cm, as the paper's maps keep them) 0.9-1.3 deg from it (pitch +0.9 to +1.2 deg), walls
+// only 1.3 deg the other way (pitch -1.2 deg). Ours: 1.08 deg (pitch +0.6, roll -0.9 deg),
+// 0.6-0.9 deg from the constant-density minima. Raw density weighs the floor next to the robot
+// most (points fall off with 1/r^2). Across that range the costs change by a few percent: at
+// raw density the published pose costs 2-6% less than ours (point-to-plane truncated at 5 cm:
+// 12.40 vs 13.03 cm^2), at constant density (10 cm cells) 0-2% less (18.58 vs 18.76 cm^2;
+// point-to-point within 25 cm 202.7 vs 202.8 cm^2), while there the point-to-point minimum,
+// 1.16 deg from the published pose, costs 4% less than it (194.0 cm^2). Tenths of a degree
+// from the published scan001 would take slam6D's raw-density weighting instead of the paper's
+// constant density (6.3); our features are not the minimum of a dense objective either (their
+// roll comes from which points the extractor picks: the dense point-to-plane ICP with our
+// planar features as the scan lands at roll -0.8 deg like ours), and none of 22 variants of
+// the matcher's and extractor's settings (map leaves, cluster sizes, kernel, eigenvalue and
+// thickness tests, edge/planar thresholds, incidence, regions, range limit) came closer than
+// 0.8 deg (map leaves of 10 cm planar / 5 cm edge: 0.80 deg, and 0.0-0.3 deg nearer the dense
+// minima in all three cases; denser maps resemble the dense objectives more, at the cost of
+// map size and matching time, and are no nearer the truth, which these data do not have).
 //
 // Measured with the default matcher (edge clusters of 4), from the published pose (odometry in
 // brackets): scan001 2.6 cm 1.08 deg (1.7 cm 0.71 deg), scan001 -> scan002 3.2 cm 0.20 deg
@@ -235,6 +263,76 @@ TEST(Laser3dReal, Tilting3dtkScansFromOdometry) {
         // 0.91, 1.17 and 1.24 times its median; the median is a coarse check of a gross slip only).
         EXPECT_LT(d_ours, 1.4 * d_pub) << c.name;
     }
+}
+
+// What the published poses are: slam6D's defaults (every point, pairs within 25 cm, closed-form
+// point-to-point steps, stop when the mean squared pair distance changes by < 1e-5 cm^2 twice)
+// registered scan001 against scan000 from the odometry and scan002 against the metascan from
+// the odometry extrapolated by scan001's correction. Redone here (with every 3rd scan point, for
+// speed), scan001 converges onto the published pose, and scan002's FIRST iteration lands on
+// the published scan002 while 50 iterations (slam6D's -i default) go on to a pose ~0.8 deg
+// away: the published scan002 is one ICP step from the odometry, not a registration. (Offline,
+// with every point and the no-echo and near returns kept as slam6D kept them, scan001 meets the
+// epsilon after 43 iterations 0.00 deg / 0.01 cm from the published pose, and scan002 does not
+// in 50; with every 3rd point here neither meets it, and 50 steps end 0.07 deg from it.)
+TEST(Laser3dReal, Tilting3dtkPublishedPosesAreSlam6dIcp) {
+    const std::string dir = kData + "/tilting-3dtk";
+    if (!std::filesystem::exists(dir + "/scan000.3d")) GTEST_SKIP() << dir << " is absent";
+    std::vector<std::vector<Eigen::Vector3d>> pts(3);
+    std::vector<Eigen::Isometry3d> odom, published;
+    for (int i = 0; i < 3; ++i) {
+        const std::string stem = dir + "/scan00" + std::to_string(i);
+        for (const SweepPoint& p : load3dtk(stem + ".3d").points) pts[i].push_back(p.p_start);
+        odom.push_back(load3dtkPose(stem + ".pose"));
+        published.push_back(parse3dtkFrame(kPublished595b8e1d[i]));
+    }
+    const auto every3rd = [](const std::vector<Eigen::Vector3d>& v) {
+        std::vector<Eigen::Vector3d> out;
+        for (std::size_t k = 0; k < v.size(); k += 3) out.push_back(v[k]);
+        return out;
+    };
+    constexpr double kMaxPair = 0.25;  // slam6D -d 25 (cm)
+    constexpr double kEps = 1e-9;      // --epsICP 1e-5 cm^2
+    const testing::PointIcp icp0(pts[0]);
+    const auto r1 = icp0.align(every3rd(pts[1]), odom[0].inverse() * odom[1], kMaxPair, 50, kEps);
+    std::vector<Eigen::Vector3d> meta = pts[0];
+    for (const auto& p : pts[1]) meta.push_back(r1.T * p);
+    const testing::PointIcp icp01(meta);
+    const Eigen::Isometry3d start2 = r1.T * odom[1].inverse() * odom[2];
+    const auto r2 = icp01.align(every3rd(pts[2]), start2, kMaxPair, 50, kEps);
+    ASSERT_FALSE(r2.steps.empty());
+    const PoseError e1 = poseError(published[1], r1.T);
+    const PoseError e2_first = poseError(published[2], r2.steps.front());
+    const PoseError e2_start = poseError(published[2], start2);
+    const PoseError e2_50 = poseError(published[2], r2.T);
+    std::printf("3dtk slam6D redone: scan001 %.2f cm %.3f deg from the published pose (%zu iterations, %s); scan002 "
+                "start %.2f cm %.3f deg, first iteration %.2f cm %.3f deg, after %zu iterations %.2f cm %.3f deg (%s)\n",
+                e1.trans_m * 100, e1.rot_deg, r1.steps.size(), r1.converged ? "converged" : "not converged",
+                e2_start.trans_m * 100, e2_start.rot_deg, e2_first.trans_m * 100, e2_first.rot_deg, r2.steps.size(),
+                e2_50.trans_m * 100, e2_50.rot_deg, r2.converged ? "converged" : "not converged");
+    EXPECT_LT(e1.rot_deg, 0.15);
+    EXPECT_LT(e1.trans_m, 0.005);
+    EXPECT_LT(e2_first.rot_deg, 0.15);
+    EXPECT_LT(e2_first.trans_m, 0.005);
+    // The ICP had far to go still: the published scan002 is no minimum of its objective.
+    EXPECT_GT(e2_50.rot_deg, 0.5);
+
+    // The same ICP with scan001 thinned to constant density (the first point in each 10 cm cell,
+    // as our maps keep points) instead of the raw density that crowds the floor next to the
+    // robot: the minimum moves more than the 1.08 deg by which our matcher misses the published
+    // pose (measured 1.16 deg, nearly all pitch). The data do not pin scan001's pitch to tenths
+    // of a degree; the weighting of the points does.
+    std::vector<Eigen::Vector3d> thinned;
+    std::unordered_set<std::uint64_t> cells;
+    for (const auto& p : pts[1]) {
+        const auto q = [](double v) { return static_cast<std::uint64_t>(std::floor(v / 0.1) + (1 << 20)) & 0x1FFFFF; };
+        if (cells.insert((q(p.x()) << 42) | (q(p.y()) << 21) | q(p.z())).second) thinned.push_back(p);
+    }
+    const auto r1c = icp0.align(thinned, odom[0].inverse() * odom[1], kMaxPair, 100, kEps);
+    const PoseError e1c = poseError(published[1], r1c.T);
+    std::printf("3dtk scan001 by point-to-point ICP at constant density (%zu points): %.2f cm %.3f deg from the published "
+                "pose\n", thinned.size(), e1c.trans_m * 100, e1c.rot_deg);
+    EXPECT_GT(e1c.rot_deg, 0.8);
 }
 
 // ---- LongarmLiDAR: 41 scan lines of a motor-rotated URG-class laser on a 0.18 m arm ----------

@@ -32,6 +32,26 @@ ReaderOptions fastReader(const std::string& name) {
     return o;
 }
 
+// A writer on an anonymous mapping, for readers in this process (ThreadSanitizer sees both sides).
+struct InProcessMap {
+    std::shared_ptr<SharedRegion> region;
+    std::unique_ptr<LiveMapWriter> writer;
+
+    void start(const WriterOptions& o) {
+        auto r = SharedRegion::anonymous(regionBytes(o.map_capacity_points));
+        ASSERT_TRUE(r.isOk()) << r.status().message();
+        region = *r;
+        auto w = LiveMapWriter::attach(region, o);
+        ASSERT_TRUE(w.isOk()) << w.status().message();
+        writer = std::move(*w);
+    }
+    void start(std::size_t capacity) {
+        WriterOptions o;
+        o.map_capacity_points = capacity;
+        start(o);
+    }
+};
+
 std::vector<DisplayPoint> pointsFrom(int first, int n) {
     std::vector<DisplayPoint> v;
     for (int i = first; i < first + n; ++i) {
@@ -110,13 +130,9 @@ TEST(LiveMap, StatusRoundTrip) {
 }
 
 TEST(LiveMap, PoseRingKeepsLatestAndSkipsOverwritten) {
-    auto region = SharedRegion::anonymous(regionBytes(16));
-    ASSERT_TRUE(region.isOk());
-    WriterOptions o;
-    o.map_capacity_points = 16;
-    auto writer = LiveMapWriter::attach(*region, o);
-    ASSERT_TRUE(writer.isOk());
-    LiveMapReader reader(*region);
+    InProcessMap m;
+    ASSERT_NO_FATAL_FAILURE(m.start(16));
+    LiveMapReader reader(m.region);
     EXPECT_FALSE(reader.latestPose().has_value());
 
     PoseEstimate e;
@@ -125,7 +141,7 @@ TEST(LiveMap, PoseRingKeepsLatestAndSkipsOverwritten) {
     e.T_world_body.linear() = Eigen::AngleAxisd(0.5, Eigen::Vector3d::UnitZ()).toRotationMatrix();
     e.source = PoseSource::kVisualOdometry;
     e.solved_dof_mask = 0b000111;
-    (*writer)->publishPose(e);
+    m.writer->publishPose(e);
     auto latest = reader.latestPose();
     ASSERT_TRUE(latest.has_value());
     EXPECT_EQ(latest->t_ns, 5);
@@ -138,7 +154,7 @@ TEST(LiveMap, PoseRingKeepsLatestAndSkipsOverwritten) {
     for (std::uint64_t i = 1; i < total; ++i) {
         PoseRecord p;
         p.t_ns = static_cast<std::int64_t>(i) + 5;
-        (*writer)->publishPose(p);
+        m.writer->publishPose(p);
     }
     std::uint64_t next = 0;
     std::vector<PoseRecord> got;
@@ -155,17 +171,13 @@ TEST(LiveMap, PoseRingKeepsLatestAndSkipsOverwritten) {
 }
 
 TEST(LiveMap, MapIsAppendOnlyPerEpochAndResetsOnNewScan) {
-    auto region = SharedRegion::anonymous(regionBytes(100));
-    ASSERT_TRUE(region.isOk());
-    WriterOptions o;
-    o.map_capacity_points = 100;
-    auto writer = LiveMapWriter::attach(*region, o);
-    ASSERT_TRUE(writer.isOk());
-    LiveMapReader reader(*region);
+    InProcessMap m;
+    ASSERT_NO_FATAL_FAILURE(m.start(100));
+    LiveMapReader reader(m.region);
     MapCursor cursor;
     MapDelta delta;
 
-    ASSERT_TRUE((*writer)->appendPoints(pointsFrom(0, 30)).isOk());
+    ASSERT_TRUE(m.writer->appendPoints(pointsFrom(0, 30)).isOk());
     ASSERT_TRUE(reader.readMap(cursor, delta, 20));
     EXPECT_TRUE(delta.reset);  // first read of a writer
     ASSERT_EQ(delta.points.size(), 20u);
@@ -178,17 +190,17 @@ TEST(LiveMap, MapIsAppendOnlyPerEpochAndResetsOnNewScan) {
     EXPECT_TRUE(delta.points.empty());
 
     // Capacity: the overflow is reported, what fits is kept.
-    Status s = (*writer)->appendPoints(pointsFrom(30, 80));
+    Status s = m.writer->appendPoints(pointsFrom(30, 80));
     EXPECT_EQ(s.code(), StatusCode::kNoSpace);
     EXPECT_NE(s.message().find("10 points not shown"), std::string::npos) << s.message();
     ASSERT_TRUE(reader.readMap(cursor, delta));
     EXPECT_EQ(delta.points.size(), 70u);
     EXPECT_EQ(cursor.points, 100u);
 
-    const std::uint64_t epoch = (*writer)->epoch();
-    (*writer)->newScan();
-    EXPECT_EQ((*writer)->epoch(), epoch + 1);
-    ASSERT_TRUE((*writer)->appendPoints(pointsFrom(500, 3)).isOk());
+    const std::uint64_t epoch = m.writer->epoch();
+    m.writer->newScan();
+    EXPECT_EQ(m.writer->epoch(), epoch + 1);
+    ASSERT_TRUE(m.writer->appendPoints(pointsFrom(500, 3)).isOk());
     ASSERT_TRUE(reader.readMap(cursor, delta));
     EXPECT_TRUE(delta.reset);
     EXPECT_EQ(delta.epoch, epoch + 1);
@@ -197,21 +209,19 @@ TEST(LiveMap, MapIsAppendOnlyPerEpochAndResetsOnNewScan) {
 }
 
 TEST(LiveMap, TrackIsDecimatedByDistance) {
-    auto region = SharedRegion::anonymous(regionBytes(1));
-    ASSERT_TRUE(region.isOk());
     WriterOptions o;
     o.map_capacity_points = 1;
     o.track_min_step_m = 0.1;
     o.track_max_interval_s = 100;
-    auto writer = LiveMapWriter::attach(*region, o);
-    ASSERT_TRUE(writer.isOk());
+    InProcessMap m;
+    ASSERT_NO_FATAL_FAILURE(m.start(o));
     for (int i = 0; i < 200; ++i) {  // 1 cm steps at 200 Hz: 2 m
         PoseRecord p;
         p.t_ns = i * 5 * kNsPerMs;
         p.position_m[0] = 0.01 * i;
-        (*writer)->publishPose(p);
+        m.writer->publishPose(p);
     }
-    LiveMapReader reader(*region);
+    LiveMapReader reader(m.region);
     MapCursor cursor;
     MapDelta delta;
     ASSERT_TRUE(reader.readMap(cursor, delta));
@@ -221,14 +231,10 @@ TEST(LiveMap, TrackIsDecimatedByDistance) {
 }
 
 TEST(LiveMap, CommandsRoundTripInOrder) {
-    auto region = SharedRegion::anonymous(regionBytes(1));
-    ASSERT_TRUE(region.isOk());
-    WriterOptions o;
-    o.map_capacity_points = 1;
-    auto writer = LiveMapWriter::attach(*region, o);
-    ASSERT_TRUE(writer.isOk());
-    LiveMapReader ui1(*region);
-    LiveMapReader ui2(*region);
+    InProcessMap m;
+    ASSERT_NO_FATAL_FAILURE(m.start(1));
+    LiveMapReader ui1(m.region);
+    LiveMapReader ui2(m.region);
     auto a = ui1.sendCommand(CommandType::kStartScan);
     auto b = ui2.sendCommand(CommandType::kExport, "/media/usb0");
     ASSERT_TRUE(a.isOk() && b.isOk());
@@ -237,43 +243,39 @@ TEST(LiveMap, CommandsRoundTripInOrder) {
     ASSERT_TRUE(ra.isOk());
     EXPECT_EQ(static_cast<CommandState>(ra->state), CommandState::kPending);
 
-    auto c1 = (*writer)->pollCommand();
+    auto c1 = m.writer->pollCommand();
     ASSERT_TRUE(c1.has_value());
     EXPECT_EQ(c1->seq, *a);
     EXPECT_EQ(c1->type, CommandType::kStartScan);
-    auto c2 = (*writer)->pollCommand();
+    auto c2 = m.writer->pollCommand();
     ASSERT_TRUE(c2.has_value());
     EXPECT_EQ(c2->type, CommandType::kExport);
     EXPECT_EQ(c2->argument, "/media/usb0");
-    EXPECT_FALSE((*writer)->pollCommand().has_value());  // each command is taken once
+    EXPECT_FALSE(m.writer->pollCommand().has_value());  // each command is taken once
 
-    (*writer)->ack(c2->seq, CommandState::kInProgress, "writing scan.ply", 0.25f);
+    m.writer->ack(c2->seq, CommandState::kInProgress, "writing scan.ply", 0.25f);
     auto rb = ui2.commandResult(*b);
     ASSERT_TRUE(rb.isOk());
     EXPECT_EQ(static_cast<CommandState>(rb->state), CommandState::kInProgress);
     EXPECT_FLOAT_EQ(rb->progress, 0.25f);
-    (*writer)->ack(c2->seq, CommandState::kDone, "safe to remove");
+    m.writer->ack(c2->seq, CommandState::kDone, "safe to remove");
     rb = ui2.commandResult(*b);
     ASSERT_TRUE(rb.isOk());
     EXPECT_EQ(static_cast<CommandState>(rb->state), CommandState::kDone);
     EXPECT_EQ(getText(rb->message), "safe to remove");
-    (*writer)->ack(c1->seq, CommandState::kRejected, "already scanning");
+    m.writer->ack(c1->seq, CommandState::kRejected, "already scanning");
     EXPECT_EQ(static_cast<CommandState>(ui1.commandResult(*a)->state), CommandState::kRejected);
 }
 
 TEST(LiveMap, AnswerNotYetReadSurvivesOtherUisTraffic) {
     // A UI that looks at its answer only at its next frame must still find it, even when another
     // UI sent more commands than there are slots in the meantime.
-    auto region = SharedRegion::anonymous(regionBytes(1));
-    ASSERT_TRUE(region.isOk());
-    WriterOptions o;
-    o.map_capacity_points = 1;
-    auto writer = LiveMapWriter::attach(*region, o);
-    ASSERT_TRUE(writer.isOk());
-    LiveMapReader slow(*region);
-    LiveMapReader busy(*region);
+    InProcessMap m;
+    ASSERT_NO_FATAL_FAILURE(m.start(1));
+    LiveMapReader slow(m.region);
+    LiveMapReader busy(m.region);
     const auto answerAll = [&] {
-        while (auto c = (*writer)->pollCommand()) (*writer)->ack(c->seq, CommandState::kDone, "ack " + c->argument);
+        while (auto c = m.writer->pollCommand()) m.writer->ack(c->seq, CommandState::kDone, "ack " + c->argument);
     };
     auto mine = slow.sendCommand(CommandType::kExport, "/media/slow");
     ASSERT_TRUE(mine.isOk());
@@ -295,39 +297,31 @@ TEST(LiveMap, AnswerNotYetReadSurvivesOtherUisTraffic) {
 TEST(LiveMap, EverySlotAwaitingAnAnswerMakesSendFailClearly) {
     // A pipeline that takes no commands: the 17th request finds no free slot and says why,
     // instead of silently overwriting an earlier request.
-    auto region = SharedRegion::anonymous(regionBytes(1));
-    ASSERT_TRUE(region.isOk());
-    WriterOptions o;
-    o.map_capacity_points = 1;
-    auto writer = LiveMapWriter::attach(*region, o);
-    ASSERT_TRUE(writer.isOk());
-    LiveMapReader ui(*region);
+    InProcessMap m;
+    ASSERT_NO_FATAL_FAILURE(m.start(1));
+    LiveMapReader ui(m.region);
     for (std::size_t i = 0; i < kCommandSlots; ++i) ASSERT_TRUE(ui.sendCommand(CommandType::kStopScan).isOk());
     auto extra = ui.sendCommand(CommandType::kStopScan);
     ASSERT_FALSE(extra.isOk());
     EXPECT_EQ(extra.status().code(), StatusCode::kTimeout);
     EXPECT_NE(extra.status().message().find("every command slot is busy"), std::string::npos);
     std::size_t taken = 0;
-    while ((*writer)->pollCommand()) ++taken;
+    while (m.writer->pollCommand()) ++taken;
     EXPECT_EQ(taken, kCommandSlots);  // none of the 16 was overwritten
 }
 
 TEST(LiveMap, CommandSlotHeldByCrashedUiIsSkipped) {
-    auto region = SharedRegion::anonymous(regionBytes(1));
-    ASSERT_TRUE(region.isOk());
-    WriterOptions o;
-    o.map_capacity_points = 1;
-    auto writer = LiveMapWriter::attach(*region, o);
-    ASSERT_TRUE(writer.isOk());
-    auto* h = reinterpret_cast<RegionHeader*>((*region)->data());
+    InProcessMap m;
+    ASSERT_NO_FATAL_FAILURE(m.start(1));
+    auto* h = reinterpret_cast<RegionHeader*>(m.region->data());
     // A UI died between claiming slot 1 and finishing its request: the lock stays odd forever.
     h->next_command_seq = 0;
     h->commands[1].request_lock = 1;
-    LiveMapReader ui(*region);
+    LiveMapReader ui(m.region);
     auto seq = ui.sendCommand(CommandType::kStopScan);
     ASSERT_TRUE(seq.isOk());
     EXPECT_EQ(*seq, 2u);  // slot 1 skipped
-    auto cmd = (*writer)->pollCommand();
+    auto cmd = m.writer->pollCommand();
     ASSERT_TRUE(cmd.has_value());
     EXPECT_EQ(cmd->type, CommandType::kStopScan);
 }

@@ -32,22 +32,62 @@ std::vector<PosePair> associate(const Trajectory& gt, const Trajectory& est, dou
     return out;
 }
 
-Eigen::Isometry3d alignSE3(const std::vector<PosePair>& pairs) {
-    Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
-    if (pairs.empty()) return T;
-    if (pairs.size() < 3) {
-        T.translation() = pairs.front().gt.translation() - pairs.front().est.translation();
-        return T;
-    }
-    Eigen::Matrix3Xd src(3, static_cast<Eigen::Index>(pairs.size()));
-    Eigen::Matrix3Xd dst(3, static_cast<Eigen::Index>(pairs.size()));
-    for (std::size_t i = 0; i < pairs.size(); ++i) {
-        src.col(static_cast<Eigen::Index>(i)) = pairs[i].est.translation();
-        dst.col(static_cast<Eigen::Index>(i)) = pairs[i].gt.translation();
-    }
-    T.matrix() = Eigen::umeyama(src, dst, /*with_scaling=*/false);
-    return T;
+namespace {
+
+// Mean geodesic angle between the aligned estimate's orientations and the truth's.
+double meanOrientationError(const std::vector<PosePair>& pairs, const Eigen::Matrix3d& R) {
+    double sum = 0.0;
+    for (const PosePair& p : pairs) sum += rotationAngle(R * p.est.linear(), p.gt.linear());
+    return sum / static_cast<double>(pairs.size());
 }
+
+}  // namespace
+
+Alignment alignTrajectories(const std::vector<PosePair>& pairs) {
+    Alignment a;
+    if (pairs.empty()) return a;
+    if (pairs.size() < 3) {
+        a.T_gt_est.translation() = pairs.front().gt.translation() - pairs.front().est.translation();
+        return a;
+    }
+    // Umeyama (1991) without scale, written out because the near-planar case needs the SVD.
+    const auto n = static_cast<Eigen::Index>(pairs.size());
+    Eigen::Matrix3Xd src(3, n), dst(3, n);
+    for (Eigen::Index i = 0; i < n; ++i) {
+        src.col(i) = pairs[static_cast<std::size_t>(i)].est.translation();
+        dst.col(i) = pairs[static_cast<std::size_t>(i)].gt.translation();
+    }
+    const Eigen::Vector3d mu_s = src.rowwise().mean(), mu_d = dst.rowwise().mean();
+    src.colwise() -= mu_s;
+    dst.colwise() -= mu_d;
+    const Eigen::Matrix3d sigma = dst * src.transpose() / static_cast<double>(n);
+    const Eigen::JacobiSVD<Eigen::Matrix3d> svd(sigma, Eigen::ComputeFullU | Eigen::ComputeFullV);
+    const Eigen::Matrix3d& U = svd.matrixU();
+    const Eigen::Matrix3d& V = svd.matrixV();
+    // The proper rotation U diag(1, 1, s) V^T with s = det(U V^T) (Umeyama's reflection guard).
+    const double s = (U.determinant() * V.determinant() < 0.0) ? -1.0 : 1.0;
+    Eigen::Matrix3d R = U * Eigen::Vector3d(1.0, 1.0, s).asDiagonal() * V.transpose();
+
+    // A path that stays in one plane (a walk over flat ground) cannot tell its two proper fits
+    // apart: the one above and the one that mirrors the path within its plane and turns it upside
+    // down (U diag(1, -1, -s) V^T). A drifting estimate can fit the mirrored branch a little better,
+    // which reports every pose 180 degrees off. For such paths the orientations decide.
+    const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> shape(src * src.transpose() / static_cast<double>(n));
+    const Eigen::Vector3d var = shape.eigenvalues().cwiseMax(0.0);  // ascending
+    a.planar = std::sqrt(var(0)) < kPlanarPathRatio * std::sqrt(var(1));
+    if (a.planar) {
+        const Eigen::Matrix3d R_mirror = U * Eigen::Vector3d(1.0, -1.0, -s).asDiagonal() * V.transpose();
+        if (meanOrientationError(pairs, R_mirror) < meanOrientationError(pairs, R)) {
+            R = R_mirror;
+            a.took_other_branch = true;
+        }
+    }
+    a.T_gt_est.linear() = R;
+    a.T_gt_est.translation() = mu_d - R * mu_s;
+    return a;
+}
+
+Eigen::Isometry3d alignSE3(const std::vector<PosePair>& pairs) { return alignTrajectories(pairs).T_gt_est; }
 
 ErrorStats computeStats(std::vector<double> e) {
     ErrorStats s;
@@ -72,7 +112,10 @@ ErrorStats computeStats(std::vector<double> e) {
 
 AteResult computeAte(const std::vector<PosePair>& pairs) {
     AteResult r;
-    r.T_gt_est = alignSE3(pairs);
+    const Alignment a = alignTrajectories(pairs);
+    r.T_gt_est = a.T_gt_est;
+    r.planar_path = a.planar;
+    r.orientation_chose_branch = a.took_other_branch;
     std::vector<double> et, er;
     et.reserve(pairs.size());
     er.reserve(pairs.size());

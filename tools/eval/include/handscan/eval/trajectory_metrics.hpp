@@ -25,7 +25,18 @@ struct PosePair {
 // Pairs est poses with interpolated gt; gt gaps longer than max_gap_s are not interpolated over.
 std::vector<PosePair> associate(const Trajectory& gt, const Trajectory& est, double max_gap_s = 0.25);
 
+// A path whose thinnest extent is below this fraction of its middle one counts as planar.
+inline constexpr double kPlanarPathRatio = 0.1;
+
+struct Alignment {
+    Eigen::Isometry3d T_gt_est = Eigen::Isometry3d::Identity();
+    bool planar = false;             // positions alone leave the up/down branch ambiguous
+    bool took_other_branch = false;  // ... and the orientations chose the non-Umeyama one
+};
 // The rigid transform T with T * est ~ gt in least squares over the positions (Umeyama 1991).
+// For a planar path the two proper least-squares branches (differing by an in-plane mirror and an
+// upside-down turn) are told apart by the orientations.
+Alignment alignTrajectories(const std::vector<PosePair>& pairs);
 Eigen::Isometry3d alignSE3(const std::vector<PosePair>& pairs);
 
 struct ErrorStats {
@@ -38,6 +49,8 @@ struct AteResult {
     ErrorStats translation_m;
     ErrorStats rotation_deg;
     Eigen::Isometry3d T_gt_est = Eigen::Isometry3d::Identity();  // the alignment
+    bool planar_path = false;
+    bool orientation_chose_branch = false;  // see alignTrajectories
 };
 AteResult computeAte(const std::vector<PosePair>& pairs);
 
