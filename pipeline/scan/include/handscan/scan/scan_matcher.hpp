@@ -86,10 +86,11 @@ struct ScanMatcherConfig {
     // sweeps, lambda >= 9 in 100 %; tunnel axes (lambda 0.3-9) in 0 of 178. Directions whose
     // laser standard deviation exceeds `degeneracy_probe_max_std_m` are not probed. A confirmed
     // direction joins the solved subspace of eq. (21) for a last round from that minimum.
-    // Whole pipeline, corridor 60 s seeds 1-6: ATE 0.12 / 4.6 / 10.4 / 2.2 / 0.62 / 5.4 m ->
-    // 0.06 / 0.19 / 0.06 / 0.20 / 0.06 / 0.04 m (with lio's unsolved_prior_sigma_trans_m);
-    // office, house, courtyard byte-identical. Cost: the corridor's mean matching time 13 ->
-    // 23 ms, the tunnel's 25 -> 40 ms (most of its sweeps are probed and fail).
+    // Whole pipeline, corridor 60 s seeds 1-6: ATE 0.06 / 0.67 / 9.6 / 2.2 / 1.8 / 4.8 m ->
+    // 0.04 / 0.14 / 0.40 / 0.23 / 0.02 / 0.05 m (with lio's unsolved_prior_sigma_trans_m and
+    // the IMU trust of imu::UnsolvedMotionPrior earned by solved time); office, house,
+    // courtyard byte-identical. Cost: the corridor's mean matching time 13 -> 23 ms, the
+    // tunnel's 25 -> 40 ms (most of its sweeps are probed and fail).
     double degeneracy_probe_max_std_m = 0.02;
     double degeneracy_probe_offset_m = 0.05;
     double degeneracy_probe_min_return = 0.5;
