@@ -4,6 +4,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include "handscan/scan/surface_offset.hpp"
+
 namespace handscan::scan {
 namespace {
 
@@ -72,6 +74,9 @@ MatchResult ScanMatcher::match(const FeatureCloud& features, const LocalMap& map
     res.degeneracy = analyzeDegeneracy(Matrix6d::Zero(), 1.0);  // nothing solved yet
     const int K_edge = std::min(config_.neighbours, LocalMap::kMaxNeighbours);
     const int K_plane = std::min(config_.plane_neighbours, LocalMap::kMaxNeighbours);
+    const int K_curv = std::min(config_.curvature_neighbours, LocalMap::kMaxNeighbours);
+    SurfaceOffsetLimits curvature_limits;
+    curvature_limits.max_rms_m = config_.curvature_max_rms_m;
     const double max_d2 = config_.max_neighbour_dist_m * config_.max_neighbour_dist_m;
     const double inv_sigma2 = 1.0 / (config_.laser_sigma_m * config_.laser_sigma_m);
     std::vector<Correspondence> corr;
@@ -83,6 +88,11 @@ MatchResult ScanMatcher::match(const FeatureCloud& features, const LocalMap& map
 
     Matrix6d H_final = Matrix6d::Identity();
     for (int assoc = 0; assoc < config_.max_associations; ++assoc) {
+        const double scale = std::max(config_.kernel_scale_m,
+                                      config_.kernel_scale_initial_m * std::pow(0.5, assoc));
+        // The curvature offset is a millimetre refinement: it waits for the final kernel scale
+        // (the extra neighbours cost a third of the matching time when searched every time).
+        const int K_curv_now = scale <= config_.kernel_scale_m ? K_curv : 0;
         // Association: clusters of the closest map points, checked by their eigenvalues (6.1).
         corr.clear();
         res.edge_matches = 0;
@@ -94,8 +104,10 @@ MatchResult ScanMatcher::match(const FeatureCloud& features, const LocalMap& map
                 const Eigen::Vector3d& p = pts[pi];
                 const Eigen::Vector3d q = T * p;
                 const int K = edge ? K_edge : K_plane;
-                const int n = map.nearest(edge ? FeatureKind::kEdge : FeatureKind::kPlanar, q, K, nb, d2,
-                                          edge ? nullptr : nb_origin);
+                // Planar: the nearest K fit the plane, up to K_curv (closest first) its curvature.
+                const int found = map.nearest(edge ? FeatureKind::kEdge : FeatureKind::kPlanar, q,
+                                              edge ? K : std::max(K, K_curv_now), nb, d2, edge ? nullptr : nb_origin);
+                const int n = std::min(found, K);
                 if (n < K || d2[n - 1] > max_d2) {
                     continue;
                 }
@@ -132,7 +144,14 @@ MatchResult ScanMatcher::match(const FeatureCloud& features, const LocalMap& map
                                                              config_.view_side_margin_m)) {
                         continue;
                     }
-                    corr.push_back({p, c, nrm, false});
+                    // The plane through the surface under the query, not through the cluster's
+                    // centroid, which a curved surface moves off it (surface_offset.hpp).
+                    int n_curv = n;
+                    while (n_curv < found && d2[n_curv] <= max_d2) ++n_curv;
+                    const auto offset = K_curv_now > K ? surfaceOffsetAt(nb, n_curv, c, nrm, es.eigenvectors().col(2),
+                                                                          es.eigenvectors().col(1), q, curvature_limits)
+                                                       : std::nullopt;
+                    corr.push_back({p, offset ? Eigen::Vector3d(c + *offset * nrm) : c, nrm, false});
                     ++res.plane_matches;
                 }
             }
@@ -147,8 +166,6 @@ MatchResult ScanMatcher::match(const FeatureCloud& features, const LocalMap& map
         res.enough_matches = true;
 
         const Eigen::Isometry3d T_assoc = T;
-        const double scale = std::max(config_.kernel_scale_m,
-                                      config_.kernel_scale_initial_m * std::pow(0.5, assoc));
         bool converged = false;
         for (int it = 0; it < config_.max_iterations; ++it) {
             Matrix6d JtJ = Matrix6d::Zero();   // sum w J^T J: the laser constraints alone

@@ -69,13 +69,17 @@ void BM_Features(benchmark::State& state) {
 }
 BENCHMARK(BM_Features)->Unit(benchmark::kMillisecond);
 
-// Map extraction (fine voxels + k-d trees) and matching, the map from one earlier revolution.
+// Map extraction (fine voxels + k-d trees) and matching, the map from one earlier revolution;
+// the argument is ScanMatcherConfig::curvature_neighbours (0: planar matches without the
+// curvature offset, the default 16: with it).
 void BM_ExtractAndMatch(benchmark::State& state) {
     const Fixture& f = fixture();
     const VoxelMap map = mapOf(extractFeatures(f.map_sweep, FeatureConfig{}), f.A);
     const FeatureCloud fb = extractFeatures(f.sweep, FeatureConfig{});
     PosePrior prior{f.guess, Matrix6d::Identity() * 100.0};
-    const ScanMatcher matcher;
+    ScanMatcherConfig config;
+    config.curvature_neighbours = static_cast<int>(state.range(0));
+    const ScanMatcher matcher(config);
     MatchResult r;
     for (auto _ : state) {
         const LocalMap local = map.extract(toWorld(f.guess, fb.edges), toWorld(f.guess, fb.planars));
@@ -87,7 +91,7 @@ void BM_ExtractAndMatch(benchmark::State& state) {
     state.counters["iterations"] = r.iterations;
     state.counters["matches"] = r.edge_matches + r.plane_matches;
 }
-BENCHMARK(BM_ExtractAndMatch)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_ExtractAndMatch)->Arg(0)->Arg(16)->Unit(benchmark::kMillisecond);
 
 // The figure: everything the matcher does per 1 Hz sweep on one core.
 void BM_FeaturesAndMatchingPerSweep(benchmark::State& state) {
