@@ -55,7 +55,8 @@ const RegisterCommand kReplay{"replay", "Run the pipeline on a recording: trajec
     sub.add_option("--shm-name", o->shm_name, "shared-memory region name (default: the daemon's)");
     auto reference = std::make_shared<std::string>();
     sub.add_option("--reference-motion", *reference,
-                   "diagnostics: assemble sweeps with this TUM trajectory (ground truth) and match from it")
+                   "diagnostics: assemble sweeps with this TUM trajectory (ground truth) and match from it; "
+                   "trajectory.tum carries each match forward with it")
         ->check(CLI::ExistingFile);
     sub.add_option("--reference-perturb-m", o->reference_perturb_m, "with --reference-motion: prior error (m)");
     sub.add_option("--reference-perturb-deg", o->reference_perturb_deg, "with --reference-motion: prior error (deg)");

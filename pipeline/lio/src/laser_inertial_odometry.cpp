@@ -33,6 +33,22 @@ void LaserInertialOdometry::addImu(const ImuSample& sample) {
         return;
     }
     if (!predictor_.initialized()) return;
+    if (config_.reference_motion) {
+        // Diagnostics: nothing corrects the IMU prediction, so the reference motion stands in for
+        // the VIO of section 7 - the 200 Hz output is the last match carried forward by the
+        // reference's increments, in the reference's frame (before the first match: the
+        // reference itself), and trajectory.tum measures the matcher.
+        PoseEstimate ref;
+        ref.t_host = sample.t_host;
+        ref.T_world_body = config_.reference_motion(sample.t_host);
+        ref.source = PoseSource::kVisualOdometry;
+        integrator_.setVisualPose(ref);
+        if (!integrator_.lastScanPose()) {
+            poses_.push_back(ref);
+            ++stats_.poses_out;
+            return;
+        }
+    }
     // Transform integration (section 7): the latest scan-matching pose + prediction since.
     auto pose = integrator_.poseAt(sample.t_host);
     if (pose.isOk()) {

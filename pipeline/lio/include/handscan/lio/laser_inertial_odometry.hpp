@@ -41,7 +41,9 @@ struct LioConfig {
     // this motion (e.g. ground truth) instead of the IMU prediction, and each match starts from
     // it at the sweep's start, moved by a deterministic error of reference_perturb_m /
     // reference_perturb_rad, without feedback to the IMU: the scan matcher and the map measured
-    // alone, apart from the prediction.
+    // alone, apart from the prediction. The 200 Hz poses then carry each match forward with
+    // the reference's increments (in place of the VIO of section 7), not with the uncorrected
+    // prediction.
     scan::PoseAtFn reference_motion;
     double reference_perturb_m = 0.0;
     double reference_perturb_rad = 0.0;
