@@ -16,7 +16,14 @@ ClockMapperConfig sampleTimeFineClock() {
 
 }  // namespace
 
-ImuStreamDecoder::ImuStreamDecoder(std::string source) : source_(std::move(source)), clock_(sampleTimeFineClock()) {}
+TimeNs ImuFrameTiming::delayOf(std::size_t frame_bytes) const {
+    // 10 bits per byte on the wire (start, 8 data, stop).
+    const TimeNs wire = baud > 0 ? static_cast<TimeNs>(static_cast<double>(frame_bytes) * 10.0 * 1e9 / baud) : 0;
+    return frame_latency_ns + wire;
+}
+
+ImuStreamDecoder::ImuStreamDecoder(std::string source, ImuFrameTiming timing)
+    : source_(std::move(source)), timing_(timing), clock_(sampleTimeFineClock()) {}
 
 ImuStreamStats ImuStreamDecoder::stats() const {
     ImuStreamStats s = stats_;
@@ -93,7 +100,10 @@ void ImuStreamDecoder::decode(const XbusFrameView& frame, TimeNs t_rx, std::vect
                 std::to_string(last_counter_.value_or(0)) + "): no sample; is the output configuration ours?");
         return;
     }
-    clock_.observe(*stf, t_rx);
+    // The frame's last byte came in at t_rx: the sample was taken at least the fixed latency and
+    // the frame's wire time (preamble, BID, MID, length, payload, checksum) before.
+    const std::size_t frame_bytes = 5 + frame.payload.size() + (frame.payload.size() > 254 ? 2 : 0);
+    clock_.observe(*stf, t_rx - timing_.delayOf(frame_bytes));
     ImuSample s;
     s.t_host = *clock_.toHost(*stf);
     s.t_device_ticks = clock_.unwrap(*stf);

@@ -223,6 +223,8 @@ Status XsensDevice::configure() {
 }
 
 Status XsensDevice::poll(std::vector<ImuSample>& out, TimeNs timeout) {
+    // The line rate may have changed since the last call (probing, switchBaudrate).
+    decoder_.setTiming({cfg_.frame_latency, cfg_.set_link_baudrate ? link_baud_ : 0});
     // Frames that arrived with the last reply of configure() are stamped with their own receive
     // time, not with the next read's.
     decoder_.decodePending(last_rx_, out);

@@ -16,6 +16,7 @@ Result<XsensLink> makeXsensLink(const XsensConfig& c) {
     }
     link.device.output_rate_hz = static_cast<std::uint16_t>(c.rate_hz);
     link.device.delta_q_delta_v = c.delta_q_v;
+    link.device.frame_latency = fromSeconds(c.frame_latency_ms * 1e-3);
     if (c.transport == "serial") {
         if (!baudrateId(c.baud)) {
             return Status{StatusCode::kInvalidArgument,

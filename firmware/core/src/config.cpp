@@ -248,7 +248,7 @@ DeviceConfig loadDeviceConfig(const std::string& path) {
         v.number(n, "hokuyo", "reconnect_max_backoff_s", c.hokuyo.reconnect_max_backoff_s, 0.01, 600.0);
     }
     if (auto n = v.section(root, "", "xsens"); n.IsDefined()) {
-        v.onlyKeys(n, "xsens", {"transport", "serial_path", "baud", "rate_hz", "delta_q_v"});
+        v.onlyKeys(n, "xsens", {"transport", "serial_path", "baud", "rate_hz", "delta_q_v", "frame_latency_ms"});
         v.text(n, "xsens", "transport", c.xsens.transport, {"serial", "usb"});
         v.text(n, "xsens", "serial_path", c.xsens.serial_path);
         v.integer(n, "xsens", "baud", c.xsens.baud, 9600, 4000000);
@@ -256,6 +256,7 @@ DeviceConfig loadDeviceConfig(const std::string& path) {
         if (!bauds.count(c.xsens.baud)) v.fail(n["baud"], "xsens.baud", "one of 9600 19200 38400 57600 115200 230400 460800 921600 2000000 4000000", n["baud"].Scalar());
         v.integer(n, "xsens", "rate_hz", c.xsens.rate_hz, 1, 2000);
         v.boolean(n, "xsens", "delta_q_v", c.xsens.delta_q_v);
+        v.number(n, "xsens", "frame_latency_ms", c.xsens.frame_latency_ms, 0.0, 100.0);
     }
     if (auto n = v.section(root, "", "motor"); n.IsDefined()) {
         v.onlyKeys(n, "motor", {"can_interface", "encoder_node_id", "drive_node_id", "encoder_counts_per_rev",

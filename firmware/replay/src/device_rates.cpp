@@ -64,7 +64,7 @@ void takeCounters(const StreamCounters& s, SampleCount& c) {
 }  // namespace
 
 struct DeviceRateMeter::Streams {
-    explicit Streams(const DeviceConfig& device) : hokuyo(hokuyoTiming(device)), encoder(encoderStreamConfig(device)) {}
+    explicit Streams(const DeviceConfig& device) : hokuyo(hokuyoTiming(device)), xsens(xsensTiming(device)), encoder(encoderStreamConfig(device)) {}
 
     HokuyoStreamDecoder hokuyo;
     XsensStreamDecoder xsens;

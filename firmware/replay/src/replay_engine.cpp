@@ -119,7 +119,7 @@ Result<ReplayReport> runReplay(const ReplayOptions& o) {
 
     lio::LaserInertialOdometry pipeline(lioConfig(o, device), calibration);
     HokuyoStreamDecoder hokuyo(hokuyoTiming(device));
-    XsensStreamDecoder xsens;
+    XsensStreamDecoder xsens(xsensTiming(device));
     EncoderStreamDecoder encoder(encoderStreamConfig(device));
 
     TiledMapConfig map_config;

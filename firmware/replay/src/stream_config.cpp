@@ -8,6 +8,13 @@ hokuyo::ScanTimingConfig hokuyoTiming(const DeviceConfig& device) {
     return timing;
 }
 
+xsens::ImuFrameTiming xsensTiming(const DeviceConfig& device) {
+    xsens::ImuFrameTiming timing;
+    timing.frame_latency_ns = fromSeconds(device.xsens.frame_latency_ms * 1e-3);
+    timing.baud = device.xsens.transport == "serial" ? device.xsens.baud : 0;
+    return timing;
+}
+
 EncoderStreamConfig encoderStreamConfig(const DeviceConfig& device) {
     EncoderStreamConfig c;
     c.node_id = static_cast<std::uint8_t>(device.motor.encoder_node_id);

@@ -41,6 +41,7 @@ TEST_F(ConfigTest, ShippedFilesLoad) {
     EXPECT_EQ(d.hokuyo.host, "192.168.0.10");
     EXPECT_EQ(d.hokuyo.port, 10940);
     EXPECT_EQ(d.xsens.baud, 921600);
+    EXPECT_DOUBLE_EQ(d.xsens.frame_latency_ms, 1.0);
     EXPECT_EQ(d.colour_camera.width, 1600);
     const Calibration c = loadCalibration(dir + "/calibration.yaml");
     EXPECT_EQ(c.tracking.resolution[0], 640);
@@ -63,7 +64,7 @@ TEST_F(ConfigTest, NotAnInteger) {
 
 TEST_F(ConfigTest, UnknownKeyIsATypo) {
     EXPECT_EQ(deviceError("xsens:\n  baudrate: 921600\n"),
-              ":2: xsens.baudrate: expected one of the keys {baud, delta_q_v, rate_hz, serial_path, transport}, "
+              ":2: xsens.baudrate: expected one of the keys {baud, delta_q_v, frame_latency_ms, rate_hz, serial_path, transport}, "
               "got unknown key 'baudrate'");
 }
 
@@ -81,6 +82,11 @@ TEST_F(ConfigTest, NonStandardBaud) {
 TEST_F(ConfigTest, NumberOutOfRange) {
     EXPECT_EQ(deviceError("motor:\n  target_speed_rev_s: -1\n"),
               ":2: motor.target_speed_rev_s: expected a number in 0.05..10, got -1");
+}
+
+TEST_F(ConfigTest, XsensFrameLatencyInRange) {
+    EXPECT_EQ(deviceError("xsens:\n  frame_latency_ms: -0.5\n"),
+              ":2: xsens.frame_latency_ms: expected a number in 0..100, got -0.5");
 }
 
 TEST_F(ConfigTest, BooleanValue) {

@@ -103,6 +103,9 @@ TEST(XsensDriver, LinkFromDeviceYaml) {
     EXPECT_EQ(ok->stream->describe(), "serial /dev/ttyUSB0 921600");
     EXPECT_EQ(ok->device.output_rate_hz, 200);
     EXPECT_TRUE(static_cast<bool>(ok->device.set_link_baudrate));
+    EXPECT_EQ(ok->device.frame_latency, 0);
+    c.frame_latency_ms = 1.25;  // the sample -> host delay the clock fit takes out (ImuFrameTiming)
+    EXPECT_EQ(makeXsensLink(c)->device.frame_latency, 1'250'000);
     c.rate_hz = 150;
     EXPECT_NE(makeXsensLink(c).status().message().find("xsens.rate_hz"), std::string::npos);
     c.rate_hz = 200;

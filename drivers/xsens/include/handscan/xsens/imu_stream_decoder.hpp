@@ -23,6 +23,18 @@
 
 namespace handscan::xsens {
 
+// When a sample's frame reaches the host, after the sample's own time (SampleTimeFine): the
+// clock fit places the lower envelope of the receive times, so a delay every frame has is
+// taken out before it, or every sample (and the whole IMU motion) comes out that much late.
+struct ImuFrameTiming {
+    TimeNs frame_latency_ns = 0;  // sample -> first byte at the host (processing, USB-serial bridge)
+    int baud = 0;                 // serial line rate: each frame's own wire time (8N1) is added; 0: USB
+
+    // Receive time of the frame's last byte minus this = the sample's time on the host clock,
+    // for the fastest delivery.
+    TimeNs delayOf(std::size_t frame_bytes) const;
+};
+
 struct ImuStreamStats {
     std::uint64_t packets = 0;         // MTData2 frames received
     std::uint64_t samples = 0;         // ImuSamples handed out
@@ -39,7 +51,7 @@ struct ImuStreamStats {
 class ImuStreamDecoder {
 public:
     // `source` names the stream in problem descriptions ("Xsens serial /dev/ttyUSB0 921600").
-    explicit ImuStreamDecoder(std::string source = "Xsens");
+    explicit ImuStreamDecoder(std::string source = "Xsens", ImuFrameTiming timing = {});
 
     // Bytes received at host time `t_rx`: every frame they complete is decoded at once into `out`.
     void feed(TimeNs t_rx, std::span<const std::uint8_t> bytes, std::vector<ImuSample>& out);
@@ -57,6 +69,8 @@ public:
     void forgetCounter() { last_counter_.reset(); }
 
     void setSource(std::string source) { source_ = std::move(source); }
+    // A new line rate (the device switched baud): later frames take their wire time at it.
+    void setTiming(ImuFrameTiming timing) { timing_ = timing; }
     // Called with each problem description as it happens (the device logs and keeps them).
     void onProblem(std::function<void(const std::string&)> f) { on_problem_ = std::move(f); }
 
@@ -69,6 +83,7 @@ private:
     void problem(std::string text);
 
     std::string source_;
+    ImuFrameTiming timing_;
     XbusParser parser_;
     ClockMapper clock_;
     std::optional<std::uint16_t> last_counter_;

@@ -39,6 +39,9 @@ struct XsensDeviceConfig {
     // + Reset. Unset (USB, tests): the link rate is taken as given.
     int baudrate = 921600;
     std::function<Status(int baud)> set_link_baudrate;
+    // Sample -> first byte at the host (xsens.frame_latency_ms); on serial links each frame's
+    // wire time at the current rate comes on top (ImuFrameTiming).
+    TimeNs frame_latency = 0;
 };
 
 // The decoder's counts (device_errors also counts Error replies to requests) and the bytes read.

@@ -34,6 +34,11 @@ struct XsensConfig {
     int baud = 921600;
     int rate_hz = 200;
     bool delta_q_v = false;                // also request DeltaQ/DeltaV
+    // Fixed delay from a sample's SampleTimeFine to its frame's first byte reaching the host
+    // (output processing + USB-serial bridge; calibration). The frame's wire time at `baud` is
+    // added per frame. Uncompensated, the whole IMU motion runs this late against the laser:
+    // at 370 deg/s every ms turns the sweep and the output pose by 0.37 deg.
+    double frame_latency_ms = 0.0;
 };
 
 struct MotorConfig {

@@ -48,6 +48,7 @@ private:
 // ImuSamples on the host clock.
 class XsensStreamDecoder {
 public:
+    explicit XsensStreamDecoder(xsens::ImuFrameTiming timing = {}) : decoder_("Xsens", timing) {}
     void feed(TimeNs t_rx, std::span<const std::uint8_t> bytes, std::vector<ImuSample>& out) {
         decoder_.feed(t_rx, bytes, out);
     }
@@ -86,6 +87,7 @@ private:
 
 // The decoders' settings from device.yaml: what the streams themselves do not carry.
 hokuyo::ScanTimingConfig hokuyoTiming(const DeviceConfig& device);
+xsens::ImuFrameTiming xsensTiming(const DeviceConfig& device);
 EncoderStreamConfig encoderStreamConfig(const DeviceConfig& device);
 
 }  // namespace handscan::replay
