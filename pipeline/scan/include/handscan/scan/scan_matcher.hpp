@@ -87,15 +87,16 @@ struct ScanMatcherConfig {
     // laser standard deviation exceeds `degeneracy_probe_max_std_m` are not probed. A confirmed
     // direction joins the solved subspace of eq. (21) for a last round from that minimum.
     // Whole pipeline, corridor 60 s seeds 1-6: ATE 0.08 / 0.68 / 9.5 / 4.4 / 0.19 / 3.7 m ->
-    // 0.03 / 0.12 / 0.57 / 0.10 / 0.02 / 0.08 m (with lio's unsolved_prior_sigma_trans_m and
+    // 0.10 / 0.18 / 0.08 / 0.35 / 0.03 / 0.02 m (with lio's unsolved_prior_sigma_trans_m and
     // the IMU trust of imu::UnsolvedMotionPrior earned by solved time); office, house,
-    // courtyard byte-identical; tunnel 90 s seeds 1-4 9.4 / 5.1 / 3.4 / 8.1 -> 8.9 / 4.1 / 2.3 /
-    // 7.6 m, field 90 s seeds 1-2 22.5 / 16.6 -> 17.0 / 13.5 m. Cost: the corridor's mean matching time 13 -> 23 ms, the
-    // tunnel's 25 -> 40 ms (most of its sweeps are probed and fail).
+    // courtyard byte-identical; tunnel 90 s seeds 1-4 9.4 / 5.1 / 3.4 / 8.1 -> 7.6 / 4.6 / 2.9 /
+    // 8.0 m, field 90 s seeds 1-2 22.5 / 16.6 -> 16.5 / 13.4 m. Two descent steps per probe
+    // (three: corridor seed 3 0.57 m, tunnel 8.9 / 4.1 / 2.3 / 7.6 m, and slower). Cost
+    // (loaded machine, noisy): mean matching time tunnel 37 -> 47 ms, corridor 20 -> 32 ms.
     double degeneracy_probe_max_std_m = 0.02;
     double degeneracy_probe_offset_m = 0.05;
     double degeneracy_probe_min_return = 0.5;
-    int degeneracy_probe_iterations = 3;
+    int degeneracy_probe_iterations = 2;
     int min_correspondences = 20;      // fewer: the sweep constrains nothing
     double converged_rot_rad = 1e-5;
     double converged_trans_m = 1e-5;
