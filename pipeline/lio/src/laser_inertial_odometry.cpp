@@ -106,10 +106,7 @@ void LaserInertialOdometry::matchSweep(scan::Sweep sweep) {
             // counts no correction twice.
             scan::PosePrior prior;
             prior.T_world_body = integrated->T_world_body;
-            prior.information.setZero();
-            const double sr = config_.imu_prior_sigma_rot_rad, st = config_.imu_prior_sigma_trans_m;
-            prior.information.diagonal().head<3>().setConstant(1.0 / (sr * sr));
-            prior.information.diagonal().tail<3>().setConstant(1.0 / (st * st));
+            prior.information = predictionInformation(prior.T_world_body.linear());
             priors.emplace({prior});
         } else {
             ++stats_.rejected;
@@ -125,11 +122,13 @@ void LaserInertialOdometry::matchSweep(scan::Sweep sweep) {
         // per-axis mask (a degenerate corridor axis at 45 degrees to the world axes would
         // otherwise cost both horizontal axes, or leak into one of them).
         if (!predictor_.correct(sweep.t_start, r.pose.T_world_body, r.solved_projector_world).isOk()) ++stats_.rejected;
+        last_solved_world_ = r.solved_projector_world;
     } else if (config_.imu_feedback && !reference && !r.first_sweep) {
         // A sweep that solved nothing (too few matches: an open field, a fog of noise) is still
         // feedback: every direction is unsolved, so the pose stays the prediction's and the
         // velocity gets the motion prior instead of running on with the IMU alone.
         if (!predictor_.correct(sweep.t_start, r.pose.T_world_body, Matrix6d::Zero()).isOk()) ++stats_.rejected;
+        last_solved_world_.setZero();
     }
     PoseEstimate scan_pose = r.pose;
     scan_pose.t_host = sweep.t_start;
@@ -149,6 +148,23 @@ void LaserInertialOdometry::matchSweep(scan::Sweep sweep) {
     }
     reg.sweep = sweep;
     sweeps_.push_back(std::move(reg));
+}
+
+Matrix6d LaserInertialOdometry::predictionInformation(const Eigen::Matrix3d& R_world_body) const {
+    const double sr = config_.imu_prior_sigma_rot_rad, st = config_.imu_prior_sigma_trans_m;
+    Matrix6d solved = Matrix6d::Zero();
+    solved.diagonal().head<3>().setConstant(1.0 / (sr * sr));
+    solved.diagonal().tail<3>().setConstant(1.0 / (st * st));
+    // Every direction solved last time (the usual case): the prediction holds everywhere.
+    if ((Matrix6d::Identity() - last_solved_world_).norm() < 1e-6) return solved;
+    // Eq. (18) with the prediction's own uncertainty: P I_solved P + (I - P) I_unsolved (I - P),
+    // P the last feedback's solved subspace in the body tangent of the prior's error.
+    const double su = config_.unsolved_prior_sigma_trans_m;
+    Matrix6d unsolved = solved;
+    unsolved.diagonal().tail<3>().setConstant(1.0 / (su * su));
+    const Matrix6d P = scan::bodyToWorldAxes(last_solved_world_, R_world_body.transpose());
+    const Matrix6d Q = Matrix6d::Identity() - P;
+    return P * solved * P + Q * unsolved * Q;
 }
 
 std::vector<scan::PosePrior> LaserInertialOdometry::referencePrior(const scan::Sweep& sweep) const {

@@ -15,11 +15,13 @@
 //    `tilt_robust_mps2`, so a walker's starts, stops and turns - large accelerations - pass as
 //    motion), removed from the velocity change and handed to the predictor as a gravity
 //    correction along the unsolved directions (gravityStep()).
-// In solved directions the velocity is the feedback's and passes unchanged. After a feedback that
-// solved every translation, the IMU is trusted for `imu_trusted_s` (its velocity and biases along
-// the now unsolved direction were just learnt there: a corridor seen along its axis for a while),
-// then the prior ramps in over `imu_trust_ramp_s`; along a direction never solved since the
-// start (a tunnel from the static start on, an open field) it acts at once.
+// In solved directions the velocity is the feedback's and passes unchanged. Time with every
+// translation solved earns trust in the IMU, from -`imu_trust_ramp_s` (the prior alone, as at
+// the start) up to `imu_trusted_s` (its velocity and biases along
+// the now unsolved direction were learnt there: a corridor seen along its axis for a while);
+// unsolved time spends it, then the prior ramps in over `imu_trust_ramp_s`; along a direction
+// never solved since the start (a tunnel from the static start on, an open field) it acts at
+// once, and an odd solved sweep there buys only its own period.
 #pragma once
 
 #include <Eigen/Core>
@@ -48,7 +50,8 @@ struct UnsolvedMotionPriorConfig {
 
 class UnsolvedMotionPrior {
 public:
-    explicit UnsolvedMotionPrior(UnsolvedMotionPriorConfig config = {}) : config_(config) {}
+    explicit UnsolvedMotionPrior(UnsolvedMotionPriorConfig config = {})
+        : config_(config), trust_s_(-config.imu_trust_ramp_s) {}
 
     // At a feedback time t: `v` is the velocity after the feedback (the estimate in the solved
     // directions, the IMU's prediction in the others), `unsolved` the orthogonal projector onto
@@ -63,6 +66,9 @@ public:
     const Eigen::Vector3d& gravityStep() const { return gravity_step_; }
     // The apparent acceleration removed so far (world, m/s^2).
     const Eigen::Vector3d& accelError() const { return accel_error_; }
+    // How far the last apply() replaced the IMU along the unsolved directions: 0 (IMU trusted)
+    // to 1 (the prior alone).
+    double strength() const { return strength_; }
 
 private:
     UnsolvedMotionPriorConfig config_;
@@ -70,8 +76,10 @@ private:
     Eigen::Vector3d accel_error_ = Eigen::Vector3d::Zero();
     Eigen::Vector3d gravity_step_ = Eigen::Vector3d::Zero();
     TimeNs last_t_ = 0;
-    TimeNs solved_t_ = 0;   // the last feedback that solved every translation
-    bool ever_solved_ = false;
+    // IMU trust (s): + while every translation is solved (up to imu_trusted_s), - while not
+    // (down to -imu_trust_ramp_s, where the prior acts fully; also the start).
+    double trust_s_;
+    double strength_ = 1.0;
     bool have_last_ = false;
 };
 
