@@ -86,10 +86,11 @@ struct ScanMatcherConfig {
     // sweeps, lambda >= 9 in 100 %; tunnel axes (lambda 0.3-9) in 0 of 178. Directions whose
     // laser standard deviation exceeds `degeneracy_probe_max_std_m` are not probed. A confirmed
     // direction joins the solved subspace of eq. (21) for a last round from that minimum.
-    // Whole pipeline, corridor 60 s seeds 1-6: ATE 0.06 / 0.67 / 9.6 / 2.2 / 1.8 / 4.8 m ->
-    // 0.04 / 0.14 / 0.40 / 0.23 / 0.02 / 0.05 m (with lio's unsolved_prior_sigma_trans_m and
+    // Whole pipeline, corridor 60 s seeds 1-6: ATE 0.08 / 0.68 / 9.5 / 4.4 / 0.19 / 3.7 m ->
+    // 0.03 / 0.12 / 0.57 / 0.10 / 0.02 / 0.08 m (with lio's unsolved_prior_sigma_trans_m and
     // the IMU trust of imu::UnsolvedMotionPrior earned by solved time); office, house,
-    // courtyard byte-identical. Cost: the corridor's mean matching time 13 -> 23 ms, the
+    // courtyard byte-identical; tunnel 90 s seeds 1-4 9.4 / 5.1 / 3.4 / 8.1 -> 8.9 / 4.1 / 2.3 /
+    // 7.6 m, field 90 s seeds 1-2 22.5 / 16.6 -> 17.0 / 13.5 m. Cost: the corridor's mean matching time 13 -> 23 ms, the
     // tunnel's 25 -> 40 ms (most of its sweeps are probed and fail).
     double degeneracy_probe_max_std_m = 0.02;
     double degeneracy_probe_offset_m = 0.05;
