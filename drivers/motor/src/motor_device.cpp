@@ -109,7 +109,7 @@ void MotorDevice::onFrame(const transport::TimedCanFrame& tf) {
                 tf.t_host - last_position_ > static_cast<TimeNs>(2.5 * cfg_.cyclic_timer_ms * kNsPerMs)) {
                 ++stats_.late_positions;
             }
-            auto sample = unwrapper_.update(tf.t_host, *pos);
+            auto sample = unwrapper_.update(tf.t_host - cfg_.tpdo_latency, *pos);
             if (!sample) {
                 ++stats_.bad_frames;
                 log().warn("motor: {} ({} at {} ns)", sample.status().message(), who, tf.t_host);

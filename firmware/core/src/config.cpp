@@ -260,7 +260,8 @@ DeviceConfig loadDeviceConfig(const std::string& path) {
     }
     if (auto n = v.section(root, "", "motor"); n.IsDefined()) {
         v.onlyKeys(n, "motor", {"can_interface", "encoder_node_id", "drive_node_id", "encoder_counts_per_rev",
-                                "tpdo_period_ms", "heartbeat_timeout_s", "target_speed_rev_s", "sweep_boundary"});
+                                "tpdo_period_ms", "heartbeat_timeout_s", "target_speed_rev_s", "sweep_boundary",
+                                "tpdo_latency_ms"});
         v.text(n, "motor", "can_interface", c.motor.can_interface);
         v.integer(n, "motor", "encoder_node_id", c.motor.encoder_node_id, 1, 127);
         v.integer(n, "motor", "drive_node_id", c.motor.drive_node_id, 1, 127);
@@ -269,6 +270,7 @@ DeviceConfig loadDeviceConfig(const std::string& path) {
         v.number(n, "motor", "heartbeat_timeout_s", c.motor.heartbeat_timeout_s, 0.01, 60.0);
         v.number(n, "motor", "target_speed_rev_s", c.motor.target_speed_rev_s, 0.05, 10.0);
         v.text(n, "motor", "sweep_boundary", c.motor.sweep_boundary, {"half", "full"});
+        v.number(n, "motor", "tpdo_latency_ms", c.motor.tpdo_latency_ms, 0.0, 100.0);
         if (c.motor.encoder_node_id == c.motor.drive_node_id)
             v.fail(n["drive_node_id"], "motor.drive_node_id", "a node id different from encoder_node_id", std::to_string(c.motor.drive_node_id));
     }

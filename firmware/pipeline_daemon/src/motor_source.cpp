@@ -16,6 +16,7 @@ motor::MotorConfig motorConfig(const MotorConfig& c) {
     m.unwrap.units_per_revolution = static_cast<std::uint32_t>(c.encoder_counts_per_rev);
     m.unwrap.total_range = m.unwrap.units_per_revolution;  // single-turn encoder
     m.cyclic_timer_ms = static_cast<std::uint16_t>(c.tpdo_period_ms);
+    m.tpdo_latency = fromSeconds(c.tpdo_latency_ms * 1e-3);
     m.heartbeat_timeout = fromSeconds(c.heartbeat_timeout_s);
     m.drive = motor::DriveConfig{};
     m.drive->node = static_cast<std::uint8_t>(c.drive_node_id);

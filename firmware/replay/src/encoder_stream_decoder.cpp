@@ -57,7 +57,8 @@ void EncoderStreamDecoder::feed(TimeNs t_rx, std::span<const std::uint8_t> line,
     tpdo_clock_.observe(static_cast<std::uint64_t>(tpdo_index_), t_rx);
     // Never later than received, never before the previous sample (the fit moves while it
     // learns the envelope; a step back would make the unwrapper reject the sample).
-    TimeNs t_sent = std::min(tpdo_clock_.toHostUnwrapped(tpdo_index_), t_rx);
+    // The fit gives the fastest delivery; the position was sampled the fixed latency before it.
+    TimeNs t_sent = std::min(tpdo_clock_.toHostUnwrapped(tpdo_index_), t_rx) - cfg_.tpdo_latency_ns;
     if (last_sample_t_) t_sent = std::max(t_sent, *last_sample_t_ + 1);
     last_sample_t_ = t_sent;
     auto sample = unwrapper_.update(t_sent, raw);

@@ -22,6 +22,7 @@ EncoderStreamConfig encoderStreamConfig(const DeviceConfig& device) {
     // Our encoder is single-turn: its position (6004h) wraps after one revolution (6002h = 6001h).
     c.unwrapper.total_range = c.unwrapper.units_per_revolution;
     c.tpdo_period_ns = device.motor.tpdo_period_ms * kNsPerMs;
+    c.tpdo_latency_ns = fromSeconds(device.motor.tpdo_latency_ms * 1e-3);
     return c;
 }
 

@@ -1,9 +1,10 @@
 #!/usr/bin/env bash
 # End to end with the simulator's aggressive hand motion (peak 370 deg/s, the paper's Figure 30):
 # 30 s in the office (3 s still, then swinging while walking), replayed with laser + IMU. The
-# accuracy must hold near the walking figures. Measured (seed 1): ATE 8.9 mm, rotation 0.088 deg,
-# mean drift 0.15 %. Before the Xsens frame timing (xsens.frame_latency_ms + wire time) the IMU
-# samples came 1.5 ms late against the laser and the ground truth: 21 mm, 0.56 deg, 0.71 %.
+# accuracy must hold near the walking figures. Measured (seed 1): ATE 7.3 mm, rotation 0.072 deg,
+# mean drift 0.13 % (8.9 mm, 0.088 deg, 0.15 % without motor.tpdo_latency_ms). Before the Xsens
+# frame timing (xsens.frame_latency_ms + wire time) the IMU samples came 1.5 ms late against the
+# laser and the ground truth: 21 mm, 0.56 deg, 0.71 %.
 # Usage: e2e_aggressive.sh HANDSCAN_BIN WORK_DIR
 set -euo pipefail
 bin=$1

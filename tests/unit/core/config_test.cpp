@@ -42,6 +42,7 @@ TEST_F(ConfigTest, ShippedFilesLoad) {
     EXPECT_EQ(d.hokuyo.port, 10940);
     EXPECT_EQ(d.xsens.baud, 921600);
     EXPECT_DOUBLE_EQ(d.xsens.frame_latency_ms, 1.0);
+    EXPECT_DOUBLE_EQ(d.motor.tpdo_latency_ms, 0.12);
     EXPECT_EQ(d.colour_camera.width, 1600);
     const Calibration c = loadCalibration(dir + "/calibration.yaml");
     EXPECT_EQ(c.tracking.resolution[0], 640);

@@ -177,6 +177,11 @@ TEST(EncoderStreamDecoder, CyclicTimerRemovesReceiveJitter) {
     cfg.unwrapper.total_range = 16384;
     cfg.tpdo_period_ns = 5 * kNsPerMs;
     EncoderStreamDecoder dec(cfg);
+    // With the minimum latency calibrated (motor.tpdo_latency_ms) the times are the sampling's.
+    EncoderStreamConfig calibrated = cfg;
+    calibrated.tpdo_latency_ns = 200 * kNsPerUs;
+    EncoderStreamDecoder dec_calibrated(calibrated);
+    std::vector<EncoderSample> out_calibrated;
     std::mt19937 rng(9);
     std::uniform_real_distribution<double> jitter_ms(0.0, 2.0);  // arbitration + USB adapter polling
     std::vector<EncoderSample> out;
@@ -194,6 +199,7 @@ TEST(EncoderStreamDecoder, CyclicTimerRemovesReceiveJitter) {
         rec.setTimeNs(t_rx);
         const std::string line = motor::formatCandumpLogLine(rec);
         dec.feed(t_rx, bytesOf(line), out);
+        dec_calibrated.feed(t_rx, bytesOf(line), out_calibrated);
         sent.push_back(t_sent);
     }
     ASSERT_EQ(out.size(), sent.size()) << dec.counters().last_error;
@@ -208,6 +214,10 @@ TEST(EncoderStreamDecoder, CyclicTimerRemovesReceiveJitter) {
     }
     SCOPED_TRACE("worst at sample " + std::to_string(worst));
     EXPECT_LT(max_err_ms, 0.1) << "receive jitter (0-2 ms) left in the encoder times";
+    ASSERT_EQ(out_calibrated.size(), sent.size());
+    for (std::size_t i = 500; i < out_calibrated.size(); ++i) {
+        ASSERT_NEAR(toSeconds(out_calibrated[i].t_host - sent[i]) * 1e3, 0.0, 0.1) << "sample " << i;
+    }
     EXPECT_NEAR(out.back().speed_radps, 2 * M_PI * rev_per_s, 0.05);
 }
 

@@ -36,6 +36,7 @@ struct MotorConfig {
     UnwrapperConfig unwrap;                      // units per revolution / range, overwritten when read
     bool read_resolution_from_device = true;     // SDO-read 6001h and 6002h at start
     std::uint16_t cyclic_timer_ms = 1;           // 6200h: TPDO1 period
+    TimeNs tpdo_latency = 0;                     // position sampled -> TPDO1 received (calibration)
     std::uint8_t tpdo1_transmission_type = kTransmissionEventManufacturer;
     std::uint16_t heartbeat_ms = 100;            // 1017h producer heartbeat time
     TimeNs heartbeat_timeout = 350 * kNsPerMs;   // silent encoder after this long without heartbeat

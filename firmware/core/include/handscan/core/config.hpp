@@ -50,6 +50,10 @@ struct MotorConfig {
     double heartbeat_timeout_s = 0.5;
     double target_speed_rev_s = 1.0;
     std::string sweep_boundary = "half";   // half | full revolution
+    // Fixed delay from the encoder sampling its position to the TPDO1 frame's receive time (the
+    // frame on the bus, the adapter; calibration). The receive times cannot show it, and at
+    // 1 rev/s every 0.1 ms of it turns the shaft angle, and so the sweep, by 0.036 deg.
+    double tpdo_latency_ms = 0.0;
 };
 
 struct CameraConfig {

@@ -67,6 +67,7 @@ struct EncoderStreamConfig {
     std::uint8_t node_id = 1;
     motor::UnwrapperConfig unwrapper;
     TimeNs tpdo_period_ns = 5 * kNsPerMs;   // 6200h cyclic timer as configured
+    TimeNs tpdo_latency_ns = 0;             // position sampled -> frame received (motor.tpdo_latency_ms)
 };
 
 class EncoderStreamDecoder {
