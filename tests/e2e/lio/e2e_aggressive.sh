@@ -7,23 +7,18 @@
 # laser and the ground truth: 21 mm, 0.56 deg, 0.71 %.
 # Usage: e2e_aggressive.sh HANDSCAN_BIN WORK_DIR
 set -euo pipefail
-bin=$1
-work=$2
-rm -rf "$work"
-mkdir -p "$work"
-fail() { echo "e2e_aggressive: FAIL: $*" >&2; exit 1; }
+source "$(dirname "$0")/../e2e_lib.sh"
+e2e_begin e2e_aggressive "$1" "$2"
 
 "$bin" -q sim --scene office --duration 30 --seed 1 --trajectory aggressive --no-camera --out "$work/office.mcap" > /dev/null
 "$bin" -q replay "$work/office.mcap" --out "$work/r" --fast
 "$bin" eval --gt "$work/office.gt.tum" --est "$work/r/trajectory.tum" > "$work/eval.txt"
 cat "$work/eval.txt"
-# The value after `rmse` on the line matching $1; the value after `mean:` on the drift line.
-field() { awk -v pat="$1" '$0 ~ pat {for (i = 1; i <= NF; ++i) if ($i == "rmse") {print $(i + 1); exit}}' "$work/eval.txt"; }
-ate=$(field '^ATE')
-rot=$(field '^rotation error')
+ate=$(eval_rmse "$work/eval.txt" '^ATE')
+rot=$(eval_rmse "$work/eval.txt" '^rotation error')
 drift=$(awk '/^drift mean:/ {print $3; exit}' "$work/eval.txt")
 [ -n "$ate" ] && [ -n "$rot" ] && [ -n "$drift" ] || fail "eval printed no ATE, rotation error or mean drift"
-awk -v a="$ate" 'BEGIN { exit !(a <= 0.015) }' || fail "ATE rmse $ate m above 0.015 m"
-awk -v r="$rot" 'BEGIN { exit !(r <= 0.2) }' || fail "rotation error rmse $rot deg above 0.2 deg"
-awk -v d="$drift" 'BEGIN { exit !(d <= 0.3) }' || fail "mean drift $drift % above 0.3 %"
+at_most "$ate" 0.015 || fail "ATE rmse $ate m above 0.015 m"
+at_most "$rot" 0.2 || fail "rotation error rmse $rot deg above 0.2 deg"
+at_most "$drift" 0.3 || fail "mean drift $drift % above 0.3 %"
 echo "e2e_aggressive: ok (ATE rmse $ate m, rotation $rot deg, drift $drift %)"

@@ -10,11 +10,8 @@
 # 0.02 m; with the axis held at the prior (the hard threshold of eq. 21 alone) 3.7 m.
 # Usage: e2e_degenerate.sh HANDSCAN_BIN WORK_DIR
 set -euo pipefail
-bin=$1
-work=$2
-rm -rf "$work"
-mkdir -p "$work"
-fail() { echo "e2e_degenerate: FAIL: $*" >&2; exit 1; }
+source "$(dirname "$0")/../e2e_lib.sh"
+e2e_begin e2e_degenerate "$1" "$2"
 
 # scene, max ATE rmse (m), minimum degenerate directions expected on most sweeps[, duration, seed]
 check() {
@@ -24,9 +21,9 @@ check() {
   "$bin" eval --gt "$work/$scene.gt.tum" --est "$work/$scene/trajectory.tum" > "$work/$scene.eval.txt"
   cat "$work/$scene.eval.txt"
   local ate
-  ate=$(awk '/ATE/ && /rmse/ {for (i = 1; i <= NF; ++i) if ($i ~ /^rmse/) {v = $(i + 1); gsub(/[^0-9.eE+-]/, "", v); print v; exit}}' "$work/$scene.eval.txt")
+  ate=$(eval_rmse "$work/$scene.eval.txt" '^ATE')
   [ -n "$ate" ] || fail "$scene: eval printed no ATE rmse"
-  awk -v a="$ate" -v max="$max_ate" 'BEGIN { exit !(a <= max) }' || fail "$scene: ATE rmse $ate m above $max_ate m"
+  at_most "$ate" "$max_ate" || fail "$scene: ATE rmse $ate m above $max_ate m"
   # The degenerate directions of every matched sweep are in stats.json: most sweeps must flag
   # at least min_deg of them (the tunnel: its axis; the field: x, y and yaw).
   /usr/bin/python3 - "$work/$scene/stats.json" "$min_deg" "$scene" <<'PY' || fail "$scene: degenerate directions not flagged"

@@ -8,11 +8,8 @@
 # pitched by 1.08 deg and sank 0.34 m; with it 0.19 deg and 0.08 m. Also checks trajectory.tum.
 # Usage: e2e_reference_tilt.sh HANDSCAN_BIN WORK_DIR
 set -euo pipefail
-bin=$1
-work=$2
-rm -rf "$work"
-mkdir -p "$work"
-fail() { echo "e2e_reference_tilt: FAIL: $*" >&2; exit 1; }
+source "$(dirname "$0")/../e2e_lib.sh"
+e2e_begin e2e_reference_tilt "$1" "$2"
 
 "$bin" -q sim --scene tunnel --duration 45 --seed 1 --no-camera --out "$work/tunnel.mcap"
 "$bin" -q replay "$work/tunnel.mcap" --out "$work/out" --fast --reference-motion "$work/tunnel.gt.tum"
@@ -58,7 +55,7 @@ PY
 # reference (measured ATE 2.2 cm; 5.7 m when it was carried by the uncorrected IMU prediction).
 "$bin" eval --gt "$work/tunnel.gt.tum" --est "$work/out/trajectory.tum" > "$work/eval.txt"
 cat "$work/eval.txt"
-ate=$(awk '/ATE/ && /rmse/ {for (i = 1; i <= NF; ++i) if ($i ~ /^rmse/) {v = $(i + 1); gsub(/[^0-9.eE+-]/, "", v); print v; exit}}' "$work/eval.txt")
+ate=$(eval_rmse "$work/eval.txt" '^ATE')
 [ -n "$ate" ] || fail "eval printed no ATE rmse"
-awk -v a="$ate" 'BEGIN { exit !(a <= 0.1) }' || fail "trajectory.tum ATE rmse $ate m above 0.1 m"
+at_most "$ate" 0.1 || fail "trajectory.tum ATE rmse $ate m above 0.1 m"
 echo "e2e_reference_tilt: ok"

@@ -3,11 +3,8 @@
 # accuracy against ground truth -> export -> replay of a recording cut short by a power cut.
 # Usage: e2e_scan.sh HANDSCAN_BIN WORK_DIR
 set -euo pipefail
-bin=$1
-work=$2
-rm -rf "$work"
-mkdir -p "$work"
-fail() { echo "e2e_scan: FAIL: $*" >&2; exit 1; }
+source "$(dirname "$0")/../e2e_lib.sh"
+e2e_begin e2e_scan "$1" "$2"
 
 # 14 s: 3 s standing still, then walking through the first room. This test guards the tool
 # chain and the accuracy reached so far (ATE 1.3 cm with IMU feedback; 60 s walks in the issue
@@ -36,9 +33,9 @@ if ls -A "$work/r3" | grep -q spill; then fail "the map's scratch file was left 
 
 "$bin" eval --gt "$work/office.gt.tum" --est "$work/r1/trajectory.tum" > "$work/eval.txt"
 cat "$work/eval.txt"
-ate=$(awk '/ATE/ && /rmse/ {for (i = 1; i <= NF; ++i) if ($i ~ /^rmse/) {v = $(i + 1); gsub(/[^0-9.eE+-]/, "", v); print v; exit}}' "$work/eval.txt")
+ate=$(eval_rmse "$work/eval.txt" '^ATE')
 [ -n "$ate" ] || fail "eval printed no ATE rmse"
-awk -v a="$ate" -v max="${HANDSCAN_E2E_MAX_ATE:-0.05}" 'BEGIN { exit !(a <= max) }' || fail "ATE rmse $ate m above ${HANDSCAN_E2E_MAX_ATE:-0.05} m"
+at_most "$ate" "${HANDSCAN_E2E_MAX_ATE:-0.05}" || fail "ATE rmse $ate m above ${HANDSCAN_E2E_MAX_ATE:-0.05} m"
 
 mkdir -p "$work/stick"
 "$bin" -q export "$work/r1" --to "$work/stick" --format ply,las --name scan > "$work/export.txt"
