@@ -39,7 +39,7 @@ void ImuStreamDecoder::problem(std::string text) {
 
 void ImuStreamDecoder::resetLink() {
     parser_.reset();
-    last_counter_.reset();
+    counter_.reset();
 }
 
 void ImuStreamDecoder::feed(TimeNs t_rx, std::span<const std::uint8_t> bytes, std::vector<ImuSample>& out) {
@@ -64,7 +64,7 @@ void ImuStreamDecoder::decode(const XbusFrameView& frame, TimeNs t_rx, std::vect
         // mapping afresh instead of treating the jump as a clock fault.
         ++stats_.restarts;
         clock_ = ClockMapper(sampleTimeFineClock());
-        last_counter_.reset();
+        counter_.reset();
         problem(source_ + " restarted (WakeUp) while measuring; resuming with its stored configuration. Check the "
                           "supply if this repeats.");
         return;
@@ -79,17 +79,14 @@ void ImuStreamDecoder::decode(const XbusFrameView& frame, TimeNs t_rx, std::vect
     }
     if (auto pc = packet->integer(xdi::kPacketCounter)) {
         const auto counter = static_cast<std::uint16_t>(*pc);
-        if (last_counter_) {
-            const auto missing = static_cast<std::uint16_t>(counter - *last_counter_ - 1);
-            if (missing != 0) {
-                ++stats_.gaps;
-                stats_.lost_packets += missing;
-                problem(source_ + " packet counter jumped from " + std::to_string(*last_counter_) + " to " +
-                        std::to_string(counter) + ": " + std::to_string(missing) +
-                        " packet(s) lost (damaged on the wire or a serial overrun)");
-            }
+        const std::optional<std::uint16_t> previous = counter_.last();
+        if (const std::uint16_t missing = counter_.missingBefore(counter); missing != 0) {
+            ++stats_.gaps;
+            stats_.lost_packets += missing;
+            problem(source_ + " packet counter jumped from " + std::to_string(*previous) + " to " +
+                    std::to_string(counter) + ": " + std::to_string(missing) +
+                    " packet(s) lost (damaged on the wire or a serial overrun)");
         }
-        last_counter_ = counter;
     }
     const auto stf = packet->integer(xdi::kSampleTimeFine);
     const auto acc = packet->vector3(xdi::kAcceleration);
@@ -97,7 +94,7 @@ void ImuStreamDecoder::decode(const XbusFrameView& frame, TimeNs t_rx, std::vect
     if (!stf || !acc || !gyro) {
         ++stats_.incomplete;
         problem(source_ + " MTData2 without SampleTimeFine, Acceleration or RateOfTurn (packet counter " +
-                std::to_string(last_counter_.value_or(0)) + "): no sample; is the output configuration ours?");
+                std::to_string(counter_.last().value_or(0)) + "): no sample; is the output configuration ours?");
         return;
     }
     // The frame's last byte came in at t_rx: the sample was taken at least the fixed latency and
@@ -114,7 +111,7 @@ void ImuStreamDecoder::decode(const XbusFrameView& frame, TimeNs t_rx, std::vect
     } else if (auto sb = packet->integer(xdi::kStatusByte)) {
         s.status_word = static_cast<std::uint32_t>(*sb);  // bits 0-7 of the status word
     }
-    s.packet_counter = last_counter_.value_or(0);
+    s.packet_counter = counter_.last().value_or(0);
     ++stats_.samples;
     out.push_back(s);
 }

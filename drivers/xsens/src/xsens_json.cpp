@@ -239,16 +239,11 @@ void XsensJsonDecoder::writeMtData2(const MtData2Packet& packet, std::ostream& o
         number(out, static_cast<double>(stf_unwrapped_) * 1e-4);
     }
     if (auto pc = packet.integer(xdi::kPacketCounter)) {
-        const auto counter = static_cast<std::uint16_t>(*pc);
-        if (last_counter_) {
-            const auto missing = static_cast<std::uint16_t>(counter - *last_counter_ - 1);
-            if (missing != 0) {
-                ++summary_.gaps;
-                summary_.lost_packets += missing;
-                out << ",\"gap\":" << missing;
-            }
+        if (const std::uint16_t missing = counter_.missingBefore(static_cast<std::uint16_t>(*pc)); missing != 0) {
+            ++summary_.gaps;
+            summary_.lost_packets += missing;
+            out << ",\"gap\":" << missing;
         }
-        last_counter_ = counter;
     }
     for (const auto& v : packet.values) {
         out << ',';

@@ -151,4 +151,15 @@ TEST(MtData2, EveryTableEntryDecodesItsOwnEncoding) {
 }
 
 }  // namespace
+TEST(PacketCounterTracker, CountsThePacketsMissingBetweenCountersAcrossTheWrap) {
+    PacketCounterTracker t;
+    EXPECT_EQ(t.missingBefore(65533), 0);  // the first one: nothing to compare with
+    EXPECT_EQ(t.missingBefore(65534), 0);
+    EXPECT_EQ(t.missingBefore(1), 2);  // 65535 and 0 lost across the wrap
+    EXPECT_EQ(t.last(), std::optional<std::uint16_t>(1));
+    t.reset();
+    EXPECT_FALSE(t.last().has_value());
+    EXPECT_EQ(t.missingBefore(500), 0);  // a new sequence starts wherever the device is
+}
+
 }  // namespace handscan::xsens

@@ -19,6 +19,7 @@
 
 #include "handscan/core/clock_mapper.hpp"
 #include "handscan/core/samples.hpp"
+#include "handscan/xsens/mtdata2.hpp"
 #include "handscan/xsens/xbus_parser.hpp"
 
 namespace handscan::xsens {
@@ -66,7 +67,7 @@ public:
     // afresh (statistics and the time mapping are kept).
     void resetLink();
     // Entering measurement: the packet counter continues from wherever the device is.
-    void forgetCounter() { last_counter_.reset(); }
+    void forgetCounter() { counter_.reset(); }
 
     void setSource(std::string source) { source_ = std::move(source); }
     // A new line rate (the device switched baud): later frames take their wire time at it.
@@ -86,7 +87,7 @@ private:
     ImuFrameTiming timing_;
     XbusParser parser_;
     ClockMapper clock_;
-    std::optional<std::uint16_t> last_counter_;
+    PacketCounterTracker counter_;
     ImuStreamStats stats_;
     std::string last_problem_;
     std::function<void(const std::string&)> on_problem_;

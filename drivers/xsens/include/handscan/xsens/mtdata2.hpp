@@ -97,4 +97,21 @@ private:
     std::vector<std::uint8_t> payload_;
 };
 
+// The 16-bit PacketCounter across consecutive MTData2 packets: how many went missing between them.
+class PacketCounterTracker {
+public:
+    // Packets lost between the previous counter and `counter` (0 for the first one, and across the
+    // 65535 -> 0 wrap); `counter` then becomes the previous one.
+    std::uint16_t missingBefore(std::uint16_t counter) {
+        const std::uint16_t missing = last_ ? static_cast<std::uint16_t>(counter - *last_ - 1) : 0;
+        last_ = counter;
+        return missing;
+    }
+    std::optional<std::uint16_t> last() const { return last_; }
+    void reset() { last_.reset(); }
+
+private:
+    std::optional<std::uint16_t> last_;
+};
+
 }  // namespace handscan::xsens

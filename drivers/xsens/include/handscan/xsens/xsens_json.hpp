@@ -36,7 +36,7 @@ private:
 
     XbusParser parser_;
     XsensJsonSummary summary_;
-    std::optional<std::uint16_t> last_counter_;
+    PacketCounterTracker counter_;
     std::optional<std::uint32_t> last_stf_;
     std::int64_t stf_unwrapped_ = 0;
 };
