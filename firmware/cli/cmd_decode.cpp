@@ -47,13 +47,13 @@ int feedRecording(const std::string& file, const DecoderEntry& entry, StreamDeco
     if ((*reader)->findTopic(entry.channel) == nullptr) {
         std::string topics;
         for (const auto& c : (*reader)->channels()) topics += " " + c.topic;
-        log().error("{}: no channel {} for device {} (channels:{})", file, entry.channel, entry.device,
-                    topics.empty() ? " none" : topics);
+        log().error("{}: no channel {} for device {} (channels:{})", file, entry.channel,
+                    entry.device, topics.empty() ? " none" : topics);
         return 1;
     }
-    const Status s = (*reader)->forEachMessage({{entry.channel}}, [&](const recording::RecordedMessage& m) {
-        decoder.feed(m.log_time, m.data, std::cout);
-    });
+    const Status s = (*reader)->forEachMessage(
+        {{entry.channel}},
+        [&](const recording::RecordedMessage& m) { decoder.feed(m.log_time, m.data, std::cout); });
     for (const auto& d : (*reader)->dropped()) log().warn("{}", d.reason);
     if (!s) {
         log().error("{}", s.message());
@@ -62,35 +62,41 @@ int feedRecording(const std::string& file, const DecoderEntry& entry, StreamDeco
     return 0;
 }
 
-const RegisterCommand kDecode{"decode", "Print a device stream's decoded samples as JSON lines", [](CLI::App& sub) {
-    auto device = std::make_shared<std::string>();
-    auto file = std::make_shared<std::string>();
-    std::vector<std::string> names;
-    for (const auto& d : decoderRegistry()) names.push_back(d.device);
-    sub.add_option("--device", *device, "device whose wire format FILE holds")->required()->check(CLI::IsMember(names));
-    sub.add_option("FILE", *file, "raw capture of the device's bytes, or a recording (.mcap)")->required()->check(CLI::ExistingFile);
-    return std::function<int()>([device, file] {
-        const DecoderEntry* entry = nullptr;
-        for (const auto& d : decoderRegistry()) {
-            if (d.device == *device) entry = &d;
-        }
-        auto decoder = entry->make();
-        if (isRecording(*file)) {
-            if (int rc = feedRecording(*file, *entry, *decoder); rc != 0) return rc;
+const RegisterCommand kDecode{
+    "decode", "Print a device stream's decoded samples as JSON lines", [](CLI::App& sub) {
+        auto device = std::make_shared<std::string>();
+        auto file = std::make_shared<std::string>();
+        std::vector<std::string> names;
+        for (const auto& d : decoderRegistry()) names.push_back(d.device);
+        sub.add_option("--device", *device, "device whose wire format FILE holds")
+            ->required()
+            ->check(CLI::IsMember(names));
+        sub.add_option("FILE", *file, "raw capture of the device's bytes, or a recording (.mcap)")
+            ->required()
+            ->check(CLI::ExistingFile);
+        return std::function<int()>([device, file] {
+            const DecoderEntry* entry = nullptr;
+            for (const auto& d : decoderRegistry()) {
+                if (d.device == *device) entry = &d;
+            }
+            auto decoder = entry->make();
+            if (isRecording(*file)) {
+                if (int rc = feedRecording(*file, *entry, *decoder); rc != 0) return rc;
+                printSummary(*device, decoder->finish(std::cout));
+                return 0;
+            }
+            std::ifstream in(*file, std::ios::binary);
+            if (!in) {
+                log().error("{}: cannot open for reading", *file);
+                return 1;
+            }
+            const std::vector<std::uint8_t> bytes((std::istreambuf_iterator<char>(in)),
+                                                  std::istreambuf_iterator<char>());
+            decoder->feed(0, bytes, std::cout);
             printSummary(*device, decoder->finish(std::cout));
             return 0;
-        }
-        std::ifstream in(*file, std::ios::binary);
-        if (!in) {
-            log().error("{}: cannot open for reading", *file);
-            return 1;
-        }
-        const std::vector<std::uint8_t> bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-        decoder->feed(0, bytes, std::cout);
-        printSummary(*device, decoder->finish(std::cout));
-        return 0;
-    });
-}};
+        });
+    }};
 
 }  // namespace
 }  // namespace handscan::cli

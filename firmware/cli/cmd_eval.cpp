@@ -1,9 +1,10 @@
 // `handscan eval`: accuracy of a replay against ground truth.
-//   handscan eval --gt GT.tum --est EST.tum [--plot out.png]   trajectory: ATE, segment drift, end point
-//   handscan eval --map MAP.ply --mesh scene.ply               map: point-to-surface distance
+//   handscan eval --gt GT.tum --est EST.tum [--plot out.png]   trajectory: ATE, segment drift, end
+//   point handscan eval --map MAP.ply --mesh scene.ply               map: point-to-surface distance
 //   handscan eval --map MAP.ply --mesh scene.ply --gt GT.tum --est EST.tum
-//       both; the map is first moved into the ground truth's frame by the trajectory's SE(3) alignment
-//       (the pipeline's world frame is its own gravity-aligned start frame, not the scene's).
+//       both; the map is first moved into the ground truth's frame by the trajectory's SE(3)
+//       alignment (the pipeline's world frame is its own gravity-aligned start frame, not the
+//       scene's).
 // Exit 0 on success, 2 on unreadable or inconsistent input (message says which file and why).
 #include <fmt/format.h>
 
@@ -36,41 +37,48 @@ int evalTrajectory(const EvalOptions& o, Eigen::Isometry3d& T_gt_est) {
     if (!est) return fail(est.status());
     const auto pairs = eval::associate(*gt, *est, o.max_gap_s);
     if (pairs.size() < 3) {
-        return fail(Status(StatusCode::kInvalidArgument,
-                           fmt::format("only {} of {} estimated poses fall within the ground truth's time span "
-                                       "[{:.3f}, {:.3f}] s; are both files on the same clock?",
-                                       pairs.size(), est->size(), gt->empty() ? 0.0 : gt->front().t_s,
-                                       gt->empty() ? 0.0 : gt->back().t_s)));
+        return fail(Status(
+            StatusCode::kInvalidArgument,
+            fmt::format("only {} of {} estimated poses fall within the ground truth's time span "
+                        "[{:.3f}, {:.3f}] s; are both files on the same clock?",
+                        pairs.size(), est->size(), gt->empty() ? 0.0 : gt->front().t_s,
+                        gt->empty() ? 0.0 : gt->back().t_s)));
     }
     const auto ate = eval::computeAte(pairs);
     T_gt_est = ate.T_gt_est;
     const auto drift = eval::computeDrift(pairs);
     const auto end = eval::computeEndPoint(pairs);
-    std::cout << fmt::format("poses: {} associated of {} estimated; path length {:.2f} m over {:.1f} s\n",
-                             pairs.size(), est->size(), drift.path_length_m, pairs.back().t_s - pairs.front().t_s);
+    std::cout << fmt::format(
+        "poses: {} associated of {} estimated; path length {:.2f} m over {:.1f} s\n", pairs.size(),
+        est->size(), drift.path_length_m, pairs.back().t_s - pairs.front().t_s);
     const auto& t = ate.translation_m;
-    std::cout << fmt::format("ATE (SE(3)-aligned) [m]: rmse {:.4f}  mean {:.4f}  median {:.4f}  max {:.4f}\n",
-                             t.rmse, t.mean, t.median, t.max);
-    std::cout << fmt::format("rotation error (aligned) [deg]: rmse {:.3f}  max {:.3f}\n", ate.rotation_deg.rmse,
-                             ate.rotation_deg.max);
+    std::cout << fmt::format(
+        "ATE (SE(3)-aligned) [m]: rmse {:.4f}  mean {:.4f}  median {:.4f}  max {:.4f}\n", t.rmse,
+        t.mean, t.median, t.max);
+    std::cout << fmt::format("rotation error (aligned) [deg]: rmse {:.3f}  max {:.3f}\n",
+                             ate.rotation_deg.rmse, ate.rotation_deg.max);
     if (ate.orientation_chose_branch) {
-        std::cout << "alignment: the path is planar and its positions fit the mirrored, upside-down branch "
-                     "better; the orientations chose the upright one (the estimate is distorted in plane)\n";
+        std::cout << "alignment: the path is planar and its positions fit the mirrored, "
+                     "upside-down branch "
+                     "better; the orientations chose the upright one (the estimate is distorted in "
+                     "plane)\n";
     }
     for (const auto& d : drift.per_length) {
         if (d.segments == 0) {
             std::cout << fmt::format("drift {:>4.0f} m: no segment (path too short)\n", d.length_m);
             continue;
         }
-        std::cout << fmt::format("drift {:>4.0f} m: {:.3f} %  {:.4f} deg/m  ({} segments)\n", d.length_m,
-                                 d.translation_percent, d.rotation_deg_per_m, d.segments);
+        std::cout << fmt::format("drift {:>4.0f} m: {:.3f} %  {:.4f} deg/m  ({} segments)\n",
+                                 d.length_m, d.translation_percent, d.rotation_deg_per_m,
+                                 d.segments);
     }
     std::cout << fmt::format("drift mean: {:.3f} %  {:.4f} deg/m\n", drift.mean_translation_percent,
                              drift.mean_rotation_deg_per_m);
-    std::cout << fmt::format("end point: {:.4f} m ({:.3f} % of path), {:.3f} deg; ground truth {} (start-end gap "
-                             "{:.3f} m)\n",
-                             end.error_m, end.error_percent, end.rotation_error_deg,
-                             end.is_loop ? "is a loop" : "is not a loop", end.gt_start_end_gap_m);
+    std::cout << fmt::format(
+        "end point: {:.4f} m ({:.3f} % of path), {:.3f} deg; ground truth {} (start-end gap "
+        "{:.3f} m)\n",
+        end.error_m, end.error_percent, end.rotation_error_deg,
+        end.is_loop ? "is a loop" : "is not a loop", end.gt_start_end_gap_m);
     if (!o.plot.empty()) {
         if (Status s = eval::plotTopView(o.plot, pairs, ate.T_gt_est); !s) return fail(s);
         std::cout << "plot: " << o.plot << "\n";
@@ -85,40 +93,47 @@ int evalMap(const EvalOptions& o, const Eigen::Isometry3d& T_gt_est) {
     auto mesh = eval::readPly(o.mesh);
     if (!mesh) return fail(mesh.status());
     auto index = eval::MeshDistance::build(std::move(*mesh));
-    if (!index) return fail(Status(index.status().code(), o.mesh + ": " + index.status().message()));
+    if (!index)
+        return fail(Status(index.status().code(), o.mesh + ": " + index.status().message()));
     const auto r = eval::computeMapError(map->vertices, **index);
-    if (r.points == 0) return fail(Status(StatusCode::kInvalidArgument, o.map + ": the map has no points"));
-    std::cout << fmt::format("map error{} over {} points against {} triangles [m]: median {:.4f}  p90 {:.4f}  "
-                             "p99 {:.4f}  mean {:.4f}  max {:.4f}\n",
-                             o.gt.empty() ? "" : " (map aligned by the trajectory)", r.points, (*index)->triangles(), r.median_m, r.p90_m, r.p99_m, r.mean_m, r.max_m);
+    if (r.points == 0)
+        return fail(Status(StatusCode::kInvalidArgument, o.map + ": the map has no points"));
+    std::cout << fmt::format(
+        "map error{} over {} points against {} triangles [m]: median {:.4f}  p90 {:.4f}  "
+        "p99 {:.4f}  mean {:.4f}  max {:.4f}\n",
+        o.gt.empty() ? "" : " (map aligned by the trajectory)", r.points, (*index)->triangles(),
+        r.median_m, r.p90_m, r.p99_m, r.mean_m, r.max_m);
     return 0;
 }
 
-const RegisterCommand kEval{"eval", "Accuracy against ground truth: trajectory (ATE, drift) or map error",
-                            [](CLI::App& sub) {
-    auto o = std::make_shared<EvalOptions>();
-    sub.add_option("--gt", o->gt, "ground-truth trajectory (TUM)");
-    sub.add_option("--est", o->est, "estimated trajectory (TUM)");
-    sub.add_option("--plot", o->plot, "write a top-view PNG of both trajectories");
-    sub.add_option("--max-gap", o->max_gap_s, "do not interpolate ground truth over gaps longer than this (s)");
-    sub.add_option("--map", o->map, "registered map (PLY)");
-    sub.add_option("--mesh", o->mesh, "true scene surfaces (PLY mesh)");
-    return std::function<int()>([o] {
-        const bool traj = !o->gt.empty() || !o->est.empty();
-        const bool map = !o->map.empty() || !o->mesh.empty();
-        if ((!traj && !map) || (traj && (o->gt.empty() || o->est.empty())) ||
-            (map && (o->map.empty() || o->mesh.empty()))) {
-            std::cerr << "handscan eval: give --gt and --est (trajectory), --map and --mesh (map), or all four "
-                         "(map aligned by the trajectory)\n";
-            return 2;
-        }
-        Eigen::Isometry3d T_gt_est = Eigen::Isometry3d::Identity();
-        if (traj) {
-            if (const int rc = evalTrajectory(*o, T_gt_est); rc != 0 || !map) return rc;
-        }
-        return evalMap(*o, T_gt_est);
-    });
-}};
+const RegisterCommand kEval{
+    "eval", "Accuracy against ground truth: trajectory (ATE, drift) or map error",
+    [](CLI::App& sub) {
+        auto o = std::make_shared<EvalOptions>();
+        sub.add_option("--gt", o->gt, "ground-truth trajectory (TUM)");
+        sub.add_option("--est", o->est, "estimated trajectory (TUM)");
+        sub.add_option("--plot", o->plot, "write a top-view PNG of both trajectories");
+        sub.add_option("--max-gap", o->max_gap_s,
+                       "do not interpolate ground truth over gaps longer than this (s)");
+        sub.add_option("--map", o->map, "registered map (PLY)");
+        sub.add_option("--mesh", o->mesh, "true scene surfaces (PLY mesh)");
+        return std::function<int()>([o] {
+            const bool traj = !o->gt.empty() || !o->est.empty();
+            const bool map = !o->map.empty() || !o->mesh.empty();
+            if ((!traj && !map) || (traj && (o->gt.empty() || o->est.empty())) ||
+                (map && (o->map.empty() || o->mesh.empty()))) {
+                std::cerr << "handscan eval: give --gt and --est (trajectory), --map and --mesh "
+                             "(map), or all four "
+                             "(map aligned by the trajectory)\n";
+                return 2;
+            }
+            Eigen::Isometry3d T_gt_est = Eigen::Isometry3d::Identity();
+            if (traj) {
+                if (const int rc = evalTrajectory(*o, T_gt_est); rc != 0 || !map) return rc;
+            }
+            return evalMap(*o, T_gt_est);
+        });
+    }};
 
 }  // namespace
 }  // namespace handscan::cli

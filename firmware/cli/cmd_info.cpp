@@ -15,64 +15,72 @@
 namespace handscan::cli {
 namespace {
 
-const RegisterCommand kInfo{"info", "Show a recording's channels, message counts, rates, duration and gaps",
-                            [](CLI::App& sub) {
-    auto file = std::make_shared<std::string>();
-    auto json = std::make_shared<bool>(false);
-    auto verify = std::make_shared<bool>(false);
-    auto device_yaml = std::make_shared<std::string>();
-    sub.add_option("REC", *file, "recording (.mcap)")->required()->check(CLI::ExistingFile);
-    sub.add_option("--device", *device_yaml,
-                   "device.yaml for the encoder's node id and TPDO period (default: <config dir>/device.yaml)");
-    sub.add_flag("--json", *json, "print one JSON object instead of a table");
-    sub.add_flag("--verify", *verify, "also check every CRC (chunks, data section, summary); exit 3 on a mismatch");
-    return std::function<int()>([file, json, verify, device_yaml] {
-        DeviceConfig device;
-        const std::string device_path = device_yaml->empty() ? defaultConfigDir() + "/device.yaml" : *device_yaml;
-        try {
-            device = loadDeviceConfig(device_path);
-        } catch (const std::exception& e) {
-            if (!device_yaml->empty()) {
-                log().error("{}", e.what());
+const RegisterCommand kInfo{
+    "info", "Show a recording's channels, message counts, rates, duration and gaps",
+    [](CLI::App& sub) {
+        auto file = std::make_shared<std::string>();
+        auto json = std::make_shared<bool>(false);
+        auto verify = std::make_shared<bool>(false);
+        auto device_yaml = std::make_shared<std::string>();
+        sub.add_option("REC", *file, "recording (.mcap)")->required()->check(CLI::ExistingFile);
+        sub.add_option("--device", *device_yaml,
+                       "device.yaml for the encoder's node id and TPDO period (default: <config "
+                       "dir>/device.yaml)");
+        sub.add_flag("--json", *json, "print one JSON object instead of a table");
+        sub.add_flag("--verify", *verify,
+                     "also check every CRC (chunks, data section, summary); exit 3 on a mismatch");
+        return std::function<int()>([file, json, verify, device_yaml] {
+            DeviceConfig device;
+            const std::string device_path =
+                device_yaml->empty() ? defaultConfigDir() + "/device.yaml" : *device_yaml;
+            try {
+                device = loadDeviceConfig(device_path);
+            } catch (const std::exception& e) {
+                if (!device_yaml->empty()) {
+                    log().error("{}", e.what());
+                    return 1;
+                }
+                log().warn("{}; decoding the encoder with default settings", e.what());
+            }
+            replay::DeviceRateMeter devices(device);
+            auto reader = recording::McapReader::open(*file);
+            if (!reader) {
+                log().error("{}", reader.status().message());
                 return 1;
             }
-            log().warn("{}; decoding the encoder with default settings", e.what());
-        }
-        replay::DeviceRateMeter devices(device);
-        auto reader = recording::McapReader::open(*file);
-        if (!reader) {
-            log().error("{}", reader.status().message());
-            return 1;
-        }
-        // Reading every message of a large recording takes a while: show progress on a terminal.
-        std::unique_ptr<Progress> progress;
-        if ((*reader)->fileSize() > (64u << 20)) progress = std::make_unique<Progress>("reading " + *file, 1.0);
-        auto summary = recording::summarizeRecording(
-            **reader,
-            [&](double f) {
-                if (progress) progress->update(f);
-            },
-            [&](const recording::RecordedMessage& m) { devices.feed(m.channel->topic, m.log_time, m.data); });
-        if (progress) progress->finish();
-        if (!summary) {
-            log().error("{}", summary.status().message());
-            return 1;
-        }
-        summary->devices = devices.summaries();
-        if (*verify) {
-            if (Status s = recording::checkRecordingCrcs(**reader, *summary); !s) {
-                log().error("{}", s.message());
+            // Reading every message of a large recording takes a while: show progress on a
+            // terminal.
+            std::unique_ptr<Progress> progress;
+            if ((*reader)->fileSize() > (64u << 20))
+                progress = std::make_unique<Progress>("reading " + *file, 1.0);
+            auto summary = recording::summarizeRecording(
+                **reader,
+                [&](double f) {
+                    if (progress) progress->update(f);
+                },
+                [&](const recording::RecordedMessage& m) {
+                    devices.feed(m.channel->topic, m.log_time, m.data);
+                });
+            if (progress) progress->finish();
+            if (!summary) {
+                log().error("{}", summary.status().message());
                 return 1;
             }
-        }
-        if (*json) {
-            recording::printSummaryJson(*summary, std::cout);
-        } else {
-            recording::printSummaryText(*summary, std::cout);
-        }
-        return summary->crc_checked && !summary->crc_problems.empty() ? 3 : 0;
-    });
-}};
+            summary->devices = devices.summaries();
+            if (*verify) {
+                if (Status s = recording::checkRecordingCrcs(**reader, *summary); !s) {
+                    log().error("{}", s.message());
+                    return 1;
+                }
+            }
+            if (*json) {
+                recording::printSummaryJson(*summary, std::cout);
+            } else {
+                recording::printSummaryText(*summary, std::cout);
+            }
+            return summary->crc_checked && !summary->crc_problems.empty() ? 3 : 0;
+        });
+    }};
 
 }  // namespace
 }  // namespace handscan::cli

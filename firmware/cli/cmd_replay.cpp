@@ -15,11 +15,13 @@ namespace {
 volatile std::sig_atomic_t g_interrupted = 0;
 
 // The pose of a TUM trajectory at time t (interpolated on SE(3); clamped at the ends).
-std::function<Eigen::Isometry3d(TimeNs)> trajectoryMotion(std::shared_ptr<const eval::Trajectory> tr) {
+std::function<Eigen::Isometry3d(TimeNs)> trajectoryMotion(
+    std::shared_ptr<const eval::Trajectory> tr) {
     return [tr](TimeNs t) {
         const double ts = toSeconds(t);
-        const auto it = std::lower_bound(tr->begin(), tr->end(), ts,
-                                         [](const eval::StampedPose& p, double v) { return p.t_s < v; });
+        const auto it =
+            std::lower_bound(tr->begin(), tr->end(), ts,
+                             [](const eval::StampedPose& p, double v) { return p.t_s < v; });
         if (it == tr->begin()) return tr->front().T;
         if (it == tr->end()) return tr->back().T;
         const auto& a = *(it - 1);
@@ -27,67 +29,86 @@ std::function<Eigen::Isometry3d(TimeNs)> trajectoryMotion(std::shared_ptr<const 
     };
 }
 
-const RegisterCommand kReplay{"replay", "Run the pipeline on a recording: trajectory.tum, map.ply, stats.json, journal",
-                              [](CLI::App& sub) {
-    auto o = std::make_shared<replay::ReplayOptions>();
-    auto modules = std::make_shared<std::string>("all");
-    sub.add_option("RECORDING", o->recording, "recording (.mcap)")->required()->check(CLI::ExistingFile);
-    sub.add_option("--out", o->out_dir, "output directory")->required();
-    sub.add_option("--modules", *modules, "imu | imu,laser | all")->check(CLI::IsMember({"imu", "imu,laser", "laser,imu", "all"}));
-    sub.add_flag("--fast", o->fast, "as fast as possible on the recording's clock (deterministic)");
-    sub.add_option("--speed", o->speed, "pace multiplier without --fast")->check(CLI::Range(0.01, 1000.0));
-    sub.add_option("--dump-sweeps", o->dump_sweeps_dir, "write every assembled sweep as PLY into this directory");
-    sub.add_option("--device", o->device_config, "device.yaml (default: config dir)");
-    sub.add_option("--calibration", o->calibration, "calibration.yaml (default: config dir)");
-    sub.add_option("--map-voxel", o->map_voxel_m, "map.ply voxel size in metres")->check(CLI::Range(0.001, 1.0));
-    sub.add_option("--map-memory", o->map_memory_mib,
-                   "MiB of map voxels held in memory; beyond it the tiles farthest from the sensor go to a "
-                   "scratch file and are merged back at the end (same map.ply)")
-        ->check(CLI::Range(1.0, 1e6));
-    sub.add_option("--map-tile", o->map_tile_m, "edge of the map's tiles in metres")->check(CLI::Range(1.0, 1000.0));
-    sub.add_option("--map-spill-dir", o->map_spill_dir, "directory for the map's scratch file (default: --out)");
-    sub.add_flag("!--no-colour", o->colourise, "do not colour the map from /camera/colour");
-    sub.add_flag("--imu-feedback,!--no-imu-feedback", o->imu_feedback,
-                 "scan-matching poses correct the IMU prediction's velocity, biases and gravity (default on; "
-                 "--no-imu-feedback: the IMU runs open loop and only its increments seed the matcher)");
-    sub.add_flag("--live", o->live, "publish to the live-map shared memory (the UI shows it)");
-    sub.add_flag("--hold", o->hold, "with --live: keep the final state published until Ctrl-C");
-    sub.add_option("--shm-name", o->shm_name, "shared-memory region name (default: the daemon's)");
-    auto reference = std::make_shared<std::string>();
-    sub.add_option("--reference-motion", *reference,
-                   "diagnostics: assemble sweeps with this TUM trajectory (ground truth) and match from it; "
-                   "trajectory.tum carries each match forward with it")
-        ->check(CLI::ExistingFile);
-    sub.add_option("--reference-perturb-m", o->reference_perturb_m, "with --reference-motion: prior error (m)");
-    sub.add_option("--reference-perturb-deg", o->reference_perturb_deg, "with --reference-motion: prior error (deg)");
-    return std::function<int()>([o, modules, reference] {
-        o->use_laser = *modules != "imu";
-        if (!reference->empty()) {
-            auto tr = eval::readTum(*reference);
-            if (!tr.isOk() || tr->size() < 2) {
-                log().error("--reference-motion {}: {}", *reference,
-                            tr.isOk() ? "needs at least two poses" : tr.status().message());
+const RegisterCommand kReplay{
+    "replay", "Run the pipeline on a recording: trajectory.tum, map.ply, stats.json, journal",
+    [](CLI::App& sub) {
+        auto o = std::make_shared<replay::ReplayOptions>();
+        auto modules = std::make_shared<std::string>("all");
+        sub.add_option("RECORDING", o->recording, "recording (.mcap)")
+            ->required()
+            ->check(CLI::ExistingFile);
+        sub.add_option("--out", o->out_dir, "output directory")->required();
+        sub.add_option("--modules", *modules, "imu | imu,laser | all")
+            ->check(CLI::IsMember({"imu", "imu,laser", "laser,imu", "all"}));
+        sub.add_flag("--fast", o->fast,
+                     "as fast as possible on the recording's clock (deterministic)");
+        sub.add_option("--speed", o->speed, "pace multiplier without --fast")
+            ->check(CLI::Range(0.01, 1000.0));
+        sub.add_option("--dump-sweeps", o->dump_sweeps_dir,
+                       "write every assembled sweep as PLY into this directory");
+        sub.add_option("--device", o->device_config, "device.yaml (default: config dir)");
+        sub.add_option("--calibration", o->calibration, "calibration.yaml (default: config dir)");
+        sub.add_option("--map-voxel", o->map_voxel_m, "map.ply voxel size in metres")
+            ->check(CLI::Range(0.001, 1.0));
+        sub.add_option("--map-memory", o->map_memory_mib,
+                       "MiB of map voxels held in memory; beyond it the tiles farthest from the "
+                       "sensor go to a "
+                       "scratch file and are merged back at the end (same map.ply)")
+            ->check(CLI::Range(1.0, 1e6));
+        sub.add_option("--map-tile", o->map_tile_m, "edge of the map's tiles in metres")
+            ->check(CLI::Range(1.0, 1000.0));
+        sub.add_option("--map-spill-dir", o->map_spill_dir,
+                       "directory for the map's scratch file (default: --out)");
+        sub.add_flag("!--no-colour", o->colourise, "do not colour the map from /camera/colour");
+        sub.add_flag(
+            "--imu-feedback,!--no-imu-feedback", o->imu_feedback,
+            "scan-matching poses correct the IMU prediction's velocity, biases and gravity "
+            "(default on; "
+            "--no-imu-feedback: the IMU runs open loop and only its increments seed the matcher)");
+        sub.add_flag("--live", o->live, "publish to the live-map shared memory (the UI shows it)");
+        sub.add_flag("--hold", o->hold, "with --live: keep the final state published until Ctrl-C");
+        sub.add_option("--shm-name", o->shm_name,
+                       "shared-memory region name (default: the daemon's)");
+        auto reference = std::make_shared<std::string>();
+        sub.add_option("--reference-motion", *reference,
+                       "diagnostics: assemble sweeps with this TUM trajectory (ground truth) and "
+                       "match from it; "
+                       "trajectory.tum carries each match forward with it")
+            ->check(CLI::ExistingFile);
+        sub.add_option("--reference-perturb-m", o->reference_perturb_m,
+                       "with --reference-motion: prior error (m)");
+        sub.add_option("--reference-perturb-deg", o->reference_perturb_deg,
+                       "with --reference-motion: prior error (deg)");
+        return std::function<int()>([o, modules, reference] {
+            o->use_laser = *modules != "imu";
+            if (!reference->empty()) {
+                auto tr = eval::readTum(*reference);
+                if (!tr.isOk() || tr->size() < 2) {
+                    log().error("--reference-motion {}: {}", *reference,
+                                tr.isOk() ? "needs at least two poses" : tr.status().message());
+                    return 1;
+                }
+                o->reference_motion =
+                    trajectoryMotion(std::make_shared<const eval::Trajectory>(std::move(*tr)));
+            }
+            Progress bar("replay", 1.0);
+            o->progress = [&](double f) { bar.update(f); };
+            std::signal(SIGINT, [](int) { g_interrupted = 1; });
+            std::signal(SIGTERM, [](int) { g_interrupted = 1; });
+            o->interrupted = [] { return g_interrupted != 0; };
+            auto r = replay::runReplay(*o);
+            bar.finish();
+            if (!r.isOk()) {
+                log().error("{}", r.status().message());
                 return 1;
             }
-            o->reference_motion = trajectoryMotion(std::make_shared<const eval::Trajectory>(std::move(*tr)));
-        }
-        Progress bar("replay", 1.0);
-        o->progress = [&](double f) { bar.update(f); };
-        std::signal(SIGINT, [](int) { g_interrupted = 1; });
-        std::signal(SIGTERM, [](int) { g_interrupted = 1; });
-        o->interrupted = [] { return g_interrupted != 0; };
-        auto r = replay::runReplay(*o);
-        bar.finish();
-        if (!r.isOk()) {
-            log().error("{}", r.status().message());
-            return 1;
-        }
-        std::cout << "replayed " << r->recording_s << " s in " << r->wall_s << " s (" << r->realtime_factor
-                  << "x real time): " << r->poses << " poses, " << r->sweeps << " sweeps, " << r->map_points
-                  << " map points -> " << o->out_dir << "\n";
-        return 0;
-    });
-}};
+            std::cout << "replayed " << r->recording_s << " s in " << r->wall_s << " s ("
+                      << r->realtime_factor << "x real time): " << r->poses << " poses, "
+                      << r->sweeps << " sweeps, " << r->map_points << " map points -> "
+                      << o->out_dir << "\n";
+            return 0;
+        });
+    }};
 
 }  // namespace
 }  // namespace handscan::cli

@@ -38,10 +38,14 @@ int runShmDemo(const ShmDemoArgs& a) {
     o.samples_per_second = a.samples_per_second;
     o.export_root = a.export_root;
     for (const std::string& f : a.faults) {
-        if (f == "camera-dark") o.faults.camera_dark = true;
-        else if (f == "laser-degenerate") o.faults.laser_degenerate = true;
-        else if (f == "sensor-lost") o.faults.sensor_lost = true;
-        else if (f == "too-fast") o.faults.too_fast = true;
+        if (f == "camera-dark")
+            o.faults.camera_dark = true;
+        else if (f == "laser-degenerate")
+            o.faults.laser_degenerate = true;
+        else if (f == "sensor-lost")
+            o.faults.sensor_lost = true;
+        else if (f == "too-fast")
+            o.faults.too_fast = true;
     }
     shm_demo::DemoPipeline demo(**writer, o);
     const TimeNs start = monotonicNow();
@@ -61,7 +65,8 @@ int runShmDemo(const ShmDemoArgs& a) {
             demo.step(now);
         } else {
             (*writer)->heartbeat();  // --hold: keep the final state published
-            while (auto cmd = (*writer)->pollCommand()) (*writer)->ack(cmd->seq, shm::CommandState::kRejected, "demo finished (--hold)");
+            while (auto cmd = (*writer)->pollCommand())
+                (*writer)->ack(cmd->seq, shm::CommandState::kRejected, "demo finished (--hold)");
         }
         std::this_thread::sleep_for(std::chrono::milliseconds(10));
     }
@@ -69,20 +74,30 @@ int runShmDemo(const ShmDemoArgs& a) {
     return 0;
 }
 
-const RegisterCommand kShmDemo{"shm-demo", "Publish a synthetic live map (poses, points, status) for the UI",
-                               [](CLI::App& sub) {
-    auto a = std::make_shared<ShmDemoArgs>();
-    sub.add_option("--shm-name", a->name, "shared-memory region name")->capture_default_str();
-    sub.add_option("--duration", a->duration_s, "seconds to publish (0 = until Ctrl-C or a shutdown command)");
-    sub.add_flag("--hold", a->hold, "after --duration, keep the final state published until interrupted");
-    sub.add_flag("--autostart", a->autostart, "start scanning at once instead of waiting for the UI's start");
-    sub.add_option("--capacity", a->capacity, "display-map capacity in points")->capture_default_str();
-    sub.add_option("--samples-per-second", a->samples_per_second, "synthetic surface samples per second")->capture_default_str();
-    sub.add_option("--export-root", a->export_root, "where exports go when the UI names no target")->capture_default_str();
-    sub.add_option("--fault", a->faults, "inject: camera-dark, laser-degenerate, sensor-lost, too-fast")
-        ->check(CLI::IsMember({"camera-dark", "laser-degenerate", "sensor-lost", "too-fast"}));
-    return std::function<int()>([a] { return runShmDemo(*a); });
-}};
+const RegisterCommand kShmDemo{
+    "shm-demo", "Publish a synthetic live map (poses, points, status) for the UI",
+    [](CLI::App& sub) {
+        auto a = std::make_shared<ShmDemoArgs>();
+        sub.add_option("--shm-name", a->name, "shared-memory region name")->capture_default_str();
+        sub.add_option("--duration", a->duration_s,
+                       "seconds to publish (0 = until Ctrl-C or a shutdown command)");
+        sub.add_flag("--hold", a->hold,
+                     "after --duration, keep the final state published until interrupted");
+        sub.add_flag("--autostart", a->autostart,
+                     "start scanning at once instead of waiting for the UI's start");
+        sub.add_option("--capacity", a->capacity, "display-map capacity in points")
+            ->capture_default_str();
+        sub.add_option("--samples-per-second", a->samples_per_second,
+                       "synthetic surface samples per second")
+            ->capture_default_str();
+        sub.add_option("--export-root", a->export_root,
+                       "where exports go when the UI names no target")
+            ->capture_default_str();
+        sub.add_option("--fault", a->faults,
+                       "inject: camera-dark, laser-degenerate, sensor-lost, too-fast")
+            ->check(CLI::IsMember({"camera-dark", "laser-degenerate", "sensor-lost", "too-fast"}));
+        return std::function<int()>([a] { return runShmDemo(*a); });
+    }};
 
 }  // namespace
 }  // namespace handscan::cli

@@ -29,27 +29,33 @@ struct SimArgs {
 };
 
 std::string gtPathFor(const std::string& mcap) {
-    const std::string stem = mcap.size() > 5 && mcap.substr(mcap.size() - 5) == ".mcap" ? mcap.substr(0, mcap.size() - 5) : mcap;
+    const std::string stem = mcap.size() > 5 && mcap.substr(mcap.size() - 5) == ".mcap"
+                                 ? mcap.substr(0, mcap.size() - 5)
+                                 : mcap;
     return stem + ".gt.tum";
 }
 
 int runSim(const SimArgs& a) {
     if (a.list_scenes) {
-        for (const auto& s : sim::sceneCatalogue()) std::printf("%-10s %s\n", s.name.c_str(), s.description.c_str());
+        for (const auto& s : sim::sceneCatalogue())
+            std::printf("%-10s %s\n", s.name.c_str(), s.description.c_str());
         return 0;
     }
     const std::string dir = defaultConfigDir();
-    const DeviceConfig device = loadDeviceConfig(a.device.empty() ? dir + "/device.yaml" : a.device);
-    const Calibration cal = loadCalibration(a.calibration.empty() ? dir + "/calibration.yaml" : a.calibration);
+    const DeviceConfig device =
+        loadDeviceConfig(a.device.empty() ? dir + "/device.yaml" : a.device);
+    const Calibration cal =
+        loadCalibration(a.calibration.empty() ? dir + "/calibration.yaml" : a.calibration);
     if (!a.export_mesh.empty()) {
-        const sim::Scene scene = a.options.scene.ends_with(".obj") ? sim::importObj(a.options.scene)
-                                                                   : sim::buildScene(a.options.scene);
+        const sim::Scene scene = a.options.scene.ends_with(".obj")
+                                     ? sim::importObj(a.options.scene)
+                                     : sim::buildScene(a.options.scene);
         if (Status s = sim::writePly(scene.world, a.export_mesh, !a.ascii_ply); !s) {
             log().error("{}", s.message());
             return 1;
         }
-        std::printf("%s: %zu triangles of scene '%s'\n", a.export_mesh.c_str(), scene.world.triangleCount(),
-                    scene.world.name.c_str());
+        std::printf("%s: %zu triangles of scene '%s'\n", a.export_mesh.c_str(),
+                    scene.world.triangleCount(), scene.world.name.c_str());
         return 0;
     }
     sim::SimOptions o = a.options;
@@ -58,11 +64,12 @@ int runSim(const SimArgs& a) {
     const auto wall0 = std::chrono::steady_clock::now();
     sim::Simulator simulator(o, device, cal);
     const sim::SimStats& st = simulator.stats();
-    log().info("sim: scene '{}' ({} triangles), trajectory '{}' {:.1f} s, {:.1f} m, peak {:.0f} deg/s, {}",
-               simulator.scene().world.name, simulator.scene().world.triangleCount(), o.trajectory, o.duration_s,
-               st.path_length_m, st.peak_rate_dps,
-               st.loop_closed ? fmt::format("closed loop ({} lap{})", st.laps, st.laps > 1 ? "s" : "")
-                              : std::string("open (too short to close the loop)"));
+    log().info(
+        "sim: scene '{}' ({} triangles), trajectory '{}' {:.1f} s, {:.1f} m, peak {:.0f} deg/s, {}",
+        simulator.scene().world.name, simulator.scene().world.triangleCount(), o.trajectory,
+        o.duration_s, st.path_length_m, st.peak_rate_dps,
+        st.loop_closed ? fmt::format("closed loop ({} lap{})", st.laps, st.laps > 1 ? "s" : "")
+                       : std::string("open (too short to close the loop)"));
     auto sink = sim::McapSink::create(a.out, o.cameras);
     if (!sink) {
         log().error("{}", sink.status().message());
@@ -80,46 +87,71 @@ int runSim(const SimArgs& a) {
         log().error("sim: {}", s.message());
         return 1;
     }
-    const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall0).count();
-    static const char* kNames[] = {"/hokuyo/raw", "/xsens/raw", "/motor/can", "/camera/track", "/camera/colour",
-                                   "/groundtruth/pose"};
+    const double wall =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - wall0).count();
+    static const char* kNames[] = {"/hokuyo/raw",   "/xsens/raw",     "/motor/can",
+                                   "/camera/track", "/camera/colour", "/groundtruth/pose"};
     for (int c = 0; c < static_cast<int>(sim::SimChannel::kCount); ++c) {
         if (st.messages[c] == 0) continue;
-        std::printf("  %-18s %8llu messages %10.1f MB\n", kNames[c], static_cast<unsigned long long>(st.messages[c]),
+        std::printf("  %-18s %8llu messages %10.1f MB\n", kNames[c],
+                    static_cast<unsigned long long>(st.messages[c]),
                     static_cast<double>(st.bytes[c]) / 1e6);
     }
-    std::printf("%s: %.1f MB (%llu scans, %llu IMU samples, %llu + %llu camera frames) in %.1f s; ground truth %s\n",
-                a.out.c_str(), static_cast<double>((*sink)->bytesWritten()) / 1e6,
-                static_cast<unsigned long long>(st.laser_scans), static_cast<unsigned long long>(st.imu_samples),
-                static_cast<unsigned long long>(st.tracking_frames), static_cast<unsigned long long>(st.colour_frames),
-                wall, gtPathFor(a.out).c_str());
+    std::printf(
+        "%s: %.1f MB (%llu scans, %llu IMU samples, %llu + %llu camera frames) in %.1f s; ground "
+        "truth %s\n",
+        a.out.c_str(), static_cast<double>((*sink)->bytesWritten()) / 1e6,
+        static_cast<unsigned long long>(st.laser_scans),
+        static_cast<unsigned long long>(st.imu_samples),
+        static_cast<unsigned long long>(st.tracking_frames),
+        static_cast<unsigned long long>(st.colour_frames), wall, gtPathFor(a.out).c_str());
     return 0;
 }
 
-const RegisterCommand kSim{"sim", "Simulate a scan: write a byte-exact device recording (MCAP) with ground truth", [](CLI::App& sub) {
-    auto a = std::make_shared<SimArgs>();
-    sub.add_flag("--list-scenes", a->list_scenes, "list the built-in scenes and exit");
-    sub.add_option("--scene", a->options.scene, "built-in scene (see --list-scenes) or an .obj file")->capture_default_str();
-    sub.add_option("--seed", a->options.seed, "random seed (same seed, same bytes)")->capture_default_str();
-    sub.add_option("--duration", a->options.duration_s, "seconds to simulate")->capture_default_str()->check(CLI::PositiveNumber);
-    sub.add_option("--trajectory", a->options.trajectory, "walk | aggressive | a TUM file (t x y z qx qy qz qw of {C})")->capture_default_str();
-    sub.add_flag("--no-camera", a->no_camera, "no camera streams (faster, smaller)");
-    sub.add_flag("--no-colour", a->no_colour, "no colour camera");
-    sub.add_flag("--dark", a->options.dark, "almost no light (camera degeneracy)");
-    sub.add_flag("--motion-blur", a->options.motion_blur, "render motion blur over each exposure");
-    sub.add_option("--colour-format", a->options.colour_format, "colour camera format MJPEG (default) | YUYV");
-    sub.add_option("--imu-precision", a->options.imu_precision, "MTData2 precision: 0 float32, 1 fp12.20, 2 fp16.32, 3 float64")->check(CLI::Range(0, 3));
-    sub.add_option("--out", a->out, "recording to write (ground truth goes to <stem>.gt.tum)")->capture_default_str();
-    sub.add_option("--export-mesh", a->export_mesh, "write the scene's triangle mesh as PLY and exit");
-    sub.add_flag("--ascii-ply", a->ascii_ply, "ASCII instead of binary PLY");
-    sub.add_option("--fault-scip", a->options.faults.corrupt_scip_blocks, "corrupt this many SCIP data blocks");
-    sub.add_option("--fault-xbus", a->options.faults.dropped_xbus_bytes, "drop one byte of this many Xbus frames");
-    sub.add_option("--fault-frames", a->options.faults.lost_frames, "lose this many tracking-camera frames");
-    sub.add_option("--fault-reconnect", a->options.faults.tcp_reconnects, "drop the Hokuyo TCP connection this many times");
-    sub.add_option("--device", a->device, "device.yaml (default: <config dir>/device.yaml)");
-    sub.add_option("--calibration", a->calibration, "calibration.yaml (default: <config dir>/calibration.yaml)");
-    return std::function<int()>([a] { return runSim(*a); });
-}};
+const RegisterCommand kSim{
+    "sim", "Simulate a scan: write a byte-exact device recording (MCAP) with ground truth",
+    [](CLI::App& sub) {
+        auto a = std::make_shared<SimArgs>();
+        sub.add_flag("--list-scenes", a->list_scenes, "list the built-in scenes and exit");
+        sub.add_option("--scene", a->options.scene,
+                       "built-in scene (see --list-scenes) or an .obj file")
+            ->capture_default_str();
+        sub.add_option("--seed", a->options.seed, "random seed (same seed, same bytes)")
+            ->capture_default_str();
+        sub.add_option("--duration", a->options.duration_s, "seconds to simulate")
+            ->capture_default_str()
+            ->check(CLI::PositiveNumber);
+        sub.add_option("--trajectory", a->options.trajectory,
+                       "walk | aggressive | a TUM file (t x y z qx qy qz qw of {C})")
+            ->capture_default_str();
+        sub.add_flag("--no-camera", a->no_camera, "no camera streams (faster, smaller)");
+        sub.add_flag("--no-colour", a->no_colour, "no colour camera");
+        sub.add_flag("--dark", a->options.dark, "almost no light (camera degeneracy)");
+        sub.add_flag("--motion-blur", a->options.motion_blur,
+                     "render motion blur over each exposure");
+        sub.add_option("--colour-format", a->options.colour_format,
+                       "colour camera format MJPEG (default) | YUYV");
+        sub.add_option("--imu-precision", a->options.imu_precision,
+                       "MTData2 precision: 0 float32, 1 fp12.20, 2 fp16.32, 3 float64")
+            ->check(CLI::Range(0, 3));
+        sub.add_option("--out", a->out, "recording to write (ground truth goes to <stem>.gt.tum)")
+            ->capture_default_str();
+        sub.add_option("--export-mesh", a->export_mesh,
+                       "write the scene's triangle mesh as PLY and exit");
+        sub.add_flag("--ascii-ply", a->ascii_ply, "ASCII instead of binary PLY");
+        sub.add_option("--fault-scip", a->options.faults.corrupt_scip_blocks,
+                       "corrupt this many SCIP data blocks");
+        sub.add_option("--fault-xbus", a->options.faults.dropped_xbus_bytes,
+                       "drop one byte of this many Xbus frames");
+        sub.add_option("--fault-frames", a->options.faults.lost_frames,
+                       "lose this many tracking-camera frames");
+        sub.add_option("--fault-reconnect", a->options.faults.tcp_reconnects,
+                       "drop the Hokuyo TCP connection this many times");
+        sub.add_option("--device", a->device, "device.yaml (default: <config dir>/device.yaml)");
+        sub.add_option("--calibration", a->calibration,
+                       "calibration.yaml (default: <config dir>/calibration.yaml)");
+        return std::function<int()>([a] { return runSim(*a); });
+    }};
 
 }  // namespace
 }  // namespace handscan::cli

@@ -10,11 +10,11 @@
 #include <sstream>
 
 #include "decoder_registry.hpp"
-#include "json_text.hpp"
 #include "handscan/camera/frame_record.hpp"
 #include "handscan/camera/frame_timing.hpp"
 #include "handscan/camera/image_convert.hpp"
 #include "handscan/transport/v4l2_device.hpp"
+#include "json_text.hpp"
 
 namespace handscan::cli {
 namespace {
@@ -23,10 +23,14 @@ using namespace camera;
 
 const char* clockName(std::uint32_t flags) {
     switch (flags & transport::kV4l2BufFlagTimestampMask) {
-        case transport::kV4l2BufFlagTimestampMonotonic: return "monotonic";
-        case transport::kV4l2BufFlagTimestampCopy: return "copy";
-        case transport::kV4l2BufFlagTimestampUnknown: return "unknown";
-        default: return "other";
+        case transport::kV4l2BufFlagTimestampMonotonic:
+            return "monotonic";
+        case transport::kV4l2BufFlagTimestampCopy:
+            return "copy";
+        case transport::kV4l2BufFlagTimestampUnknown:
+            return "unknown";
+        default:
+            return "other";
     }
 }
 
@@ -40,7 +44,8 @@ public:
     DecodeSummary finish(std::ostream& out) override {
         drain(0, out, true);
         if (!buf_.empty()) {
-            out << "{\"error\":\"" << buf_.size() << " trailing bytes are not a complete frame record\"}\n";
+            out << "{\"error\":\"" << buf_.size()
+                << " trailing bytes are not a complete frame record\"}\n";
             buf_.clear();
         }
         summary_.gaps = sequence_.dropped();
@@ -53,8 +58,10 @@ private:
         while (pos < buf_.size()) {
             auto r = decodeFrameRecord(std::span<const std::uint8_t>(buf_).subspan(pos));
             if (!r) {
-                if (r.status().code() == StatusCode::kTruncated && !at_end) break;  // wait for more bytes
-                out << "{\"offset\":" << consumed_ + pos << ",\"error\":" << jsonString(r.status().message()) << "}\n";
+                if (r.status().code() == StatusCode::kTruncated && !at_end)
+                    break;  // wait for more bytes
+                out << "{\"offset\":" << consumed_ + pos
+                    << ",\"error\":" << jsonString(r.status().message()) << "}\n";
                 ++summary_.resyncs;
                 pos = nextMagic(pos + 1);
                 continue;
@@ -67,8 +74,9 @@ private:
     }
 
     std::size_t nextMagic(std::size_t from) const {
-        auto it = std::search(buf_.begin() + static_cast<std::ptrdiff_t>(std::min(from, buf_.size())), buf_.end(),
-                              kFrameRecordMagic.begin(), kFrameRecordMagic.end());
+        auto it =
+            std::search(buf_.begin() + static_cast<std::ptrdiff_t>(std::min(from, buf_.size())),
+                        buf_.end(), kFrameRecordMagic.begin(), kFrameRecordMagic.end());
         return static_cast<std::size_t>(it - buf_.begin());
     }
 
@@ -83,13 +91,19 @@ private:
         } else {
             o << "null";
         }
-        const bool soe = (h.flags & transport::kV4l2BufFlagTstampSrcMask) == transport::kV4l2BufFlagTstampSrcSoe;
-        o << ",\"sequence\":" << h.sequence << ",\"timestamp_ns\":" << h.timestamp_ns << ",\"timestamp_clock\":\"" << clockName(h.flags)
-          << "\",\"timestamp_source\":\"" << (soe ? "start_of_exposure" : "end_of_frame") << "\",\"error_flag\":"
-          << ((h.flags & transport::kV4l2BufFlagError) ? "true" : "false") << ",\"flags\":" << h.flags << ",\"format\":"
-          << jsonString(transport::fourccName(h.fourcc)) << ",\"width\":" << h.width << ",\"height\":" << h.height << ",\"stride\":" << h.stride
-          << ",\"bytesused\":" << h.bytesused << ",\"coding\":\"" << (r.coding == FrameCoding::kPng ? "png" : "raw")
-          << "\",\"stored_bytes\":" << r.stored_size << ",\"exposure_us\":" << h.exposure_us << ",\"t_mid_exposure_ns\":" << h.t_host_ns;
+        const bool soe =
+            (h.flags & transport::kV4l2BufFlagTstampSrcMask) == transport::kV4l2BufFlagTstampSrcSoe;
+        o << ",\"sequence\":" << h.sequence << ",\"timestamp_ns\":" << h.timestamp_ns
+          << ",\"timestamp_clock\":\"" << clockName(h.flags) << "\",\"timestamp_source\":\""
+          << (soe ? "start_of_exposure" : "end_of_frame")
+          << "\",\"error_flag\":" << ((h.flags & transport::kV4l2BufFlagError) ? "true" : "false")
+          << ",\"flags\":" << h.flags
+          << ",\"format\":" << jsonString(transport::fourccName(h.fourcc))
+          << ",\"width\":" << h.width << ",\"height\":" << h.height << ",\"stride\":" << h.stride
+          << ",\"bytesused\":" << h.bytesused << ",\"coding\":\""
+          << (r.coding == FrameCoding::kPng ? "png" : "raw")
+          << "\",\"stored_bytes\":" << r.stored_size << ",\"exposure_us\":" << h.exposure_us
+          << ",\"t_mid_exposure_ns\":" << h.t_host_ns;
         if (auto fmt = pixelFormatFromFourcc(h.fourcc)) {
             Image img;
             img.format = *fmt;
@@ -101,7 +115,8 @@ private:
             auto grey = toGrey(img);
             if (grey) {
                 const double sum = std::accumulate(grey->data.begin(), grey->data.end(), 0.0);
-                o << ",\"mean_grey\":" << sum / static_cast<double>(std::max<std::size_t>(1, grey->data.size()));
+                o << ",\"mean_grey\":"
+                  << sum / static_cast<double>(std::max<std::size_t>(1, grey->data.size()));
             } else {
                 o << ",\"decode_error\":" << jsonString(grey.status().message());
             }
@@ -116,7 +131,8 @@ private:
     DecodeSummary summary_;
 };
 
-const RegisterDecoder kCamera{"camera", "/camera/track", [] { return std::make_unique<CameraDecoder>(); }};
+const RegisterDecoder kCamera{"camera", "/camera/track",
+                              [] { return std::make_unique<CameraDecoder>(); }};
 
 }  // namespace
 }  // namespace handscan::cli

@@ -8,9 +8,9 @@
 #include <sstream>
 
 #include "decoder_registry.hpp"
-#include "json_text.hpp"
 #include "handscan/motor/candump_format.hpp"
 #include "handscan/motor/canopen.hpp"
+#include "json_text.hpp"
 
 namespace handscan::cli {
 namespace {
@@ -30,13 +30,15 @@ void canopenFields(const CanFrame& f, std::ostream& o) {
     switch (info.function) {
         case CanOpenFunction::kNmt:
             if (auto m = decodeNmt(f)) {
-                o << ",\"command\":\"" << toString(m->command) << "\",\"target_node\":" << static_cast<unsigned>(m->node);
+                o << ",\"command\":\"" << toString(m->command)
+                  << "\",\"target_node\":" << static_cast<unsigned>(m->node);
             } else {
                 o << ",\"error\":" << jsonString(m.status().message());
             }
             break;
         case CanOpenFunction::kSync:
-            if (auto s = decodeSync(f); s && s->has_value()) o << ",\"counter\":" << static_cast<unsigned>(**s);
+            if (auto s = decodeSync(f); s && s->has_value())
+                o << ",\"counter\":" << static_cast<unsigned>(**s);
             break;
         case CanOpenFunction::kHeartbeat:
             if (auto h = decodeHeartbeat(f)) {
@@ -47,7 +49,8 @@ void canopenFields(const CanFrame& f, std::ostream& o) {
             break;
         case CanOpenFunction::kEmcy:
             if (auto e = decodeEmergency(f)) {
-                o << ",\"error_code\":\"0x" << hex(e->error_code, 4) << "\",\"error_register\":\"0x" << hex(e->error_register, 2) << "\"";
+                o << ",\"error_code\":\"0x" << hex(e->error_code, 4) << "\",\"error_register\":\"0x"
+                  << hex(e->error_register, 2) << "\"";
             } else {
                 o << ",\"error\":" << jsonString(e.status().message());
             }
@@ -55,12 +58,15 @@ void canopenFields(const CanFrame& f, std::ostream& o) {
         case CanOpenFunction::kSdoRequest:
         case CanOpenFunction::kSdoResponse:
             if (auto s = decodeSdo(f)) {
-                o << ",\"sdo\":\"" << toString(s->kind) << "\",\"index\":\"" << hex(s->index, 4) << "\",\"subindex\":"
-                  << static_cast<unsigned>(s->subindex);
+                o << ",\"sdo\":\"" << toString(s->kind) << "\",\"index\":\"" << hex(s->index, 4)
+                  << "\",\"subindex\":" << static_cast<unsigned>(s->subindex);
                 if (s->kind == SdoKind::kAbort) {
-                    o << ",\"abort_code\":\"0x" << hex(s->value, 8) << "\",\"abort_text\":" << jsonString(sdoAbortText(s->value));
-                } else if (s->kind == SdoKind::kDownloadRequest || s->kind == SdoKind::kUploadResponse) {
-                    o << ",\"value\":" << s->value << ",\"size\":" << static_cast<unsigned>(s->size);
+                    o << ",\"abort_code\":\"0x" << hex(s->value, 8)
+                      << "\",\"abort_text\":" << jsonString(sdoAbortText(s->value));
+                } else if (s->kind == SdoKind::kDownloadRequest ||
+                           s->kind == SdoKind::kUploadResponse) {
+                    o << ",\"value\":" << s->value
+                      << ",\"size\":" << static_cast<unsigned>(s->size);
                 }
             } else {
                 o << ",\"error\":" << jsonString(s.status().message());
@@ -73,7 +79,8 @@ void canopenFields(const CanFrame& f, std::ostream& o) {
                 if (auto p = decodeEncoderPositionTpdo(f)) o << ",\"position\":" << *p;
             } else if (info.function == CanOpenFunction::kTpdo && info.pdo == 1 && f.len == 2) {
                 const auto sw = static_cast<std::uint16_t>(f.data[0] | (f.data[1] << 8));
-                o << ",\"statusword\":\"0x" << hex(sw, 4) << "\",\"cia402_state\":\"" << toString(cia402StateFromStatusword(sw)) << "\"";
+                o << ",\"statusword\":\"0x" << hex(sw, 4) << "\",\"cia402_state\":\""
+                  << toString(cia402StateFromStatusword(sw)) << "\"";
             }
             break;
         default:
@@ -87,7 +94,8 @@ public:
     void feed(TimeNs t_host, std::span<const std::uint8_t> bytes, std::ostream& out) override {
         pending_.append(reinterpret_cast<const char*>(bytes.data()), bytes.size());
         std::size_t start = 0;
-        for (std::size_t nl; (nl = pending_.find('\n', start)) != std::string::npos; start = nl + 1) {
+        for (std::size_t nl; (nl = pending_.find('\n', start)) != std::string::npos;
+             start = nl + 1) {
             line(t_host, pending_.substr(start, nl - start), out);
         }
         pending_.erase(0, start);
@@ -112,7 +120,8 @@ private:
         auto rec = parseCandumpAnyLine(text);
         if (!rec) {
             ++summary_.resyncs;
-            out << "{\"line\":" << line_no_ << ",\"error\":" << jsonString(rec.status().message()) << "}\n";
+            out << "{\"line\":" << line_no_ << ",\"error\":" << jsonString(rec.status().message())
+                << "}\n";
             return;
         }
         ++summary_.messages;
@@ -130,10 +139,13 @@ private:
         } else {
             o << "null";
         }
-        o << ",\"interface\":" << jsonString(rec->interface) << ",\"id\":\"" << hex(f.id, f.extended || f.error ? 8 : 3) << "\""
-          << ",\"extended\":" << (f.extended ? "true" : "false") << ",\"remote\":" << (f.remote ? "true" : "false")
-          << ",\"error_frame\":" << (f.error ? "true" : "false") << ",\"fd\":" << (f.fd ? "true" : "false")
-          << ",\"len\":" << static_cast<unsigned>(f.len) << ",\"data\":\"";
+        o << ",\"interface\":" << jsonString(rec->interface) << ",\"id\":\""
+          << hex(f.id, f.extended || f.error ? 8 : 3) << "\""
+          << ",\"extended\":" << (f.extended ? "true" : "false")
+          << ",\"remote\":" << (f.remote ? "true" : "false")
+          << ",\"error_frame\":" << (f.error ? "true" : "false")
+          << ",\"fd\":" << (f.fd ? "true" : "false") << ",\"len\":" << static_cast<unsigned>(f.len)
+          << ",\"data\":\"";
         for (std::uint8_t b : f.payload()) o << hex(b, 2);
         o << "\"";
         if (!f.error && !f.extended) canopenFields(f, o);

@@ -12,9 +12,9 @@
 #include <ostream>
 
 #include "decoder_registry.hpp"
-#include "json_text.hpp"
 #include "handscan/hokuyo/scip_stream_parser.hpp"
 #include "handscan/hokuyo/sensor_parameters.hpp"
+#include "json_text.hpp"
 
 namespace handscan::cli {
 namespace {
@@ -40,8 +40,9 @@ public:
                 printFrame(t_host, *f, jsonl);
             } else {
                 const auto& fault = std::get<ScipFault>(e);
-                jsonl << "{\"t_host_ns\":" << t_host << ",\"fault\":{\"code\":\"" << toString(fault.code)
-                      << "\",\"message\":" << jsonString(fault.message) << "}}\n";
+                jsonl << "{\"t_host_ns\":" << t_host << ",\"fault\":{\"code\":\""
+                      << toString(fault.code) << "\",\"message\":" << jsonString(fault.message)
+                      << "}}\n";
             }
         }
     }
@@ -49,8 +50,8 @@ public:
     DecodeSummary finish(std::ostream& jsonl) override {
         if (!parser_.idle()) {
             jsonl << "{\"fault\":{\"code\":\"" << toString(StatusCode::kTruncated)
-                  << "\",\"message\":\"stream ends inside a frame (at stream byte " << parser_.stats().bytes
-                  << "); that frame is not counted\"}}\n";
+                  << "\",\"message\":\"stream ends inside a frame (at stream byte "
+                  << parser_.stats().bytes << "); that frame is not counted\"}}\n";
         }
         DecodeSummary s;
         s.messages = parser_.stats().frames;
@@ -64,29 +65,33 @@ private:
     void printFrame(TimeNs t_host, const ScipFrame& f, std::ostream& os) {
         os << std::setprecision(12) << "{\"t_host_ns\":" << t_host;
         if (f.scan) os << ",\"t_device_ms\":" << f.scan->timestamp_ms;
-        os << ",\"stream_offset\":" << f.stream_offset << ",\"type\":\"" << (f.scan ? "scan" : "reply")
-           << "\",\"command\":" << jsonString(f.command) << ",\"echo\":" << jsonString(f.echo)
-           << ",\"status\":" << jsonString(f.status) << ",\"ok\":" << (f.ok() ? "true" : "false")
+        os << ",\"stream_offset\":" << f.stream_offset << ",\"type\":\""
+           << (f.scan ? "scan" : "reply") << "\",\"command\":" << jsonString(f.command)
+           << ",\"echo\":" << jsonString(f.echo) << ",\"status\":" << jsonString(f.status)
+           << ",\"ok\":" << (f.ok() ? "true" : "false")
            << ",\"status_text\":" << jsonString(f.statusText());
         if (!f.items.empty()) {
             os << ",\"items\":{";
             for (std::size_t i = 0; i < f.items.size(); ++i) {
-                os << (i ? "," : "") << jsonString(f.items[i].first) << ':' << jsonString(f.items[i].second);
+                os << (i ? "," : "") << jsonString(f.items[i].first) << ':'
+                   << jsonString(f.items[i].second);
             }
             os << '}';
         }
         if (!f.lines.empty()) {
             os << ",\"lines\":[";
-            for (std::size_t i = 0; i < f.lines.size(); ++i) os << (i ? "," : "") << jsonString(f.lines[i]);
+            for (std::size_t i = 0; i < f.lines.size(); ++i)
+                os << (i ? "," : "") << jsonString(f.lines[i]);
             os << ']';
         }
         if (f.command == "PP" && f.ok()) {
             if (auto p = hokuyo::SensorParameters::fromPpReply(f)) params_ = *p;
         }
         if (const auto& r = f.scan_request) {
-            os << ",\"request\":{\"start_step\":" << r->start_step << ",\"end_step\":" << r->end_step
-               << ",\"cluster\":" << r->cluster << ",\"interval\":" << r->interval
-               << ",\"remaining\":" << r->count << ",\"tag\":" << jsonString(r->tag) << '}';
+            os << ",\"request\":{\"start_step\":" << r->start_step
+               << ",\"end_step\":" << r->end_step << ",\"cluster\":" << r->cluster
+               << ",\"interval\":" << r->interval << ",\"remaining\":" << r->count
+               << ",\"tag\":" << jsonString(r->tag) << '}';
         }
         if (f.scan) {
             const auto& r = *f.scan_request;
@@ -94,8 +99,10 @@ private:
             os << ",\"steps\":" << f.scan->ranges.size() << ",\"first_step\":" << r.start_step
                << ",\"last_step\":" << r.end_step;
             if (params_) {
-                os << ",\"dmin_mm\":" << params_->dmin_mm << ",\"angle_min_rad\":" << params_->angleRad(r.start_step)
-                   << ",\"angle_increment_rad\":" << std::max(r.cluster, 1) * params_->stepAngleRad();
+                os << ",\"dmin_mm\":" << params_->dmin_mm
+                   << ",\"angle_min_rad\":" << params_->angleRad(r.start_step)
+                   << ",\"angle_increment_rad\":"
+                   << std::max(r.cluster, 1) * params_->stepAngleRad();
             }
             os << ",\"ranges_mm\":";
             jsonArray(os, f.scan->ranges);
@@ -108,7 +115,8 @@ private:
     }
 
     void countGap(std::uint32_t t_ms, int interval) {
-        const double period_ms = (params_ ? static_cast<double>(params_->scanPeriodNs()) * 1e-6 : 25.0) * (interval + 1);
+        const double period_ms =
+            (params_ ? static_cast<double>(params_->scanPeriodNs()) * 1e-6 : 25.0) * (interval + 1);
         if (last_t_ms_) {
             const std::uint32_t dt = (t_ms - *last_t_ms_) & 0xFFFFFFu;
             const long missing = dt < 0x800000u ? std::lround(dt / period_ms) - 1 : 0;
@@ -124,7 +132,8 @@ private:
     std::uint64_t missed_scans_ = 0;
 };
 
-const RegisterDecoder kHokuyo{"hokuyo", "/hokuyo/raw", [] { return std::make_unique<HokuyoDecoder>(); }};
+const RegisterDecoder kHokuyo{"hokuyo", "/hokuyo/raw",
+                              [] { return std::make_unique<HokuyoDecoder>(); }};
 
 }  // namespace
 }  // namespace handscan::cli

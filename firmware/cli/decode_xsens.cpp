@@ -20,7 +20,8 @@ private:
     xsens::XsensJsonDecoder decoder_;
 };
 
-const RegisterDecoder kXsens{"xsens", "/xsens/raw", [] { return std::make_unique<XsensDecoder>(); }};
+const RegisterDecoder kXsens{"xsens", "/xsens/raw",
+                             [] { return std::make_unique<XsensDecoder>(); }};
 
 }  // namespace
 }  // namespace handscan::cli

@@ -41,7 +41,8 @@ struct DecoderEntry {
 std::vector<DecoderEntry>& decoderRegistry();
 
 struct RegisterDecoder {
-    RegisterDecoder(std::string device, std::string channel, std::function<std::unique_ptr<StreamDecoder>()> make) {
+    RegisterDecoder(std::string device, std::string channel,
+                    std::function<std::unique_ptr<StreamDecoder>()> make) {
         decoderRegistry().push_back({std::move(device), std::move(channel), std::move(make)});
     }
 };

@@ -15,7 +15,8 @@ inline std::string jsonString(std::string_view s) {
             o += c;
         } else if (static_cast<unsigned char>(c) < 0x20) {
             char b[8];
-            std::snprintf(b, sizeof b, "\\u%04x", static_cast<unsigned>(static_cast<unsigned char>(c)));
+            std::snprintf(b, sizeof b, "\\u%04x",
+                          static_cast<unsigned>(static_cast<unsigned char>(c)));
             o += b;
         } else {
             o += c;

@@ -26,7 +26,8 @@ int main(int argc, char** argv) {
     app.add_flag("-q,--quiet", quiet, "Only warnings and errors");
 
     auto& registry = cli::commandRegistry();
-    std::sort(registry.begin(), registry.end(), [](const auto& a, const auto& b) { return a.name < b.name; });
+    std::sort(registry.begin(), registry.end(),
+              [](const auto& a, const auto& b) { return a.name < b.name; });
     std::map<CLI::App*, std::function<int()>> runs;
     for (auto& cmd : registry) {
         CLI::App* sub = app.add_subcommand(cmd.name, cmd.description);

@@ -17,14 +17,21 @@ void onSignal(int) { g_stop.store(true); }
 int main(int argc, char** argv) {
     using namespace handscan;
     pipeline_daemon::DaemonOptions o;
-    CLI::App app{"handscan-pipeline: live drivers -> pipeline -> shared memory + journal; executes the UI's commands"};
-    app.add_option("--config", o.device_config, "device configuration (default: <config dir>/device.yaml)");
-    app.add_option("--calibration", o.calibration, "calibration (default: <config dir>/calibration.yaml)");
-    app.add_option("--journal-dir", o.journal_dir, "where scans are journaled (default: storage.journal_dir)");
+    CLI::App app{
+        "handscan-pipeline: live drivers -> pipeline -> shared memory + journal; executes the UI's "
+        "commands"};
+    app.add_option("--config", o.device_config,
+                   "device configuration (default: <config dir>/device.yaml)");
+    app.add_option("--calibration", o.calibration,
+                   "calibration (default: <config dir>/calibration.yaml)");
+    app.add_option("--journal-dir", o.journal_dir,
+                   "where scans are journaled (default: storage.journal_dir)");
     app.add_option("--shm", o.shm_name, "live-map shared-memory name")->capture_default_str();
-    app.add_option("--map-capacity", o.map_capacity_points, "display-map capacity in points")->capture_default_str();
+    app.add_option("--map-capacity", o.map_capacity_points, "display-map capacity in points")
+        ->capture_default_str();
     std::string mountinfo;
-    app.add_option("--usb-mountinfo", mountinfo, "mount table to look for the USB stick in (tests)");
+    app.add_option("--usb-mountinfo", mountinfo,
+                   "mount table to look for the USB stick in (tests)");
     CLI11_PARSE(app, argc, argv);
     if (!mountinfo.empty()) o.usb_paths.mountinfo = mountinfo;
 

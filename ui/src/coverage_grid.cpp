@@ -5,7 +5,8 @@
 
 namespace handscan::ui {
 
-CoverageGrid::CoverageGrid(float cell_m, int max_cells_per_side) : cell_m_(cell_m), max_side_(max_cells_per_side) {}
+CoverageGrid::CoverageGrid(float cell_m, int max_cells_per_side)
+    : cell_m_(cell_m), max_side_(max_cells_per_side) {}
 
 void CoverageGrid::clear() {
     cells_.clear();
@@ -44,7 +45,9 @@ CoverageImage CoverageGrid::render() const {
     const std::int32_t full_w = max_ix_ - min_ix_ + 1, full_h = max_iy_ - min_iy_ + 1;
     const std::int32_t w = std::min(full_w, max_side_);
     const std::int32_t h = std::min(full_h, max_side_);
-    const auto centre = [](std::int32_t a, std::int32_t b) { return static_cast<std::int32_t>(std::floor((a + b) / 2.0)); };
+    const auto centre = [](std::int32_t a, std::int32_t b) {
+        return static_cast<std::int32_t>(std::floor((a + b) / 2.0));
+    };
     const std::int32_t x0 = w == full_w ? min_ix_ : centre(min_ix_, max_ix_) - w / 2;
     const std::int32_t ytop = h == full_h ? max_iy_ : centre(min_iy_, max_iy_) + h / 2;
     img.width = w;

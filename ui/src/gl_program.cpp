@@ -15,8 +15,9 @@ Result<GLuint> compile(const std::string& name, GLenum type, const char* src) {
         char log[2048] = {};
         glGetShaderInfoLog(s, sizeof log, nullptr, log);
         glDeleteShader(s);
-        return Status{StatusCode::kInvalidArgument, name + (type == GL_VERTEX_SHADER ? " vertex" : " fragment") +
-                                                        " shader does not compile: " + log};
+        return Status{StatusCode::kInvalidArgument,
+                      name + (type == GL_VERTEX_SHADER ? " vertex" : " fragment") +
+                          " shader does not compile: " + log};
     }
     return s;
 }

@@ -55,9 +55,12 @@ void main() { frag = vec4(v_colour, 1.0); }
 
 const char* toString(ColourMode mode) {
     switch (mode) {
-        case ColourMode::kRgb: return "rgb";
-        case ColourMode::kHeight: return "height";
-        case ColourMode::kIntensity: return "intensity";
+        case ColourMode::kRgb:
+            return "rgb";
+        case ColourMode::kHeight:
+            return "height";
+        case ColourMode::kIntensity:
+            return "intensity";
     }
     return "?";
 }
@@ -75,7 +78,8 @@ void GrowingVertexBuffer::reserve(std::size_t records) {
     GLuint next = 0;
     glGenBuffers(1, &next);
     glBindBuffer(GL_COPY_WRITE_BUFFER, next);
-    glBufferData(GL_COPY_WRITE_BUFFER, static_cast<GLsizeiptr>(cap * record_bytes_), nullptr, GL_DYNAMIC_DRAW);
+    glBufferData(GL_COPY_WRITE_BUFFER, static_cast<GLsizeiptr>(cap * record_bytes_), nullptr,
+                 GL_DYNAMIC_DRAW);
     if (vbo_ && count_ > 0) {
         // Keep what is on the GPU: copy there instead of uploading everything again.
         glBindBuffer(GL_COPY_READ_BUFFER, vbo_);
@@ -98,7 +102,8 @@ void GrowingVertexBuffer::append(const void* records, std::size_t n) {
     bytes_uploaded_ += n * record_bytes_;
 }
 
-MapRenderer::MapRenderer() : points_(sizeof(shm::DisplayPoint), 1u << 20), track_(sizeof(shm::TrackPoint), 4096) {}
+MapRenderer::MapRenderer()
+    : points_(sizeof(shm::DisplayPoint), 1u << 20), track_(sizeof(shm::TrackPoint), 4096) {}
 
 MapRenderer::~MapRenderer() {
     const GLuint vaos[] = {points_vao_, track_vao_, device_vao_};
@@ -119,7 +124,8 @@ Status MapRenderer::init() {
     glEnableVertexAttribArray(0);
     glVertexAttribPointer(0, 3, GL_FLOAT, GL_FALSE, 6 * sizeof(float), nullptr);
     glEnableVertexAttribArray(1);
-    glVertexAttribPointer(1, 3, GL_FLOAT, GL_FALSE, 6 * sizeof(float), reinterpret_cast<void*>(3 * sizeof(float)));
+    glVertexAttribPointer(1, 3, GL_FLOAT, GL_FALSE, 6 * sizeof(float),
+                          reinterpret_cast<void*>(3 * sizeof(float)));
     glBindVertexArray(0);
     return Status::ok();
 }
@@ -145,7 +151,9 @@ void MapRenderer::appendPoints(std::span<const shm::DisplayPoint> pts) {
     points_.append(pts.data(), pts.size());
 }
 
-void MapRenderer::appendTrack(std::span<const shm::TrackPoint> track) { track_.append(track.data(), track.size()); }
+void MapRenderer::appendTrack(std::span<const shm::TrackPoint> track) {
+    track_.append(track.data(), track.size());
+}
 
 void MapRenderer::bindVertexArrays(std::size_t stride) {
     if ((points_gen_ != points_.generation() || stride_ != stride) && points_.buffer()) {
@@ -175,7 +183,8 @@ void MapRenderer::bindVertexArrays(std::size_t stride) {
 void MapRenderer::draw(const Eigen::Matrix4f& view_proj, ColourMode mode, float point_size_px,
                        std::size_t max_points) {
     const std::size_t n = points_.count();
-    const std::size_t stride = max_points > 0 && n > max_points ? (n + max_points - 1) / max_points : 1;
+    const std::size_t stride =
+        max_points > 0 && n > max_points ? (n + max_points - 1) / max_points : 1;
     bindVertexArrays(stride);
     last_drawn_ = n / stride;
     glEnable(GL_DEPTH_TEST);
@@ -199,7 +208,8 @@ void MapRenderer::draw(const Eigen::Matrix4f& view_proj, ColourMode mode, float 
     }
     if (device_) {
         // The device: a big white dot and its body axes (x red, y green, z blue), 0.6 m long.
-        const Eigen::Vector3f p(static_cast<float>(device_->position_m[0]), static_cast<float>(device_->position_m[1]),
+        const Eigen::Vector3f p(static_cast<float>(device_->position_m[0]),
+                                static_cast<float>(device_->position_m[1]),
                                 static_cast<float>(device_->position_m[2]));
         const Eigen::Quaternionf q(static_cast<float>(device_->orientation_xyzw[3]),
                                    static_cast<float>(device_->orientation_xyzw[0]),

@@ -16,14 +16,16 @@ Status saveFramebufferPng(const std::string& path, int width, int height) {
     glReadBuffer(GL_BACK);
     glReadPixels(0, 0, width, height, GL_RGBA, GL_UNSIGNED_BYTE, rgba.data());
     if (const GLenum err = glGetError(); err != GL_NO_ERROR) {
-        return {StatusCode::kDeviceError, "glReadPixels failed with GL error " + std::to_string(err)};
+        return {StatusCode::kDeviceError,
+                "glReadPixels failed with GL error " + std::to_string(err)};
     }
     cv::Mat img(height, width, CV_8UC4, rgba.data());
     cv::Mat bgr;
     cv::cvtColor(img, bgr, cv::COLOR_RGBA2BGR);
     cv::flip(bgr, bgr, 0);  // OpenGL rows go bottom-up
     try {
-        if (!cv::imwrite(path, bgr)) return {StatusCode::kIoError, path + ": cannot write PNG (does the directory exist?)"};
+        if (!cv::imwrite(path, bgr))
+            return {StatusCode::kIoError, path + ": cannot write PNG (does the directory exist?)"};
     } catch (const cv::Exception& e) {
         return {StatusCode::kIoError, path + ": " + e.what()};
     }

@@ -18,7 +18,7 @@ struct FrameFacts {
     ColourMode colour = ColourMode::kRgb;
     bool coverage = false;
     int framebuffer_w = 0, framebuffer_h = 0;
-    Rect view_px;                   // 3D viewport in framebuffer pixels, origin top-left
+    Rect view_px;  // 3D viewport in framebuffer pixels, origin top-left
     Eigen::Matrix4f view_proj = Eigen::Matrix4f::Identity();
     std::size_t points_drawn = 0;
     std::size_t track_points = 0;

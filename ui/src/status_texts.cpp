@@ -18,18 +18,24 @@ std::string format(const char* fmt, double v) {
 
 const char* toString(Health h) {
     switch (h) {
-        case Health::kOk: return "ok";
-        case Health::kWarning: return "warning";
-        case Health::kError: return "error";
+        case Health::kOk:
+            return "ok";
+        case Health::kWarning:
+            return "warning";
+        case Health::kError:
+            return "error";
     }
     return "?";
 }
 
 const char* toString(DofSource s) {
     switch (s) {
-        case DofSource::kImu: return "imu";
-        case DofSource::kVio: return "vio";
-        case DofSource::kScan: return "scan";
+        case DofSource::kImu:
+            return "imu";
+        case DofSource::kVio:
+            return "vio";
+        case DofSource::kScan:
+            return "scan";
     }
     return "?";
 }
@@ -48,7 +54,8 @@ std::string formatDuration(double seconds) {
     const auto total = static_cast<long long>(std::max(0.0, std::floor(seconds)));
     char buf[32];
     if (total >= 3600) {
-        std::snprintf(buf, sizeof buf, "%lld:%02lld:%02lld", total / 3600, (total / 60) % 60, total % 60);
+        std::snprintf(buf, sizeof buf, "%lld:%02lld:%02lld", total / 3600, (total / 60) % 60,
+                      total % 60);
     } else {
         std::snprintf(buf, sizeof buf, "%02lld:%02lld", total / 60, total % 60);
     }
@@ -72,37 +79,52 @@ std::string dofList(std::uint8_t mask) {
 }
 
 StatusTexts describeStatus(shm::Connection connection, const std::string& connection_message,
-                           const std::optional<shm::StatusBlock>& status, const std::optional<shm::PoseRecord>& pose,
+                           const std::optional<shm::StatusBlock>& status,
+                           const std::optional<shm::PoseRecord>& pose,
                            const WarningLimits& limits) {
     using shm::getText;
     StatusTexts t;
-    t.connection.text = connection == shm::Connection::kConnected ? "connected" : connection_message;
-    t.connection.health = connection == shm::Connection::kConnected ? Health::kOk
-                          : connection == shm::Connection::kIncompatible || connection == shm::Connection::kStale
-                              ? Health::kError
-                              : Health::kWarning;
+    t.connection.text =
+        connection == shm::Connection::kConnected ? "connected" : connection_message;
+    t.connection.health =
+        connection == shm::Connection::kConnected ? Health::kOk
+        : connection == shm::Connection::kIncompatible || connection == shm::Connection::kStale
+            ? Health::kError
+            : Health::kWarning;
     if (connection == shm::Connection::kStale) {
-        t.warnings.push_back({"Pipeline not responding: the map is frozen. Wait, or restart the device.", Health::kError});
+        t.warnings.push_back(
+            {"Pipeline not responding: the map is frozen. Wait, or restart the device.",
+             Health::kError});
     }
     if (!status) {
-        t.scan_state = connection == shm::Connection::kWaiting ? "WAITING FOR PIPELINE" : "NO STATUS";
+        t.scan_state =
+            connection == shm::Connection::kWaiting ? "WAITING FOR PIPELINE" : "NO STATUS";
         return t;
     }
     const shm::StatusBlock& s = *status;
     switch (static_cast<shm::ScanState>(s.scan_state)) {
-        case shm::ScanState::kIdle: t.scan_state = "IDLE"; break;
-        case shm::ScanState::kScanning: t.scan_state = "SCANNING"; break;
-        case shm::ScanState::kStopped: t.scan_state = "STOPPED"; break;
+        case shm::ScanState::kIdle:
+            t.scan_state = "IDLE";
+            break;
+        case shm::ScanState::kScanning:
+            t.scan_state = "SCANNING";
+            break;
+        case shm::ScanState::kStopped:
+            t.scan_state = "STOPPED";
+            break;
     }
     t.elapsed = formatDuration(s.elapsed_s);
     t.distance = format("%.1f m", s.distance_m);
     t.points = groupThousands(s.point_count) + " points";
     t.storage.text = "free " + formatBytes(static_cast<double>(s.free_storage_bytes)) + " of " +
                      formatBytes(static_cast<double>(s.total_storage_bytes));
-    if (s.total_storage_bytes > 0 && static_cast<double>(s.free_storage_bytes) < limits.min_free_storage_bytes) {
+    if (s.total_storage_bytes > 0 &&
+        static_cast<double>(s.free_storage_bytes) < limits.min_free_storage_bytes) {
         t.storage.health = Health::kWarning;
-        t.warnings.push_back({"Storage low (" + formatBytes(static_cast<double>(s.free_storage_bytes)) +
-                                  " free): export and delete old scans.", Health::kWarning});
+        t.warnings.push_back({"Storage low (" +
+                                  formatBytes(static_cast<double>(s.free_storage_bytes)) +
+                                  " free): export and delete old scans.",
+                              Health::kWarning});
     }
 
     const std::uint32_t nsensors = std::min<std::uint32_t>(s.sensor_count, shm::kMaxSensors);
@@ -113,14 +135,17 @@ StatusTexts describeStatus(shm::Connection connection, const std::string& connec
         if (!ss.connected) {
             l = {name + " LOST", Health::kError};
             std::string what = "Sensor lost: " + name;
-            if (!getText(ss.last_error).empty()) what += " (" + std::string(getText(ss.last_error)) + ")";
+            if (!getText(ss.last_error).empty())
+                what += " (" + std::string(getText(ss.last_error)) + ")";
             t.warnings.push_back({what, Health::kError});
         } else {
             l.text = name + format(" %.1f Hz", ss.rate_hz);
-            if (ss.expected_rate_hz > 0 && ss.rate_hz < limits.min_rate_fraction * ss.expected_rate_hz) {
+            if (ss.expected_rate_hz > 0 &&
+                ss.rate_hz < limits.min_rate_fraction * ss.expected_rate_hz) {
                 l.health = Health::kWarning;
                 t.warnings.push_back({name + format(" slow: %.1f Hz", ss.rate_hz) +
-                                          format(" of %.0f Hz expected", ss.expected_rate_hz), Health::kWarning});
+                                          format(" of %.0f Hz expected", ss.expected_rate_hz),
+                                      Health::kWarning});
             } else if (!getText(ss.last_error).empty()) {
                 l.health = Health::kWarning;
             }
@@ -134,43 +159,59 @@ StatusTexts describeStatus(shm::Connection connection, const std::string& connec
         const std::string name(getText(m.name));
         Line l;
         switch (static_cast<shm::ModuleState>(m.state)) {
-            case shm::ModuleState::kOff: l = {name + " off", Health::kWarning}; break;
-            case shm::ModuleState::kActive: l = {name + " active", Health::kOk}; break;
-            case shm::ModuleState::kBypassed: l = {name + " bypassed", Health::kWarning}; break;
+            case shm::ModuleState::kOff:
+                l = {name + " off", Health::kWarning};
+                break;
+            case shm::ModuleState::kActive:
+                l = {name + " active", Health::kOk};
+                break;
+            case shm::ModuleState::kBypassed:
+                l = {name + " bypassed", Health::kWarning};
+                break;
         }
-        if (m.degenerate_dof_mask != 0 && static_cast<shm::ModuleState>(m.state) == shm::ModuleState::kActive) {
+        if (m.degenerate_dof_mask != 0 &&
+            static_cast<shm::ModuleState>(m.state) == shm::ModuleState::kActive) {
             l = {name + " degenerate " + dofList(m.degenerate_dof_mask), Health::kWarning};
             if (name == "scan-match") {
                 t.warnings.push_back({"Laser degenerate along " + dofList(m.degenerate_dof_mask) +
-                                          ": scan towards walls, corners or objects.", Health::kWarning});
+                                          ": scan towards walls, corners or objects.",
+                                      Health::kWarning});
             }
         }
         t.modules.push_back(l);
     }
 
-    if (s.linear_speed_mps > limits.max_speed_mps || s.angular_speed_radps > limits.max_turn_radps) {
+    if (s.linear_speed_mps > limits.max_speed_mps ||
+        s.angular_speed_radps > limits.max_turn_radps) {
         t.warnings.push_back({format("Moving too fast (%.1f m/s, ", s.linear_speed_mps) +
-                                  format("%.0f deg/s): slow down.", s.angular_speed_radps * 180.0 / 3.14159265358979),
+                                  format("%.0f deg/s): slow down.",
+                                         s.angular_speed_radps * 180.0 / 3.14159265358979),
                               Health::kWarning});
     }
     // Only a pipeline that runs a camera reports its brightness (a laser + IMU replay does not).
     bool has_camera = false;
     for (std::uint32_t i = 0; i < std::min<std::uint32_t>(s.sensor_count, shm::kMaxSensors); ++i) {
-        if (shm::getText(s.sensors[i].name).find("cam") != std::string_view::npos) has_camera = true;
+        if (shm::getText(s.sensors[i].name).find("cam") != std::string_view::npos)
+            has_camera = true;
     }
     if (has_camera && s.camera_brightness < limits.min_camera_brightness) {
-        t.warnings.push_back({format("Camera dark (brightness %.0f/255): turn on lights.", s.camera_brightness),
-                              Health::kWarning});
+        t.warnings.push_back(
+            {format("Camera dark (brightness %.0f/255): turn on lights.", s.camera_brightness),
+             Health::kWarning});
     }
 
     const shm::ExportStatus& e = s.export_status;
     switch (static_cast<shm::ExportState>(e.state)) {
-        case shm::ExportState::kIdle: break;
+        case shm::ExportState::kIdle:
+            break;
         case shm::ExportState::kRunning:
-            t.export_line = {format("Exporting %.0f%% - do not remove the USB stick", 100.0 * e.progress), Health::kWarning};
+            t.export_line = {
+                format("Exporting %.0f%% - do not remove the USB stick", 100.0 * e.progress),
+                Health::kWarning};
             break;
         case shm::ExportState::kDone:
-            t.export_line = {e.safe_to_remove ? "Export done: SAFE TO REMOVE the USB stick" : "Export done, syncing - wait",
+            t.export_line = {e.safe_to_remove ? "Export done: SAFE TO REMOVE the USB stick"
+                                              : "Export done, syncing - wait",
                              e.safe_to_remove ? Health::kOk : Health::kWarning};
             break;
         case shm::ExportState::kFailed:
@@ -186,7 +227,9 @@ StatusTexts describeStatus(shm::Connection connection, const std::string& connec
             t.scan_dof[i] = pose->scan_dof_mask & (1u << i);
             // Figure 14's combination: the camera's update has priority, the laser's fills in,
             // the IMU prediction holds what neither solved.
-            t.dof[i] = t.vio_dof[i] ? DofSource::kVio : t.scan_dof[i] ? DofSource::kScan : DofSource::kImu;
+            t.dof[i] = t.vio_dof[i]    ? DofSource::kVio
+                       : t.scan_dof[i] ? DofSource::kScan
+                                       : DofSource::kImu;
         }
     }
     return t;

@@ -4,9 +4,9 @@
 #include "handscan/ui/ui_app.hpp"
 
 #include <GLFW/glfw3.h>
-#include <imgui.h>
 #include <backends/imgui_impl_glfw.h>
 #include <backends/imgui_impl_opengl3.h>
+#include <imgui.h>
 
 #include <Eigen/Geometry>
 #include <chrono>
@@ -27,13 +27,17 @@
 namespace handscan::ui {
 namespace {
 
-constexpr std::size_t kUploadBudgetPoints = 2'000'000;  // per frame: keeps frames short while catching up
+constexpr std::size_t kUploadBudgetPoints =
+    2'000'000;  // per frame: keeps frames short while catching up
 
 ImVec4 colourOf(Health h) {
     switch (h) {
-        case Health::kOk: return {0.35f, 0.9f, 0.45f, 1.0f};
-        case Health::kWarning: return {1.0f, 0.72f, 0.15f, 1.0f};
-        case Health::kError: return {1.0f, 0.32f, 0.3f, 1.0f};
+        case Health::kOk:
+            return {0.35f, 0.9f, 0.45f, 1.0f};
+        case Health::kWarning:
+            return {1.0f, 0.72f, 0.15f, 1.0f};
+        case Health::kError:
+            return {1.0f, 0.32f, 0.3f, 1.0f};
     }
     return {1, 1, 1, 1};
 }
@@ -41,17 +45,20 @@ ImVec4 colourOf(Health h) {
 // Figure 14's colours: IMU prediction orange, visual-inertial odometry green, scan matching blue.
 ImU32 dofColour(DofSource s) {
     switch (s) {
-        case DofSource::kImu: return IM_COL32(245, 150, 40, 255);
-        case DofSource::kVio: return IM_COL32(70, 200, 90, 255);
-        case DofSource::kScan: return IM_COL32(60, 120, 235, 255);
+        case DofSource::kImu:
+            return IM_COL32(245, 150, 40, 255);
+        case DofSource::kVio:
+            return IM_COL32(70, 200, 90, 255);
+        case DofSource::kScan:
+            return IM_COL32(60, 120, 235, 255);
     }
     return IM_COL32_WHITE;
 }
 
-constexpr ImGuiWindowFlags kPanelFlags = ImGuiWindowFlags_NoTitleBar | ImGuiWindowFlags_NoResize |
-                                         ImGuiWindowFlags_NoMove | ImGuiWindowFlags_NoCollapse |
-                                         ImGuiWindowFlags_NoSavedSettings | ImGuiWindowFlags_NoScrollbar |
-                                         ImGuiWindowFlags_NoBringToFrontOnFocus;
+constexpr ImGuiWindowFlags kPanelFlags =
+    ImGuiWindowFlags_NoTitleBar | ImGuiWindowFlags_NoResize | ImGuiWindowFlags_NoMove |
+    ImGuiWindowFlags_NoCollapse | ImGuiWindowFlags_NoSavedSettings | ImGuiWindowFlags_NoScrollbar |
+    ImGuiWindowFlags_NoBringToFrontOnFocus;
 
 struct PendingCommand {
     std::uint64_t seq = 0;
@@ -65,7 +72,8 @@ public:
     explicit UiApp(UiOptions o) : o_(std::move(o)), reader_(readerOptions(o_.shm_name)) {
         camera_.mode = o_.camera;
         camera_.fov_y_deg = o_.fov_y_deg;
-        if (o_.camera_eye && o_.camera_target) camera_.setExplicit(*o_.camera_eye, *o_.camera_target);
+        if (o_.camera_eye && o_.camera_target)
+            camera_.setExplicit(*o_.camera_eye, *o_.camera_target);
         colour_ = o_.colour;
         coverage_view_ = o_.coverage;
     }
@@ -133,9 +141,11 @@ UiApp::~UiApp() {
 }
 
 Status UiApp::initWindow() {
-    glfwSetErrorCallback([](int code, const char* what) { log().error("GLFW error {}: {}", code, what); });
+    glfwSetErrorCallback(
+        [](int code, const char* what) { log().error("GLFW error {}: {}", code, what); });
     if (!glfwInit()) {
-        return {StatusCode::kDeviceError, "cannot initialise GLFW: no display? (set DISPLAY, or run under Xvfb / xvfb-run)"};
+        return {StatusCode::kDeviceError,
+                "cannot initialise GLFW: no display? (set DISPLAY, or run under Xvfb / xvfb-run)"};
     }
     glfwWindowHint(GLFW_CONTEXT_VERSION_MAJOR, 3);
     glfwWindowHint(GLFW_CONTEXT_VERSION_MINOR, 3);
@@ -149,7 +159,9 @@ Status UiApp::initWindow() {
         h = mode->height;
     }
     window_ = glfwCreateWindow(w, h, "handscan", monitor, nullptr);
-    if (!window_) return {StatusCode::kDeviceError, "cannot create an OpenGL 3.3 core window (Mesa installed? see GLFW error above)"};
+    if (!window_)
+        return {StatusCode::kDeviceError,
+                "cannot create an OpenGL 3.3 core window (Mesa installed? see GLFW error above)"};
     glfwMakeContextCurrent(window_);
     glfwSwapInterval(o_.screenshot_path.empty() ? 1 : 0);
     log().info("OpenGL {} on {}", reinterpret_cast<const char*>(glGetString(GL_VERSION)),
@@ -212,10 +224,11 @@ void UiApp::ingest() {
 
 void UiApp::updateCamera() {
     if (!pose_) return;
-    const Eigen::Vector3f p(static_cast<float>(pose_->position_m[0]), static_cast<float>(pose_->position_m[1]),
+    const Eigen::Vector3f p(static_cast<float>(pose_->position_m[0]),
+                            static_cast<float>(pose_->position_m[1]),
                             static_cast<float>(pose_->position_m[2]));
-    const Eigen::Quaterniond q(pose_->orientation_xyzw[3], pose_->orientation_xyzw[0], pose_->orientation_xyzw[1],
-                               pose_->orientation_xyzw[2]);
+    const Eigen::Quaterniond q(pose_->orientation_xyzw[3], pose_->orientation_xyzw[0],
+                               pose_->orientation_xyzw[1], pose_->orientation_xyzw[2]);
     const Eigen::Vector3d x_axis = q.normalized() * Eigen::Vector3d::UnitX();
     camera_.setDevice(p, static_cast<float>(std::atan2(x_axis.y(), x_axis.x())));
     if (camera_.mode == CameraMode::kTopDown && top_down_follows_device_) camera_.target = p;
@@ -225,7 +238,8 @@ void UiApp::handleViewInput(const ScreenLayout& l) {
     ImGuiIO& io = ImGui::GetIO();
     if (io.WantCaptureMouse) return;
     const ImVec2 m = io.MousePos;
-    const bool inside = m.x >= l.view.x && m.x < l.view.x + l.view.w && m.y >= l.view.y && m.y < l.view.y + l.view.h;
+    const bool inside = m.x >= l.view.x && m.x < l.view.x + l.view.w && m.y >= l.view.y &&
+                        m.y < l.view.y + l.view.h;
     // Single touch arrives as the left mouse button: drag to orbit (or pan in top-down).
     if (inside && ImGui::IsMouseDragging(ImGuiMouseButton_Left, 2.0f)) {
         camera_.drag(io.MouseDelta.x, io.MouseDelta.y);
@@ -260,7 +274,9 @@ void UiApp::trackCommand() {
     const auto state = static_cast<shm::CommandState>(r->state);
     const std::string msg(shm::getText(r->message));
     switch (state) {
-        case shm::CommandState::kPending: command_.result = {name + ": waiting for pipeline", Health::kWarning}; break;
+        case shm::CommandState::kPending:
+            command_.result = {name + ": waiting for pipeline", Health::kWarning};
+            break;
         case shm::CommandState::kAccepted:
         case shm::CommandState::kInProgress:
             command_.result = {name + ": " + msg, Health::kWarning};
@@ -280,8 +296,10 @@ void UiApp::trackCommand() {
 bool UiApp::bigButton(const char* label, ImVec4 colour, float w, float h, bool enabled) {
     if (!enabled) ImGui::BeginDisabled();
     ImGui::PushStyleColor(ImGuiCol_Button, colour);
-    ImGui::PushStyleColor(ImGuiCol_ButtonHovered, ImVec4(colour.x * 1.15f, colour.y * 1.15f, colour.z * 1.15f, 1));
-    ImGui::PushStyleColor(ImGuiCol_ButtonActive, ImVec4(colour.x * 0.8f, colour.y * 0.8f, colour.z * 0.8f, 1));
+    ImGui::PushStyleColor(ImGuiCol_ButtonHovered,
+                          ImVec4(colour.x * 1.15f, colour.y * 1.15f, colour.z * 1.15f, 1));
+    ImGui::PushStyleColor(ImGuiCol_ButtonActive,
+                          ImVec4(colour.x * 0.8f, colour.y * 0.8f, colour.z * 0.8f, 1));
     const bool pressed = ImGui::Button(label, ImVec2(w, h));
     ImGui::PopStyleColor(3);
     if (!enabled) ImGui::EndDisabled();
@@ -300,7 +318,8 @@ void UiApp::drawStatusBar(const ScreenLayout& l) {
         ImGui::SameLine(0, 28);
         ImGui::TextColored(c, "%s", s.c_str());
     };
-    item(texts_.scan_state, texts_.scan_state == "SCANNING" ? colourOf(Health::kOk) : ImVec4(0.9f, 0.9f, 0.9f, 1));
+    item(texts_.scan_state,
+         texts_.scan_state == "SCANNING" ? colourOf(Health::kOk) : ImVec4(0.9f, 0.9f, 0.9f, 1));
     item(texts_.elapsed);
     item(texts_.distance);
     item(texts_.points);
@@ -313,7 +332,9 @@ void UiApp::drawStatusBar(const ScreenLayout& l) {
         first = false;
         ImGui::TextColored(colourOf(s.health), "%s", s.text.c_str());
     }
-    if (texts_.sensors.empty()) ImGui::TextColored(colourOf(texts_.connection.health), "%s", texts_.connection.text.c_str());
+    if (texts_.sensors.empty())
+        ImGui::TextColored(colourOf(texts_.connection.health), "%s",
+                           texts_.connection.text.c_str());
     first = true;
     for (const Line& m : texts_.modules) {
         if (!first) ImGui::SameLine(0, 22);
@@ -332,41 +353,54 @@ void UiApp::drawButtons(const ScreenLayout& l) {
     const float h = 64.0f * l.scale;
     const float gap = ImGui::GetStyle().ItemSpacing.x;
     const bool connected = reader_.connection() == shm::Connection::kConnected;
-    const auto state = status_ ? static_cast<shm::ScanState>(status_->scan_state) : shm::ScanState::kIdle;
-    const bool exporting = status_ && static_cast<shm::ExportState>(status_->export_status.state) == shm::ExportState::kRunning;
+    const auto state =
+        status_ ? static_cast<shm::ScanState>(status_->scan_state) : shm::ScanState::kIdle;
+    const bool exporting = status_ && static_cast<shm::ExportState>(status_->export_status.state) ==
+                                          shm::ExportState::kRunning;
     ImGui::PushFont(font_big_);
     if (state == shm::ScanState::kScanning) {
-        if (bigButton("STOP SCAN", ImVec4(0.75f, 0.15f, 0.12f, 1), w, h * 1.3f, connected)) send(shm::CommandType::kStopScan);
+        if (bigButton("STOP SCAN", ImVec4(0.75f, 0.15f, 0.12f, 1), w, h * 1.3f, connected))
+            send(shm::CommandType::kStopScan);
     } else {
-        if (bigButton("START SCAN", ImVec4(0.1f, 0.55f, 0.2f, 1), w, h * 1.3f, connected && !exporting)) {
+        if (bigButton("START SCAN", ImVec4(0.1f, 0.55f, 0.2f, 1), w, h * 1.3f,
+                      connected && !exporting)) {
             send(shm::CommandType::kStartScan);
         }
     }
     const bool stopped = state == shm::ScanState::kStopped;
-    if (bigButton("EXPORT TO USB", ImVec4(0.15f, 0.35f, 0.7f, 1), w, h, connected && stopped && !exporting)) {
+    if (bigButton("EXPORT TO USB", ImVec4(0.15f, 0.35f, 0.7f, 1), w, h,
+                  connected && stopped && !exporting)) {
         send(shm::CommandType::kExport, o_.export_target);
     }
-    if (bigButton("NEW SCAN", ImVec4(0.3f, 0.3f, 0.35f, 1), w, h, connected && stopped && !exporting)) {
+    if (bigButton("NEW SCAN", ImVec4(0.3f, 0.3f, 0.35f, 1), w, h,
+                  connected && stopped && !exporting)) {
         send(shm::CommandType::kNewScan);
     }
     ImGui::PopFont();
-    if (status_ && static_cast<shm::ExportState>(status_->export_status.state) != shm::ExportState::kIdle) {
+    if (status_ &&
+        static_cast<shm::ExportState>(status_->export_status.state) != shm::ExportState::kIdle) {
         ImGui::ProgressBar(status_->export_status.progress, ImVec2(w, 26.0f * l.scale));
     }
     if (!texts_.export_line.text.empty()) {
         ImGui::PushTextWrapPos(ImGui::GetCursorPosX() + w);
-        ImGui::TextColored(colourOf(texts_.export_line.health), "%s", texts_.export_line.text.c_str());
+        ImGui::TextColored(colourOf(texts_.export_line.health), "%s",
+                           texts_.export_line.text.c_str());
         ImGui::PopTextWrapPos();
     }
     ImGui::Separator();
     // Camera and colouring: three-way toggles in rows of big buttons.
     const float third = (w - 2 * gap) / 3;
     const ImVec4 on(0.2f, 0.45f, 0.75f, 1), off(0.22f, 0.22f, 0.26f, 1);
-    const struct { const char* label; CameraMode mode; } cams[] = {
-        {"Follow", CameraMode::kFollow}, {"Top", CameraMode::kTopDown}, {"Free", CameraMode::kFree}};
+    const struct {
+        const char* label;
+        CameraMode mode;
+    } cams[] = {{"Follow", CameraMode::kFollow},
+                {"Top", CameraMode::kTopDown},
+                {"Free", CameraMode::kFree}};
     for (int i = 0; i < 3; ++i) {
         if (i) ImGui::SameLine();
-        if (bigButton(cams[i].label, camera_.mode == cams[i].mode && !coverage_view_ ? on : off, third, h * 0.8f)) {
+        if (bigButton(cams[i].label, camera_.mode == cams[i].mode && !coverage_view_ ? on : off,
+                      third, h * 0.8f)) {
             if (cams[i].mode == CameraMode::kFree && camera_.mode != CameraMode::kFree && pose_) {
                 camera_.target = Eigen::Vector3f(static_cast<float>(pose_->position_m[0]),
                                                  static_cast<float>(pose_->position_m[1]),
@@ -376,13 +410,19 @@ void UiApp::drawButtons(const ScreenLayout& l) {
             coverage_view_ = false;
         }
     }
-    const struct { const char* label; ColourMode mode; } cols[] = {
-        {"RGB", ColourMode::kRgb}, {"Height", ColourMode::kHeight}, {"Intens.", ColourMode::kIntensity}};
+    const struct {
+        const char* label;
+        ColourMode mode;
+    } cols[] = {{"RGB", ColourMode::kRgb},
+                {"Height", ColourMode::kHeight},
+                {"Intens.", ColourMode::kIntensity}};
     for (int i = 0; i < 3; ++i) {
         if (i) ImGui::SameLine();
-        if (bigButton(cols[i].label, colour_ == cols[i].mode ? on : off, third, h * 0.8f)) colour_ = cols[i].mode;
+        if (bigButton(cols[i].label, colour_ == cols[i].mode ? on : off, third, h * 0.8f))
+            colour_ = cols[i].mode;
     }
-    if (bigButton(coverage_view_ ? "COVERAGE: ON" : "COVERAGE", coverage_view_ ? on : off, w, h)) coverage_view_ = !coverage_view_;
+    if (bigButton(coverage_view_ ? "COVERAGE: ON" : "COVERAGE", coverage_view_ ? on : off, w, h))
+        coverage_view_ = !coverage_view_;
     if (bigButton("-", off, third, h * 0.8f)) camera_.zoom(1.25f);
     ImGui::SameLine();
     if (bigButton("+", off, third, h * 0.8f)) camera_.zoom(0.8f);
@@ -406,9 +446,11 @@ void UiApp::drawDegeneracyBar(ImDrawList* dl, ImVec2 origin, float cell) {
     const char* heads[] = {"IMU", "VIO", "LSR", "POSE"};
     const float label_w = cell * 1.3f;
     dl->AddRectFilled(ImVec2(origin.x - 6, origin.y - cell - 6),
-                      ImVec2(origin.x + label_w + 4 * cell * 1.6f + 6, origin.y + 6 * cell + 6), IM_COL32(0, 0, 0, 160), 6);
+                      ImVec2(origin.x + label_w + 4 * cell * 1.6f + 6, origin.y + 6 * cell + 6),
+                      IM_COL32(0, 0, 0, 160), 6);
     for (int c = 0; c < 4; ++c) {
-        dl->AddText(ImVec2(origin.x + label_w + c * cell * 1.6f, origin.y - cell), IM_COL32_WHITE, heads[c]);
+        dl->AddText(ImVec2(origin.x + label_w + c * cell * 1.6f, origin.y - cell), IM_COL32_WHITE,
+                    heads[c]);
     }
     for (int r = 0; r < shm::kDofCount; ++r) {
         const float y = origin.y + r * cell;
@@ -430,17 +472,18 @@ void UiApp::drawOverlay(const ScreenLayout& l) {
     ImDrawList* dl = ImGui::GetForegroundDrawList();
     ImGui::PushFont(font_big_);
     if (reader_.connection() != shm::Connection::kConnected && renderer_.pointCount() == 0) {
-        const std::string big = reader_.connection() == shm::Connection::kWaiting ? "Waiting for pipeline..."
-                                                                                   : std::string(shm::toString(reader_.connection()));
+        const std::string big = reader_.connection() == shm::Connection::kWaiting
+                                    ? "Waiting for pipeline..."
+                                    : std::string(shm::toString(reader_.connection()));
         const ImVec2 sz = ImGui::CalcTextSize(big.c_str());
-        dl->AddText(ImVec2(l.view.x + (l.view.w - sz.x) / 2, l.view.y + l.view.h / 2 - sz.y), IM_COL32(255, 200, 80, 255),
-                    big.c_str());
+        dl->AddText(ImVec2(l.view.x + (l.view.w - sz.x) / 2, l.view.y + l.view.h / 2 - sz.y),
+                    IM_COL32(255, 200, 80, 255), big.c_str());
     }
     ImGui::PopFont();
     if (reader_.connection() != shm::Connection::kConnected) {
         const ImVec2 sz = ImGui::CalcTextSize(texts_.connection.text.c_str());
-        dl->AddText(ImVec2(l.view.x + (l.view.w - sz.x) / 2, l.view.y + l.view.h / 2 + 10), IM_COL32(230, 230, 230, 255),
-                    texts_.connection.text.c_str());
+        dl->AddText(ImVec2(l.view.x + (l.view.w - sz.x) / 2, l.view.y + l.view.h / 2 + 10),
+                    IM_COL32(230, 230, 230, 255), texts_.connection.text.c_str());
     }
     if (texts_.dof_valid) {
         const float cell = 24.0f * l.scale;
@@ -448,15 +491,18 @@ void UiApp::drawOverlay(const ScreenLayout& l) {
     }
     // Warnings the operator can act on, stacked at the top of the view, most severe first.
     std::vector<Line> warnings = texts_.warnings;
-    std::stable_sort(warnings.begin(), warnings.end(), [](const Line& a, const Line& b) { return a.health > b.health; });
+    std::stable_sort(warnings.begin(), warnings.end(),
+                     [](const Line& a, const Line& b) { return a.health > b.health; });
     float y = l.view.y + 10;
     ImGui::PushFont(font_big_);
     for (const Line& w : warnings) {
         const ImVec2 sz = ImGui::CalcTextSize(w.text.c_str(), nullptr, false, l.view.w - 60);
         const ImVec4 c = colourOf(w.health);
         dl->AddRectFilled(ImVec2(l.view.x + 20, y), ImVec2(l.view.x + 40 + sz.x, y + sz.y + 12),
-                          ImGui::GetColorU32(ImVec4(c.x * 0.55f, c.y * 0.35f, c.z * 0.2f, 0.9f)), 8);
-        dl->AddText(nullptr, 0.0f, ImVec2(l.view.x + 30, y + 6), IM_COL32_WHITE, w.text.c_str(), nullptr, l.view.w - 60);
+                          ImGui::GetColorU32(ImVec4(c.x * 0.55f, c.y * 0.35f, c.z * 0.2f, 0.9f)),
+                          8);
+        dl->AddText(nullptr, 0.0f, ImVec2(l.view.x + 30, y + 6), IM_COL32_WHITE, w.text.c_str(),
+                    nullptr, l.view.w - 60);
         y += sz.y + 18;
     }
     ImGui::PopFont();
@@ -464,7 +510,8 @@ void UiApp::drawOverlay(const ScreenLayout& l) {
 
 void UiApp::drawCoverage(const ScreenLayout& l) {
     const double now = glfwGetTime();
-    if (coverage_dirty_ && now - coverage_uploaded_at_ > 0.5) {  // rebuilding is O(area): at most 2 Hz
+    if (coverage_dirty_ &&
+        now - coverage_uploaded_at_ > 0.5) {  // rebuilding is O(area): at most 2 Hz
         coverage_image_ = coverage_.render();
         if (!coverage_texture_) glGenTextures(1, &coverage_texture_);
         glBindTexture(GL_TEXTURE_2D, coverage_texture_);
@@ -472,8 +519,8 @@ void UiApp::drawCoverage(const ScreenLayout& l) {
         glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
         glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
         if (coverage_image_.width > 0) {
-            glTexImage2D(GL_TEXTURE_2D, 0, GL_RGBA8, coverage_image_.width, coverage_image_.height, 0, GL_RGBA,
-                         GL_UNSIGNED_BYTE, coverage_image_.rgba.data());
+            glTexImage2D(GL_TEXTURE_2D, 0, GL_RGBA8, coverage_image_.width, coverage_image_.height,
+                         0, GL_RGBA, GL_UNSIGNED_BYTE, coverage_image_.rgba.data());
         }
         coverage_dirty_ = false;
         coverage_uploaded_at_ = now;
@@ -482,24 +529,30 @@ void UiApp::drawCoverage(const ScreenLayout& l) {
     if (coverage_image_.width == 0) return;
     // Fit the grid into the view, north up, same scale on both axes.
     const float s = std::min(l.view.w / static_cast<float>(coverage_image_.width),
-                             l.view.h / static_cast<float>(coverage_image_.height)) * 0.95f;
-    const float w = s * static_cast<float>(coverage_image_.width), h = s * static_cast<float>(coverage_image_.height);
+                             l.view.h / static_cast<float>(coverage_image_.height)) *
+                    0.95f;
+    const float w = s * static_cast<float>(coverage_image_.width),
+                h = s * static_cast<float>(coverage_image_.height);
     const ImVec2 a(l.view.x + (l.view.w - w) / 2, l.view.y + (l.view.h - h) / 2);
-    dl->AddImage(reinterpret_cast<ImTextureID>(static_cast<std::intptr_t>(coverage_texture_)), a, ImVec2(a.x + w, a.y + h));
+    dl->AddImage(reinterpret_cast<ImTextureID>(static_cast<std::intptr_t>(coverage_texture_)), a,
+                 ImVec2(a.x + w, a.y + h));
     const auto toScreen = [&](float x, float y) {
         return ImVec2(a.x + (x - coverage_image_.min_x_m) / coverage_image_.cell_m * s,
                       a.y + (coverage_image_.max_y_m - y) / coverage_image_.cell_m * s);
     };
     for (std::size_t i = 1; i < track_cpu_.size(); ++i) {
-        dl->AddLine(toScreen(track_cpu_[i - 1].x_m, track_cpu_[i - 1].y_m), toScreen(track_cpu_[i].x_m, track_cpu_[i].y_m),
-                    IM_COL32(255, 60, 230, 255), 2.0f);
+        dl->AddLine(toScreen(track_cpu_[i - 1].x_m, track_cpu_[i - 1].y_m),
+                    toScreen(track_cpu_[i].x_m, track_cpu_[i].y_m), IM_COL32(255, 60, 230, 255),
+                    2.0f);
     }
     if (pose_) {
-        dl->AddCircleFilled(toScreen(static_cast<float>(pose_->position_m[0]), static_cast<float>(pose_->position_m[1])),
+        dl->AddCircleFilled(toScreen(static_cast<float>(pose_->position_m[0]),
+                                     static_cast<float>(pose_->position_m[1])),
                             8.0f, IM_COL32_WHITE);
     }
     const char* legend = "coverage below hip height: black = not scanned";
-    dl->AddText(ImVec2(a.x + w - ImGui::CalcTextSize(legend).x - 8, a.y + h - ImGui::GetTextLineHeight() - 6),
+    dl->AddText(ImVec2(a.x + w - ImGui::CalcTextSize(legend).x - 8,
+                       a.y + h - ImGui::GetTextLineHeight() - 6),
                 IM_COL32_WHITE, legend);
 }
 
@@ -516,14 +569,15 @@ void UiApp::drawView(const ScreenLayout& l) {
     const Rect v{l.view.x * sx, l.view.y * sy, l.view.w * sx, l.view.h * sy};
     const int vx = static_cast<int>(std::lround(v.x)), vw = static_cast<int>(std::lround(v.w));
     const int vh = static_cast<int>(std::lround(v.h));
-    const int vy_gl = fbh - static_cast<int>(std::lround(v.y)) - vh;  // GL counts rows from the bottom
+    const int vy_gl =
+        fbh - static_cast<int>(std::lround(v.y)) - vh;  // GL counts rows from the bottom
     facts_.camera = camera_.mode;
     facts_.colour = colour_;
     facts_.coverage = coverage_view_;
     facts_.framebuffer_w = fbw;
     facts_.framebuffer_h = fbh;
-    facts_.view_px = Rect{static_cast<float>(vx), static_cast<float>(fbh - vy_gl - vh), static_cast<float>(vw),
-                          static_cast<float>(vh)};
+    facts_.view_px = Rect{static_cast<float>(vx), static_cast<float>(fbh - vy_gl - vh),
+                          static_cast<float>(vw), static_cast<float>(vh)};
     facts_.points_drawn = renderer_.pointCount();  // screenshots draw every point
     facts_.track_points = renderer_.trackCount();
     facts_.epoch = cursor_.epoch;
@@ -531,10 +585,14 @@ void UiApp::drawView(const ScreenLayout& l) {
     glViewport(vx, vy_gl, vw, vh);
     glEnable(GL_SCISSOR_TEST);
     glScissor(vx, vy_gl, vw, vh);
-    const Eigen::Matrix4f vp = camera_.projection(static_cast<float>(vw) / static_cast<float>(vh)) * camera_.view();
+    const Eigen::Matrix4f vp =
+        camera_.projection(static_cast<float>(vw) / static_cast<float>(vh)) * camera_.view();
     facts_.view_proj = vp;
     const bool full = !o_.screenshot_path.empty();
-    renderer_.draw(vp, colour_, o_.point_size_px, full ? 0 : o_.max_draw_points > 0 ? o_.max_draw_points : draw_budget_);
+    renderer_.draw(vp, colour_, o_.point_size_px,
+                   full                     ? 0
+                   : o_.max_draw_points > 0 ? o_.max_draw_points
+                                            : draw_budget_);
     glDisable(GL_SCISSOR_TEST);
     glViewport(0, 0, fbw, fbh);
 }
@@ -543,26 +601,30 @@ int UiApp::finishScreenshot(bool timed_out) {
     int fbw = 0, fbh = 0;
     glfwGetFramebufferSize(window_, &fbw, &fbh);
     if (timed_out && renderer_.pointCount() == 0) {
-        log().error("no live map appeared in shared memory {} within {} s ({}): start the pipeline, "
-                    "`handscan replay REC.mcap --live` or `handscan shm-demo --autostart`",
-                    o_.shm_name, o_.timeout_s, reader_.message().empty() ? "connected, but no points" : reader_.message());
+        log().error(
+            "no live map appeared in shared memory {} within {} s ({}): start the pipeline, "
+            "`handscan replay REC.mcap --live` or `handscan shm-demo --autostart`",
+            o_.shm_name, o_.timeout_s,
+            reader_.message().empty() ? "connected, but no points" : reader_.message());
         return 3;
     }
     if (timed_out) {
-        log().warn("timeout after {} s with {} of the {} points asked for: saving what is there", o_.timeout_s,
-                   renderer_.pointCount(), o_.wait_points);
+        log().warn("timeout after {} s with {} of the {} points asked for: saving what is there",
+                   o_.timeout_s, renderer_.pointCount(), o_.wait_points);
     }
     if (Status s = saveFramebufferPng(o_.screenshot_path, fbw, fbh); !s) {
         log().error("{}", s.message());
         return 1;
     }
     std::string json_path = o_.status_json_path;
-    if (json_path.empty()) json_path = std::filesystem::path(o_.screenshot_path).replace_extension(".json").string();
+    if (json_path.empty())
+        json_path = std::filesystem::path(o_.screenshot_path).replace_extension(".json").string();
     if (Status s = writeTextFile(json_path, statusJson(texts_, facts_)); !s) {
         log().error("{}", s.message());
         return 1;
     }
-    log().info("saved {} ({}x{}, {} points) and {}", o_.screenshot_path, fbw, fbh, renderer_.pointCount(), json_path);
+    log().info("saved {} ({}x{}, {} points) and {}", o_.screenshot_path, fbw, fbh,
+               renderer_.pointCount(), json_path);
     return 0;
 }
 
@@ -582,7 +644,8 @@ int UiApp::run() {
         updateCamera();
         int ww = 0, wh = 0;
         glfwGetWindowSize(window_, &ww, &wh);
-        const ScreenLayout l = ScreenLayout::compute(static_cast<float>(ww), static_cast<float>(wh));
+        const ScreenLayout l =
+            ScreenLayout::compute(static_cast<float>(ww), static_cast<float>(wh));
 
         ImGui_ImplOpenGL3_NewFrame();
         ImGui_ImplGlfw_NewFrame();
@@ -599,7 +662,8 @@ int UiApp::run() {
         ImGui_ImplOpenGL3_RenderDrawData(ImGui::GetDrawData());
 
         if (screenshot) {
-            const bool have_map = renderer_.pointCount() >= std::max<std::uint64_t>(o_.wait_points, 1);
+            const bool have_map =
+                renderer_.pointCount() >= std::max<std::uint64_t>(o_.wait_points, 1);
             // A few frames after the map is complete so ImGui's layout has settled.
             ready_frames = have_map && status_seen_ ? ready_frames + 1 : 0;
             if (ready_frames >= 3) return finishScreenshot(false);
@@ -607,11 +671,17 @@ int UiApp::run() {
         }
         glfwSwapBuffers(window_);
         // Adapt the number of points drawn so that touch input stays responsive (~25 Hz).
-        const double frame_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - frame_start).count();
-        if (frame_s > 0.06) draw_budget_ = std::max<std::size_t>(100'000, static_cast<std::size_t>(draw_budget_ * 0.7));
-        if (frame_s < 0.03 && draw_budget_ < renderer_.pointCount()) draw_budget_ = draw_budget_ * 5 / 4 + 1;
+        const double frame_s =
+            std::chrono::duration<double>(std::chrono::steady_clock::now() - frame_start).count();
+        if (frame_s > 0.06)
+            draw_budget_ =
+                std::max<std::size_t>(100'000, static_cast<std::size_t>(draw_budget_ * 0.7));
+        if (frame_s < 0.03 && draw_budget_ < renderer_.pointCount())
+            draw_budget_ = draw_budget_ * 5 / 4 + 1;
         if (o_.max_seconds > 0 && elapsed > o_.max_seconds) break;
-        if (!screenshot) std::this_thread::sleep_until(frame_start + std::chrono::milliseconds(16));  // <= 60 Hz without vsync
+        if (!screenshot)
+            std::this_thread::sleep_until(frame_start +
+                                          std::chrono::milliseconds(16));  // <= 60 Hz without vsync
     }
     return 0;
 }

@@ -8,14 +8,18 @@ namespace handscan::ui {
 
 const char* toString(CameraMode mode) {
     switch (mode) {
-        case CameraMode::kFollow: return "follow";
-        case CameraMode::kTopDown: return "top-down";
-        case CameraMode::kFree: return "free";
+        case CameraMode::kFollow:
+            return "follow";
+        case CameraMode::kTopDown:
+            return "top-down";
+        case CameraMode::kFree:
+            return "free";
     }
     return "?";
 }
 
-Eigen::Matrix4f lookAt(const Eigen::Vector3f& eye, const Eigen::Vector3f& target, const Eigen::Vector3f& up) {
+Eigen::Matrix4f lookAt(const Eigen::Vector3f& eye, const Eigen::Vector3f& target,
+                       const Eigen::Vector3f& up) {
     const Eigen::Vector3f f = (target - eye).normalized();
     const Eigen::Vector3f s = f.cross(up).normalized();
     const Eigen::Vector3f u = s.cross(f);
@@ -85,9 +89,10 @@ Eigen::Vector3f ViewCamera::eye() const {
     if (explicit_) return explicit_eye_;
     const Eigen::Vector3f centre = mode == CameraMode::kFollow ? device_ : target;
     // Follow: behind the device's heading (plus the user's yaw offset).
-    const float azimuth = mode == CameraMode::kFollow ? device_heading_ + 3.14159265f + yaw_rad : yaw_rad;
-    const Eigen::Vector3f dir(std::cos(pitch_rad) * std::cos(azimuth), std::cos(pitch_rad) * std::sin(azimuth),
-                              std::sin(pitch_rad));
+    const float azimuth =
+        mode == CameraMode::kFollow ? device_heading_ + 3.14159265f + yaw_rad : yaw_rad;
+    const Eigen::Vector3f dir(std::cos(pitch_rad) * std::cos(azimuth),
+                              std::cos(pitch_rad) * std::sin(azimuth), std::sin(pitch_rad));
     return centre + distance_m * dir;
 }
 

@@ -12,7 +12,9 @@ namespace {
 
 constexpr TimeNs kExposureUnit = 100 * kNsPerUs;  // V4L2_CID_EXPOSURE_ABSOLUTE counts 100 us
 
-int bytesPerPixel(PixelFormat f) { return f == PixelFormat::kYuyv ? 2 : f == PixelFormat::kGrey8 ? 1 : 0; }
+int bytesPerPixel(PixelFormat f) {
+    return f == PixelFormat::kYuyv ? 2 : f == PixelFormat::kGrey8 ? 1 : 0;
+}
 
 std::string hex32(std::uint32_t v) {
     char b[16];
@@ -22,7 +24,8 @@ std::string hex32(std::uint32_t v) {
 
 }  // namespace
 
-CameraDevice::CameraDevice(transport::V4l2Device& device, CameraConfig config, RawTap* tap, Clock clock)
+CameraDevice::CameraDevice(transport::V4l2Device& device, CameraConfig config, RawTap* tap,
+                           Clock clock)
     : dev_(device),
       cfg_(std::move(config)),
       record_tap_(tap != nullptr ? std::make_unique<FrameRecordTap>(*tap) : nullptr),
@@ -59,14 +62,17 @@ Status CameraDevice::negotiateFormat() {
             continue;  // the driver substituted a format it has: try the next preference
         }
         if (got->width != cfg_.width || got->height != cfg_.height) {
-            log().warn("camera {}: asked for {}x{}, the driver set {}x{}", dev_.describe(), cfg_.width, cfg_.height, got->width, got->height);
+            log().warn("camera {}: asked for {}x{}, the driver set {}x{}", dev_.describe(),
+                       cfg_.width, cfg_.height, got->width, got->height);
         }
         const int bpp = bytesPerPixel(want);
         if (bpp > 0) {
-            if (got->bytesperline == 0) got->bytesperline = got->width * static_cast<std::uint32_t>(bpp);
+            if (got->bytesperline == 0)
+                got->bytesperline = got->width * static_cast<std::uint32_t>(bpp);
             if (got->bytesperline < got->width * static_cast<std::uint32_t>(bpp)) {
-                return {StatusCode::kDeviceError, dev_.describe() + ": driver reports " + std::to_string(got->bytesperline) +
-                                                      " bytes per line for " + std::to_string(got->width) + " pixels"};
+                return {StatusCode::kDeviceError,
+                        dev_.describe() + ": driver reports " + std::to_string(got->bytesperline) +
+                            " bytes per line for " + std::to_string(got->width) + " pixels"};
             }
         }
         format_ = *got;
@@ -74,17 +80,20 @@ Status CameraDevice::negotiateFormat() {
         return Status::ok();
     }
     std::string wanted;
-    for (PixelFormat f : cfg_.formats) wanted += std::string(wanted.empty() ? "" : ", ") + toString(f);
-    return {StatusCode::kUnsupported, dev_.describe() + ": offers none of " + wanted + " at " + std::to_string(cfg_.width) + "x" +
-                                          std::to_string(cfg_.height) + " (driver answered " + offered +
-                                          "); check `v4l2-ctl --list-formats-ext` and camera.formats"};
+    for (PixelFormat f : cfg_.formats)
+        wanted += std::string(wanted.empty() ? "" : ", ") + toString(f);
+    return {StatusCode::kUnsupported,
+            dev_.describe() + ": offers none of " + wanted + " at " + std::to_string(cfg_.width) +
+                "x" + std::to_string(cfg_.height) + " (driver answered " + offered +
+                "); check `v4l2-ctl --list-formats-ext` and camera.formats"};
 }
 
 Status CameraDevice::setupBuffers() {
     auto granted = dev_.requestBuffers(cfg_.buffer_count);
     if (!granted) return granted.status();
     if (*granted < 2) {
-        return {StatusCode::kNoSpace, dev_.describe() + ": driver granted " + std::to_string(*granted) +
+        return {StatusCode::kNoSpace, dev_.describe() + ": driver granted " +
+                                          std::to_string(*granted) +
                                           " buffers, streaming needs at least 2 (out of memory?)"};
     }
     for (std::uint32_t i = 0; i < *granted; ++i) {
@@ -110,23 +119,30 @@ Status CameraDevice::start() {
     if (!cap) return fail(cap.status());
     const std::uint32_t caps = cap->nodeCaps();
     if (!(caps & transport::kV4l2CapVideoCapture) || !(caps & transport::kV4l2CapStreaming)) {
-        return fail({StatusCode::kUnsupported, dev_.describe() + " (" + cap->card + ", driver " + cap->driver +
-                                                   "): not a video capture device with streaming I/O (caps " + hex32(caps) + ")"});
+        return fail({StatusCode::kUnsupported,
+                     dev_.describe() + " (" + cap->card + ", driver " + cap->driver +
+                         "): not a video capture device with streaming I/O (caps " + hex32(caps) +
+                         ")"});
     }
     if (Status s = negotiateFormat(); !s) return fail(s);
     auto interval = dev_.setFrameInterval(cfg_.frame_interval);
     if (!interval) return fail(interval.status());
     interval_ = *interval;
-    if (interval_.numerator * cfg_.frame_interval.denominator != cfg_.frame_interval.numerator * interval_.denominator) {
-        log().warn("camera {}: asked for {}/{} s per frame, the driver set {}/{}", dev_.describe(), cfg_.frame_interval.numerator,
-                   cfg_.frame_interval.denominator, interval_.numerator, interval_.denominator);
+    if (interval_.numerator * cfg_.frame_interval.denominator !=
+        cfg_.frame_interval.numerator * interval_.denominator) {
+        log().warn("camera {}: asked for {}/{} s per frame, the driver set {}/{}", dev_.describe(),
+                   cfg_.frame_interval.numerator, cfg_.frame_interval.denominator,
+                   interval_.numerator, interval_.denominator);
     }
     if (cfg_.exposure) {
         if (Status s = setExposure(*cfg_.exposure); !s) return fail(s);
     } else {
         auto_exposure_ = true;
-        if (Status s = dev_.setControl(transport::kV4l2CidExposureAuto, transport::kV4l2ExposureAperturePriority); !s) {
-            log().warn("camera {}: automatic exposure not available ({})", dev_.describe(), s.message());
+        if (Status s = dev_.setControl(transport::kV4l2CidExposureAuto,
+                                       transport::kV4l2ExposureAperturePriority);
+            !s) {
+            log().warn("camera {}: automatic exposure not available ({})", dev_.describe(),
+                       s.message());
         }
     }
     if (Status s = setupBuffers(); !s) return fail(s);
@@ -137,9 +153,13 @@ Status CameraDevice::start() {
 
 Status CameraDevice::setExposure(TimeNs exposure) {
     if (exposure <= 0) return {StatusCode::kInvalidArgument, "camera: exposure must be positive"};
-    const auto units = static_cast<std::int32_t>(std::llround(static_cast<double>(exposure) / kExposureUnit));
-    if (Status s = dev_.setControl(transport::kV4l2CidExposureAuto, transport::kV4l2ExposureManual); !s) return s;
-    if (Status s = dev_.setControl(transport::kV4l2CidExposureAbsolute, units < 1 ? 1 : units); !s) return s;
+    const auto units =
+        static_cast<std::int32_t>(std::llround(static_cast<double>(exposure) / kExposureUnit));
+    if (Status s = dev_.setControl(transport::kV4l2CidExposureAuto, transport::kV4l2ExposureManual);
+        !s)
+        return s;
+    if (Status s = dev_.setControl(transport::kV4l2CidExposureAbsolute, units < 1 ? 1 : units); !s)
+        return s;
     auto_exposure_ = false;
     exposure_ = static_cast<TimeNs>(units < 1 ? 1 : units) * kExposureUnit;
     return Status::ok();
@@ -157,7 +177,8 @@ Result<std::optional<Image>> CameraDevice::grab(TimeNs timeout) {
     }
     const TimeNs t_dequeue = clock_();
     if (buf->index >= buffers_.size()) {
-        return Status(StatusCode::kDeviceError, dev_.describe() + ": DQBUF returned buffer " + std::to_string(buf->index) + " of " +
+        return Status(StatusCode::kDeviceError, dev_.describe() + ": DQBUF returned buffer " +
+                                                    std::to_string(buf->index) + " of " +
                                                     std::to_string(buffers_.size()));
     }
     const auto requeue = [&]() -> Status { return dev_.queueBuffer(buf->index); };
@@ -167,11 +188,18 @@ Result<std::optional<Image>> CameraDevice::grab(TimeNs timeout) {
 
     const std::span<const std::uint8_t> mem = buffers_[buf->index];
     const int bpp = bytesPerPixel(pixel_format_);
-    const std::uint64_t need = bpp > 0 ? static_cast<std::uint64_t>(format_.bytesperline) * (format_.height - 1) + format_.width * static_cast<std::uint64_t>(bpp) : 1;
-    if ((buf->flags & transport::kV4l2BufFlagError) || buf->bytesused > mem.size() || buf->bytesused < need) {
+    const std::uint64_t need =
+        bpp > 0 ? static_cast<std::uint64_t>(format_.bytesperline) * (format_.height - 1) +
+                      format_.width * static_cast<std::uint64_t>(bpp)
+                : 1;
+    if ((buf->flags & transport::kV4l2BufFlagError) || buf->bytesused > mem.size() ||
+        buf->bytesused < need) {
         ++stats_.error_buffers;
-        log().warn("camera {}: frame {} skipped ({}; {} bytes, need {})", dev_.describe(), buf->sequence,
-                   (buf->flags & transport::kV4l2BufFlagError) ? "driver flagged ERROR" : "bad payload size", buf->bytesused, need);
+        log().warn("camera {}: frame {} skipped ({}; {} bytes, need {})", dev_.describe(),
+                   buf->sequence,
+                   (buf->flags & transport::kV4l2BufFlagError) ? "driver flagged ERROR"
+                                                               : "bad payload size",
+                   buf->bytesused, need);
         if (Status s = requeue(); !s) return s;
         return std::optional<Image>();
     }
@@ -179,7 +207,8 @@ Result<std::optional<Image>> CameraDevice::grab(TimeNs timeout) {
         auto e = dev_.getControl(transport::kV4l2CidExposureAbsolute);
         if (e) exposure_ = static_cast<TimeNs>(*e) * kExposureUnit;
     }
-    const FrameTime ft = midExposureTime(buf->flags, buf->timestamp_ns, exposure_, cfg_.readout, t_dequeue);
+    const FrameTime ft =
+        midExposureTime(buf->flags, buf->timestamp_ns, exposure_, cfg_.readout, t_dequeue);
     last_source_ = ft.source;
     if (ft.source == TimestampSource::kHostDequeue) ++stats_.host_timestamps;
 

@@ -14,7 +14,8 @@ FrameRecordTap::~FrameRecordTap() {
     worker_.join();
 }
 
-void FrameRecordTap::submit(TimeNs t_rx, const FrameRecordHeader& header, std::vector<std::uint8_t> payload) {
+void FrameRecordTap::submit(TimeNs t_rx, const FrameRecordHeader& header,
+                            std::vector<std::uint8_t> payload) {
     {
         std::lock_guard lock(mutex_);
         if (queued_bytes_ + payload.size() > max_queued_bytes_) {
@@ -52,7 +53,8 @@ void FrameRecordTap::run() {
         queued_bytes_ -= f.payload.size();
         coding_ = true;
         lock.unlock();
-        const std::vector<std::uint8_t> record = encodeFrameRecord(f.header, f.payload, FrameCoding::kPng);
+        const std::vector<std::uint8_t> record =
+            encodeFrameRecord(f.header, f.payload, FrameCoding::kPng);
         tap_.onRaw(f.t_rx, record);
         lock.lock();
         coding_ = false;

@@ -6,14 +6,18 @@ namespace handscan::camera {
 
 const char* toString(TimestampSource s) {
     switch (s) {
-        case TimestampSource::kStartOfExposure: return "start_of_exposure";
-        case TimestampSource::kEndOfFrame: return "end_of_frame";
-        case TimestampSource::kHostDequeue: return "host_dequeue";
+        case TimestampSource::kStartOfExposure:
+            return "start_of_exposure";
+        case TimestampSource::kEndOfFrame:
+            return "end_of_frame";
+        case TimestampSource::kHostDequeue:
+            return "host_dequeue";
     }
     return "?";
 }
 
-FrameTime midExposureTime(std::uint32_t flags, TimeNs ts, TimeNs exposure, TimeNs readout, TimeNs t_dequeue) {
+FrameTime midExposureTime(std::uint32_t flags, TimeNs ts, TimeNs exposure, TimeNs readout,
+                          TimeNs t_dequeue) {
     const std::uint32_t clock = flags & transport::kV4l2BufFlagTimestampMask;
     if (clock != transport::kV4l2BufFlagTimestampMonotonic) {
         return {t_dequeue - readout - exposure / 2, TimestampSource::kHostDequeue};

@@ -12,16 +12,21 @@ namespace handscan::camera {
 namespace {
 
 Status bad(const Image& in, const std::string& what) {
-    return {StatusCode::kProtocolError, std::string("camera frame ") + std::to_string(in.sequence) + " (" + toString(in.format) + " " +
-                                            std::to_string(in.width) + "x" + std::to_string(in.height) + "): " + what};
+    return {StatusCode::kProtocolError, std::string("camera frame ") + std::to_string(in.sequence) +
+                                            " (" + toString(in.format) + " " +
+                                            std::to_string(in.width) + "x" +
+                                            std::to_string(in.height) + "): " + what};
 }
 
 Status checkLayout(const Image& in, int bytes_per_pixel) {
     if (in.width <= 0 || in.height <= 0) return bad(in, "empty image");
-    if (in.stride_bytes < in.width * bytes_per_pixel) return bad(in, "stride " + std::to_string(in.stride_bytes) + " shorter than a line");
-    const auto need = static_cast<std::size_t>(in.stride_bytes) * static_cast<std::size_t>(in.height - 1) +
-                      static_cast<std::size_t>(in.width * bytes_per_pixel);
-    if (in.data.size() < need) return bad(in, std::to_string(in.data.size()) + " bytes, need " + std::to_string(need));
+    if (in.stride_bytes < in.width * bytes_per_pixel)
+        return bad(in, "stride " + std::to_string(in.stride_bytes) + " shorter than a line");
+    const auto need =
+        static_cast<std::size_t>(in.stride_bytes) * static_cast<std::size_t>(in.height - 1) +
+        static_cast<std::size_t>(in.width * bytes_per_pixel);
+    if (in.data.size() < need)
+        return bad(in, std::to_string(in.data.size()) + " bytes, need " + std::to_string(need));
     return Status::ok();
 }
 
@@ -34,14 +39,19 @@ Image like(const Image& in, PixelFormat f, int channels) {
     out.width = in.width;
     out.height = in.height;
     out.stride_bytes = in.width * channels;
-    out.data.resize(static_cast<std::size_t>(out.stride_bytes) * static_cast<std::size_t>(in.height));
+    out.data.resize(static_cast<std::size_t>(out.stride_bytes) *
+                    static_cast<std::size_t>(in.height));
     return out;
 }
 
 cv::Mat view(const Image& in, int type) {
-    return cv::Mat(in.height, in.width, type, const_cast<std::uint8_t*>(in.data.data()), static_cast<std::size_t>(in.stride_bytes));
+    return cv::Mat(in.height, in.width, type, const_cast<std::uint8_t*>(in.data.data()),
+                   static_cast<std::size_t>(in.stride_bytes));
 }
-cv::Mat view(Image& out, int type) { return cv::Mat(out.height, out.width, type, out.data.data(), static_cast<std::size_t>(out.stride_bytes)); }
+cv::Mat view(Image& out, int type) {
+    return cv::Mat(out.height, out.width, type, out.data.data(),
+                   static_cast<std::size_t>(out.stride_bytes));
+}
 
 Result<Image> decodeMjpeg(const Image& in, bool grey) {
     struct Closer {
@@ -50,18 +60,23 @@ Result<Image> decodeMjpeg(const Image& in, bool grey) {
     std::unique_ptr<void, Closer> tj(tjInitDecompress());
     if (!tj) return Status(StatusCode::kUnsupported, "libturbojpeg: tjInitDecompress failed");
     int w = 0, h = 0, subsamp = 0, colorspace = 0;
-    if (in.data.size() < 4) return bad(in, "MJPEG frame of " + std::to_string(in.data.size()) + " bytes");
-    if (tjDecompressHeader3(tj.get(), in.data.data(), static_cast<unsigned long>(in.data.size()), &w, &h, &subsamp, &colorspace) != 0) {
+    if (in.data.size() < 4)
+        return bad(in, "MJPEG frame of " + std::to_string(in.data.size()) + " bytes");
+    if (tjDecompressHeader3(tj.get(), in.data.data(), static_cast<unsigned long>(in.data.size()),
+                            &w, &h, &subsamp, &colorspace) != 0) {
         return bad(in, std::string("MJPEG header: ") + tjGetErrorStr2(tj.get()));
     }
     if (w != in.width || h != in.height) {
-        return bad(in, "MJPEG is " + std::to_string(w) + "x" + std::to_string(h) + ", the negotiated format says otherwise");
+        return bad(in, "MJPEG is " + std::to_string(w) + "x" + std::to_string(h) +
+                           ", the negotiated format says otherwise");
     }
     Image out = like(in, grey ? PixelFormat::kGrey8 : PixelFormat::kBgr8, grey ? 1 : 3);
-    if (tjDecompress2(tj.get(), in.data.data(), static_cast<unsigned long>(in.data.size()), out.data.data(), w, out.stride_bytes, h,
-                      grey ? TJPF_GRAY : TJPF_BGR, TJFLAG_ACCURATEDCT) != 0) {
+    if (tjDecompress2(tj.get(), in.data.data(), static_cast<unsigned long>(in.data.size()),
+                      out.data.data(), w, out.stride_bytes, h, grey ? TJPF_GRAY : TJPF_BGR,
+                      TJFLAG_ACCURATEDCT) != 0) {
         // Warnings (e.g. premature end of data) still give a usable image; errors do not.
-        if (tjGetErrorCode(tj.get()) == TJERR_FATAL) return bad(in, std::string("MJPEG decode: ") + tjGetErrorStr2(tj.get()));
+        if (tjGetErrorCode(tj.get()) == TJERR_FATAL)
+            return bad(in, std::string("MJPEG decode: ") + tjGetErrorStr2(tj.get()));
     }
     return out;
 }
@@ -77,20 +92,28 @@ std::optional<PixelFormat> pixelFormatFromFourcc(std::uint32_t fourcc) {
 
 std::uint32_t fourccFromPixelFormat(PixelFormat f) {
     switch (f) {
-        case PixelFormat::kGrey8: return transport::kFourccGrey;
-        case PixelFormat::kYuyv: return transport::kFourccYuyv;
-        case PixelFormat::kMjpeg: return transport::kFourccMjpeg;
-        case PixelFormat::kBgr8: return transport::fourcc('B', 'G', 'R', '3');
+        case PixelFormat::kGrey8:
+            return transport::kFourccGrey;
+        case PixelFormat::kYuyv:
+            return transport::kFourccYuyv;
+        case PixelFormat::kMjpeg:
+            return transport::kFourccMjpeg;
+        case PixelFormat::kBgr8:
+            return transport::fourcc('B', 'G', 'R', '3');
     }
     return 0;
 }
 
 const char* toString(PixelFormat f) {
     switch (f) {
-        case PixelFormat::kGrey8: return "GREY";
-        case PixelFormat::kYuyv: return "YUYV";
-        case PixelFormat::kMjpeg: return "MJPG";
-        case PixelFormat::kBgr8: return "BGR3";
+        case PixelFormat::kGrey8:
+            return "GREY";
+        case PixelFormat::kYuyv:
+            return "YUYV";
+        case PixelFormat::kMjpeg:
+            return "MJPG";
+        case PixelFormat::kBgr8:
+            return "BGR3";
     }
     return "?";
 }
@@ -110,7 +133,8 @@ Result<Image> toGrey(const Image& in) {
             cv::cvtColor(view(in, CV_8UC2), view(out, CV_8UC1), cv::COLOR_YUV2GRAY_YUYV);
             return out;
         }
-        case PixelFormat::kMjpeg: return decodeMjpeg(in, true);
+        case PixelFormat::kMjpeg:
+            return decodeMjpeg(in, true);
         case PixelFormat::kBgr8: {
             if (Status s = checkLayout(in, 3); !s) return s;
             Image out = like(in, PixelFormat::kGrey8, 1);
@@ -136,7 +160,8 @@ Result<Image> toBgr(const Image& in) {
             cv::cvtColor(view(in, CV_8UC2), view(out, CV_8UC3), cv::COLOR_YUV2BGR_YUYV);
             return out;
         }
-        case PixelFormat::kMjpeg: return decodeMjpeg(in, false);
+        case PixelFormat::kMjpeg:
+            return decodeMjpeg(in, false);
         case PixelFormat::kBgr8: {
             if (Status s = checkLayout(in, 3); !s) return s;
             Image out = like(in, PixelFormat::kBgr8, 3);

@@ -16,13 +16,14 @@ namespace {
 constexpr int kPngFilter = PNG_FILTER_AVG;
 
 struct PngLayout {
-    int colour_type = 0;      // PNG_COLOR_TYPE_GRAY or _GRAY_ALPHA
-    std::uint32_t format = 0; // simplified-API format of the same pixels
-    std::uint32_t width = 0;  // PNG pixels per line
+    int colour_type = 0;       // PNG_COLOR_TYPE_GRAY or _GRAY_ALPHA
+    std::uint32_t format = 0;  // simplified-API format of the same pixels
+    std::uint32_t width = 0;   // PNG pixels per line
 };
 
 PngLayout layoutOf(const FrameRecordHeader& h) {
-    if (h.fourcc == transport::kFourccYuyv) return {PNG_COLOR_TYPE_GRAY_ALPHA, PNG_FORMAT_GA, h.stride / 2};
+    if (h.fourcc == transport::kFourccYuyv)
+        return {PNG_COLOR_TYPE_GRAY_ALPHA, PNG_FORMAT_GA, h.stride / 2};
     return {PNG_COLOR_TYPE_GRAY, PNG_FORMAT_GRAY, h.stride};
 }
 
@@ -44,17 +45,18 @@ void onError(png_structp png, png_const_charp message) {
 void onWarning(png_structp, png_const_charp) {}
 
 // Only trivially destructible locals between setjmp and the libpng calls that may longjmp.
-bool writePng(png_structp png, png_infop info, const PngLayout& l, std::uint32_t height, const std::uint8_t* data,
-              std::uint32_t stride) {
+bool writePng(png_structp png, png_infop info, const PngLayout& l, std::uint32_t height,
+              const std::uint8_t* data, std::uint32_t stride) {
     if (setjmp(png_jmpbuf(png))) return false;
-    png_set_IHDR(png, info, l.width, height, 8, l.colour_type, PNG_INTERLACE_NONE, PNG_COMPRESSION_TYPE_DEFAULT,
-                 PNG_FILTER_TYPE_DEFAULT);
+    png_set_IHDR(png, info, l.width, height, 8, l.colour_type, PNG_INTERLACE_NONE,
+                 PNG_COMPRESSION_TYPE_DEFAULT, PNG_FILTER_TYPE_DEFAULT);
     png_set_filter(png, PNG_FILTER_TYPE_BASE, kPngFilter);
     png_set_compression_level(png, 1);
     png_set_compression_strategy(png, Z_HUFFMAN_ONLY);
     png_set_compression_buffer_size(png, 1u << 16);
     png_write_info(png, info);
-    for (std::uint32_t y = 0; y < height; ++y) png_write_row(png, data + static_cast<std::size_t>(y) * stride);
+    for (std::uint32_t y = 0; y < height; ++y)
+        png_write_row(png, data + static_cast<std::size_t>(y) * stride);
     png_write_end(png, nullptr);
     return true;
 }
@@ -63,17 +65,20 @@ bool writePng(png_structp png, png_infop info, const PngLayout& l, std::uint32_t
 
 bool canStorePng(const FrameRecordHeader& h) {
     const bool grey = h.fourcc == transport::kFourccGrey && h.stride >= h.width;
-    const bool yuyv = h.fourcc == transport::kFourccYuyv && h.stride >= 2ull * h.width && h.stride % 2 == 0;
+    const bool yuyv =
+        h.fourcc == transport::kFourccYuyv && h.stride >= 2ull * h.width && h.stride % 2 == 0;
     return (grey || yuyv) && h.height > 0 && h.stride > 0 &&
            static_cast<std::uint64_t>(h.stride) * h.height == h.bytesused;
 }
 
-Result<std::vector<std::uint8_t>> encodePngPayload(const FrameRecordHeader& h, std::span<const std::uint8_t> buffer) {
+Result<std::vector<std::uint8_t>> encodePngPayload(const FrameRecordHeader& h,
+                                                   std::span<const std::uint8_t> buffer) {
     if (!canStorePng(h) || buffer.size() != h.bytesused) {
-        return Status(StatusCode::kInvalidArgument, "PNG payload: a " + transport::fourccName(h.fourcc) + " buffer of " +
-                                                        std::to_string(buffer.size()) + " bytes is not " +
-                                                        std::to_string(h.stride) + " x " + std::to_string(h.height) +
-                                                        " whole lines of GREY or YUYV; store it uncoded");
+        return Status(StatusCode::kInvalidArgument,
+                      "PNG payload: a " + transport::fourccName(h.fourcc) + " buffer of " +
+                          std::to_string(buffer.size()) + " bytes is not " +
+                          std::to_string(h.stride) + " x " + std::to_string(h.height) +
+                          " whole lines of GREY or YUYV; store it uncoded");
     }
     std::vector<std::uint8_t> out;
     out.reserve(buffer.size() / 2 + 1024);
@@ -87,16 +92,19 @@ Result<std::vector<std::uint8_t>> encodePngPayload(const FrameRecordHeader& h, s
     png_set_write_fn(png, &ctx, appendBytes, noFlush);
     const bool ok = writePng(png, info, layoutOf(h), h.height, buffer.data(), h.stride);
     png_destroy_write_struct(&png, &info);
-    if (!ok) return Status(StatusCode::kIoError, "PNG payload: libpng failed to encode: " + ctx.error);
+    if (!ok)
+        return Status(StatusCode::kIoError, "PNG payload: libpng failed to encode: " + ctx.error);
     return out;
 }
 
-Status decodePngPayload(const FrameRecordHeader& h, std::span<const std::uint8_t> data, std::vector<std::uint8_t>& buffer) {
+Status decodePngPayload(const FrameRecordHeader& h, std::span<const std::uint8_t> data,
+                        std::vector<std::uint8_t>& buffer) {
     if (!canStorePng(h)) {
-        return {StatusCode::kProtocolError, "PNG payload of a " + transport::fourccName(h.fourcc) + " " +
-                                                std::to_string(h.width) + "x" + std::to_string(h.height) + " stride " +
-                                                std::to_string(h.stride) + " buffer of " + std::to_string(h.bytesused) +
-                                                " bytes: only whole-line GREY and YUYV buffers are stored as PNG"};
+        return {StatusCode::kProtocolError,
+                "PNG payload of a " + transport::fourccName(h.fourcc) + " " +
+                    std::to_string(h.width) + "x" + std::to_string(h.height) + " stride " +
+                    std::to_string(h.stride) + " buffer of " + std::to_string(h.bytesused) +
+                    " bytes: only whole-line GREY and YUYV buffers are stored as PNG"};
     }
     const PngLayout l = layoutOf(h);
     png_image image{};
@@ -108,9 +116,10 @@ Status decodePngPayload(const FrameRecordHeader& h, std::span<const std::uint8_t
     }
     // The exact pixel type, not one libpng would convert from (that would change bytes).
     if (image.width != l.width || image.height != h.height || image.format != l.format) {
-        const std::string what = std::to_string(image.width) + "x" + std::to_string(image.height) + " format " +
-                                 std::to_string(image.format) + ", the header implies " + std::to_string(l.width) +
-                                 "x" + std::to_string(h.height) + " format " + std::to_string(l.format);
+        const std::string what = std::to_string(image.width) + "x" + std::to_string(image.height) +
+                                 " format " + std::to_string(image.format) +
+                                 ", the header implies " + std::to_string(l.width) + "x" +
+                                 std::to_string(h.height) + " format " + std::to_string(l.format);
         png_image_free(&image);
         return {StatusCode::kProtocolError, "PNG payload is " + what};
     }

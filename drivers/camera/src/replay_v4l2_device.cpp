@@ -18,7 +18,8 @@ ReplayV4l2Device::ReplayV4l2Device(ReplayDeviceConfig config) : cfg_(std::move(c
     }
 }
 
-void ReplayV4l2Device::addFrame(const FrameRecordHeader& header, std::vector<std::uint8_t> payload) {
+void ReplayV4l2Device::addFrame(const FrameRecordHeader& header,
+                                std::vector<std::uint8_t> payload) {
     frames_.push_back({header, std::move(payload)});
 }
 
@@ -41,7 +42,8 @@ std::int32_t ReplayV4l2Device::control(std::uint32_t id) const {
 
 // mmap cookies are page-aligned, one region per buffer (a page even for an empty buffer).
 std::uint32_t ReplayV4l2Device::cookieStride() const {
-    return std::max<std::uint32_t>(kPageSize, (format_.sizeimage + kPageSize - 1) / kPageSize * kPageSize);
+    return std::max<std::uint32_t>(kPageSize,
+                                   (format_.sizeimage + kPageSize - 1) / kPageSize * kPageSize);
 }
 
 Status ReplayV4l2Device::violation(const std::string& what) {
@@ -58,7 +60,8 @@ Status ReplayV4l2Device::open() {
 
 void ReplayV4l2Device::close() {
     calls_.push_back("close");
-    if (std::any_of(mapped_.begin(), mapped_.end(), [](bool m) { return m; })) violations_.push_back("close with buffers still mapped");
+    if (std::any_of(mapped_.begin(), mapped_.end(), [](bool m) { return m; }))
+        violations_.push_back("close with buffers still mapped");
     open_ = false;
     streaming_ = false;
 }
@@ -76,7 +79,8 @@ Result<transport::V4l2Capability> ReplayV4l2Device::queryCapability() {
 }
 
 Result<V4l2PixFormat> ReplayV4l2Device::setFormat(const V4l2PixFormat& f) {
-    calls_.push_back("S_FMT " + std::to_string(f.width) + "x" + std::to_string(f.height) + " " + transport::fourccName(f.pixelformat));
+    calls_.push_back("S_FMT " + std::to_string(f.width) + "x" + std::to_string(f.height) + " " +
+                     transport::fourccName(f.pixelformat));
     if (!open_) return violation("S_FMT on a closed device");
     if (!buffers_.empty()) return violation("S_FMT while buffers are allocated (EBUSY)");
     if (cfg_.formats.empty()) return violation("no formats configured");
@@ -85,7 +89,8 @@ Result<V4l2PixFormat> ReplayV4l2Device::setFormat(const V4l2PixFormat& f) {
     for (const auto& s : cfg_.formats) {
         if (s.pixelformat != f.pixelformat) continue;
         const auto cost = [&](const V4l2PixFormat& c) {
-            return std::abs(static_cast<long>(c.width) - static_cast<long>(f.width)) + std::abs(static_cast<long>(c.height) - static_cast<long>(f.height));
+            return std::abs(static_cast<long>(c.width) - static_cast<long>(f.width)) +
+                   std::abs(static_cast<long>(c.height) - static_cast<long>(f.height));
         };
         if (best == nullptr || cost(s) < cost(*best)) best = &s;
     }
@@ -112,7 +117,8 @@ Result<std::uint32_t> ReplayV4l2Device::requestBuffers(std::uint32_t count) {
     calls_.push_back("REQBUFS " + std::to_string(count));
     if (!open_) return violation("REQBUFS on a closed device");
     if (streaming_) return violation("REQBUFS while streaming (EBUSY)");
-    if (std::any_of(mapped_.begin(), mapped_.end(), [](bool m) { return m; })) return violation("REQBUFS while buffers are mapped (EBUSY)");
+    if (std::any_of(mapped_.begin(), mapped_.end(), [](bool m) { return m; }))
+        return violation("REQBUFS while buffers are mapped (EBUSY)");
     if (count == 0) {
         buffers_.clear();
         queued_.clear();
@@ -131,7 +137,8 @@ Result<std::uint32_t> ReplayV4l2Device::requestBuffers(std::uint32_t count) {
 
 Result<V4l2Buffer> ReplayV4l2Device::queryBuffer(std::uint32_t index) {
     calls_.push_back("QUERYBUF " + std::to_string(index));
-    if (index >= buffers_.size()) return violation("QUERYBUF index " + std::to_string(index) + " out of range (EINVAL)");
+    if (index >= buffers_.size())
+        return violation("QUERYBUF index " + std::to_string(index) + " out of range (EINVAL)");
     V4l2Buffer b;
     b.index = index;
     const std::uint32_t stride = cookieStride();
@@ -144,8 +151,10 @@ Result<std::span<std::uint8_t>> ReplayV4l2Device::map(std::uint32_t offset, std:
     calls_.push_back("mmap " + std::to_string(offset) + " " + std::to_string(length));
     const std::uint32_t stride = cookieStride();
     const std::uint32_t index = offset / stride;
-    if (offset % stride != 0 || index >= buffers_.size()) return violation("mmap of unknown offset " + std::to_string(offset));
-    if (length != buffers_[index].size()) return violation("mmap length " + std::to_string(length) + " != buffer length");
+    if (offset % stride != 0 || index >= buffers_.size())
+        return violation("mmap of unknown offset " + std::to_string(offset));
+    if (length != buffers_[index].size())
+        return violation("mmap length " + std::to_string(length) + " != buffer length");
     mapped_[index] = true;
     return std::span<std::uint8_t>(buffers_[index]);
 }
@@ -164,8 +173,10 @@ void ReplayV4l2Device::unmap(std::span<std::uint8_t> m) {
 
 Status ReplayV4l2Device::queueBuffer(std::uint32_t index) {
     calls_.push_back("QBUF " + std::to_string(index));
-    if (index >= buffers_.size()) return violation("QBUF index " + std::to_string(index) + " out of range (EINVAL)");
-    if (queued_[index]) return violation("QBUF of buffer " + std::to_string(index) + " already queued (EINVAL)");
+    if (index >= buffers_.size())
+        return violation("QBUF index " + std::to_string(index) + " out of range (EINVAL)");
+    if (queued_[index])
+        return violation("QBUF of buffer " + std::to_string(index) + " already queued (EINVAL)");
     if (!mapped_[index]) return violation("QBUF of unmapped buffer " + std::to_string(index));
     queued_[index] = true;
     queue_.push_back(index);
@@ -175,7 +186,8 @@ Status ReplayV4l2Device::queueBuffer(std::uint32_t index) {
 Status ReplayV4l2Device::streamOn() {
     calls_.push_back("STREAMON");
     if (buffers_.empty()) return violation("STREAMON without buffers (EINVAL)");
-    if (queue_.empty()) violations_.push_back("STREAMON with no buffer queued (the driver would starve)");
+    if (queue_.empty())
+        violations_.push_back("STREAMON with no buffer queued (the driver would starve)");
     streaming_ = true;
     return Status::ok();
 }
@@ -192,7 +204,8 @@ Status ReplayV4l2Device::streamOff() {
 Result<bool> ReplayV4l2Device::waitReadable(TimeNs /*timeout*/) {
     calls_.push_back("poll");
     if (!streaming_) return violation("poll while not streaming");
-    if (frames_.empty() && cfg_.disconnect_at_end) return Status(StatusCode::kDisconnected, describe() + ": device unplugged (POLLERR)");
+    if (frames_.empty() && cfg_.disconnect_at_end)
+        return Status(StatusCode::kDisconnected, describe() + ": device unplugged (POLLERR)");
     return !frames_.empty() && !queue_.empty();
 }
 
@@ -200,7 +213,9 @@ Result<V4l2Buffer> ReplayV4l2Device::dequeueBuffer() {
     calls_.push_back("DQBUF");
     if (!streaming_) return violation("DQBUF while not streaming (EINVAL)");
     if (frames_.empty()) {
-        if (cfg_.disconnect_at_end) return Status(StatusCode::kDisconnected, describe() + ": VIDIOC_DQBUF failed: No such device");
+        if (cfg_.disconnect_at_end)
+            return Status(StatusCode::kDisconnected,
+                          describe() + ": VIDIOC_DQBUF failed: No such device");
         return Status(StatusCode::kTimeout, "no buffer ready");
     }
     if (queue_.empty()) return Status(StatusCode::kTimeout, "no buffer queued");
@@ -219,21 +234,26 @@ Result<V4l2Buffer> ReplayV4l2Device::dequeueBuffer() {
     const std::size_t n = std::min(mem.size(), f.payload.size());
     if (n > 0) std::memcpy(mem.data(), f.payload.data(), n);
     b.bytesused = static_cast<std::uint32_t>(n);
-    if (n < f.payload.size() || f.header.fourcc != format_.pixelformat || f.header.width != format_.width || f.header.height != format_.height) {
+    if (n < f.payload.size() || f.header.fourcc != format_.pixelformat ||
+        f.header.width != format_.width || f.header.height != format_.height) {
         b.flags |= transport::kV4l2BufFlagError;  // a recorded frame that does not fit this format
     }
-    if (cfg_.controls && f.header.exposure_us > 0 && control(transport::kV4l2CidExposureAuto) != transport::kV4l2ExposureManual) {
-        controls_[transport::kV4l2CidExposureAbsolute] = static_cast<std::int32_t>(f.header.exposure_us / 100);
+    if (cfg_.controls && f.header.exposure_us > 0 &&
+        control(transport::kV4l2CidExposureAuto) != transport::kV4l2ExposureManual) {
+        controls_[transport::kV4l2CidExposureAbsolute] =
+            static_cast<std::int32_t>(f.header.exposure_us / 100);
     }
     return b;
 }
 
 Status ReplayV4l2Device::setControl(std::uint32_t id, std::int32_t value) {
     char buf[48];
-    std::snprintf(buf, sizeof buf, "S_CTRL 0x%08X %d", static_cast<unsigned>(id), static_cast<int>(value));
+    std::snprintf(buf, sizeof buf, "S_CTRL 0x%08X %d", static_cast<unsigned>(id),
+                  static_cast<int>(value));
     calls_.push_back(buf);
     if (!open_) return violation("S_CTRL on a closed device");
-    if (!controls_.count(id)) return {StatusCode::kUnsupported, describe() + ": control not supported (EINVAL)"};
+    if (!controls_.count(id))
+        return {StatusCode::kUnsupported, describe() + ": control not supported (EINVAL)"};
     controls_[id] = value;
     return Status::ok();
 }
@@ -242,7 +262,8 @@ Result<std::int32_t> ReplayV4l2Device::getControl(std::uint32_t id) {
     char buf[48];
     std::snprintf(buf, sizeof buf, "G_CTRL 0x%08X", static_cast<unsigned>(id));
     calls_.push_back(buf);
-    if (!controls_.count(id)) return Status(StatusCode::kUnsupported, describe() + ": control not supported (EINVAL)");
+    if (!controls_.count(id))
+        return Status(StatusCode::kUnsupported, describe() + ": control not supported (EINVAL)");
     return controls_[id];
 }
 

@@ -6,14 +6,18 @@ namespace handscan::gpio {
 
 const char* toString(PanelEventKind k) {
     switch (k) {
-        case PanelEventKind::kPressed: return "pressed";
-        case PanelEventKind::kReleased: return "released";
-        case PanelEventKind::kTrigger: return "trigger";
+        case PanelEventKind::kPressed:
+            return "pressed";
+        case PanelEventKind::kReleased:
+            return "released";
+        case PanelEventKind::kTrigger:
+            return "trigger";
     }
     return "?";
 }
 
-GpioPanel::GpioPanel(GpioChip& chip, PanelConfig config, RawTap* tap) : chip_(chip), cfg_(config), tap_(tap) {}
+GpioPanel::GpioPanel(GpioChip& chip, PanelConfig config, RawTap* tap)
+    : chip_(chip), cfg_(config), tap_(tap) {}
 
 void GpioPanel::tap(const GpioRecord& r) {
     if (tap_ == nullptr) return;
@@ -24,27 +28,37 @@ void GpioPanel::tap(const GpioRecord& r) {
 Status GpioPanel::start() {
     inputs_.clear();
     leds_.clear();
-    const auto addInput = [&](std::optional<unsigned> offset, PanelRole role, const InputRequest& req, bool debounce) -> Status {
+    const auto addInput = [&](std::optional<unsigned> offset, PanelRole role,
+                              const InputRequest& req, bool debounce) -> Status {
         if (!offset) return Status::ok();
         auto line = chip_.requestInput(*offset, req);
-        if (!line) return {line.status().code(), std::string(toString(role)) + ": " + line.status().message()};
+        if (!line)
+            return {line.status().code(),
+                    std::string(toString(role)) + ": " + line.status().message()};
         auto level = (*line)->value();
         Input in{std::move(*line), role, std::nullopt};
         if (debounce) in.debouncer.emplace(cfg_.debounce, level && *level);
         inputs_.push_back(std::move(in));
         return Status::ok();
     };
-    if (Status s = addInput(cfg_.scan_button, PanelRole::kScanButton, cfg_.buttons, true); !s) return s;
-    if (Status s = addInput(cfg_.export_button, PanelRole::kExportButton, cfg_.buttons, true); !s) return s;
-    if (Status s = addInput(cfg_.camera_trigger, PanelRole::kCameraTrigger, cfg_.trigger, false); !s) return s;
-    const std::pair<std::optional<unsigned>, PanelRole> leds[] = {{cfg_.led_ready, PanelRole::kLedReady},
-                                                                  {cfg_.led_scanning, PanelRole::kLedScanning},
-                                                                  {cfg_.led_fault, PanelRole::kLedFault},
-                                                                  {cfg_.led_exporting, PanelRole::kLedExporting}};
+    if (Status s = addInput(cfg_.scan_button, PanelRole::kScanButton, cfg_.buttons, true); !s)
+        return s;
+    if (Status s = addInput(cfg_.export_button, PanelRole::kExportButton, cfg_.buttons, true); !s)
+        return s;
+    if (Status s = addInput(cfg_.camera_trigger, PanelRole::kCameraTrigger, cfg_.trigger, false);
+        !s)
+        return s;
+    const std::pair<std::optional<unsigned>, PanelRole> leds[] = {
+        {cfg_.led_ready, PanelRole::kLedReady},
+        {cfg_.led_scanning, PanelRole::kLedScanning},
+        {cfg_.led_fault, PanelRole::kLedFault},
+        {cfg_.led_exporting, PanelRole::kLedExporting}};
     for (const auto& [offset, role] : leds) {
         if (!offset) continue;
         auto line = chip_.requestOutput(*offset, cfg_.leds_active_low, false);
-        if (!line) return {line.status().code(), std::string(toString(role)) + ": " + line.status().message()};
+        if (!line)
+            return {line.status().code(),
+                    std::string(toString(role)) + ": " + line.status().message()};
         leds_.push_back({std::move(*line), role, LedPattern::kOff, chip_.now(), false});
     }
     return Status::ok();
@@ -81,7 +95,8 @@ Status GpioPanel::updateLeds(TimeNs now) {
         if (Status s = l.line->set(level); !s) return s;
         l.level = level;
         ++stats_.led_writes;
-        tap({now, l.line->offset(), level ? GpioRecordKind::kOutputOn : GpioRecordKind::kOutputOff, l.role});
+        tap({now, l.line->offset(), level ? GpioRecordKind::kOutputOn : GpioRecordKind::kOutputOff,
+             l.role});
     }
     return Status::ok();
 }
@@ -106,7 +121,10 @@ Result<std::vector<PanelEvent>> GpioPanel::poll(TimeNs timeout) {
         auto e = in.line->readEvent();
         if (!e) return e.status();
         ++stats_.edges;
-        tap({e->t_host, e->line, e->edge == GpioEdgeType::kRising ? GpioRecordKind::kRisingEdge : GpioRecordKind::kFallingEdge, in.role});
+        tap({e->t_host, e->line,
+             e->edge == GpioEdgeType::kRising ? GpioRecordKind::kRisingEdge
+                                              : GpioRecordKind::kFallingEdge,
+             in.role});
         if (!in.debouncer) {
             if (e->edge == GpioEdgeType::kRising) {
                 ++stats_.triggers;
@@ -116,7 +134,8 @@ Result<std::vector<PanelEvent>> GpioPanel::poll(TimeNs timeout) {
         }
         const std::uint64_t before = in.debouncer->bounces();
         for (const ButtonChange& c : in.debouncer->onEdge(e->t_host, e->edge)) {
-            out.push_back({c.t_host, in.role, c.pressed ? PanelEventKind::kPressed : PanelEventKind::kReleased});
+            out.push_back({c.t_host, in.role,
+                           c.pressed ? PanelEventKind::kPressed : PanelEventKind::kReleased});
         }
         stats_.bounces += in.debouncer->bounces() - before;
     }
@@ -124,10 +143,12 @@ Result<std::vector<PanelEvent>> GpioPanel::poll(TimeNs timeout) {
     for (Input& in : inputs_) {
         if (!in.debouncer) continue;
         if (auto c = in.debouncer->onTime(now)) {
-            out.push_back({c->t_host, in.role, c->pressed ? PanelEventKind::kPressed : PanelEventKind::kReleased});
+            out.push_back({c->t_host, in.role,
+                           c->pressed ? PanelEventKind::kPressed : PanelEventKind::kReleased});
         }
     }
-    std::stable_sort(out.begin(), out.end(), [](const PanelEvent& a, const PanelEvent& b) { return a.t_host < b.t_host; });
+    std::stable_sort(out.begin(), out.end(),
+                     [](const PanelEvent& a, const PanelEvent& b) { return a.t_host < b.t_host; });
     if (Status s = updateLeds(now); !s) return s;
     return out;
 }

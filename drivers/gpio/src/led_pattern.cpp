@@ -20,10 +20,14 @@ struct Shape {
 
 Shape shape(LedPattern p) {
     switch (p) {
-        case LedPattern::kBlinkSlow: return {1000 * kMs, {{0, 500 * kMs}, {0, 0}}, 1};
-        case LedPattern::kBlinkFast: return {250 * kMs, {{0, 125 * kMs}, {0, 0}}, 1};
-        case LedPattern::kDoubleFlash: return {1000 * kMs, {{0, 100 * kMs}, {200 * kMs, 300 * kMs}}, 2};
-        default: return {0, {{0, 0}, {0, 0}}, 0};
+        case LedPattern::kBlinkSlow:
+            return {1000 * kMs, {{0, 500 * kMs}, {0, 0}}, 1};
+        case LedPattern::kBlinkFast:
+            return {250 * kMs, {{0, 125 * kMs}, {0, 0}}, 1};
+        case LedPattern::kDoubleFlash:
+            return {1000 * kMs, {{0, 100 * kMs}, {200 * kMs, 300 * kMs}}, 2};
+        default:
+            return {0, {{0, 0}, {0, 0}}, 0};
     }
 }
 
@@ -31,11 +35,16 @@ Shape shape(LedPattern p) {
 
 const char* toString(LedPattern p) {
     switch (p) {
-        case LedPattern::kOff: return "off";
-        case LedPattern::kOn: return "on";
-        case LedPattern::kBlinkSlow: return "blink_slow";
-        case LedPattern::kBlinkFast: return "blink_fast";
-        case LedPattern::kDoubleFlash: return "double_flash";
+        case LedPattern::kOff:
+            return "off";
+        case LedPattern::kOn:
+            return "on";
+        case LedPattern::kBlinkSlow:
+            return "blink_slow";
+        case LedPattern::kBlinkFast:
+            return "blink_fast";
+        case LedPattern::kDoubleFlash:
+            return "double_flash";
     }
     return "?";
 }

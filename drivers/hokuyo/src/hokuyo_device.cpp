@@ -34,8 +34,9 @@ HokuyoDevice::HokuyoDevice(transport::ByteStream& link, HokuyoDeviceConfig confi
       cfg_(config),
       tap_(tap),
       now_(std::move(now)),
-      sleep_(sleep ? std::move(sleep)
-                   : Sleep([](TimeNs ns) { std::this_thread::sleep_for(std::chrono::nanoseconds(ns)); })),
+      sleep_(sleep ? std::move(sleep) : Sleep([](TimeNs ns) {
+          std::this_thread::sleep_for(std::chrono::nanoseconds(ns));
+      })),
       decoder_(config.timing),
       rx_(16384),
       backoff_(config.backoff_initial_ns) {}
@@ -105,9 +106,10 @@ Result<ScipFrame> HokuyoDevice::transact(const std::string& command) {
         }
         const TimeNs left = deadline - now_();
         if (left <= 0) {
-            return Status(StatusCode::kTimeout, "hokuyo " + link_.describe() + ": no reply to " + echo +
-                                                    " within " + std::to_string(toSeconds(cfg_.reply_timeout_ns)) +
-                                                    " s; is it a SCIP 2.0 sensor?");
+            return Status(StatusCode::kTimeout,
+                          "hokuyo " + link_.describe() + ": no reply to " + echo + " within " +
+                              std::to_string(toSeconds(cfg_.reply_timeout_ns)) +
+                              " s; is it a SCIP 2.0 sensor?");
         }
         auto n = readChunk(std::min(left, cfg_.read_slice_ns));
         if (!n) return n.status();
@@ -118,7 +120,8 @@ Status HokuyoDevice::handshake() {
     auto need_ok = [&](const Result<ScipFrame>& r) -> Status {
         if (!r) return r.status();
         if (!r->ok()) {
-            return Status(StatusCode::kDeviceError, "hokuyo " + link_.describe() + ": " + r->statusText());
+            return Status(StatusCode::kDeviceError,
+                          "hokuyo " + link_.describe() + ": " + r->statusText());
         }
         return Status::ok();
     };
@@ -135,7 +138,8 @@ Status HokuyoDevice::handshake() {
     if (Status s = need_ok(pp); !s) return s;
     auto params = SensorParameters::fromPpReply(*pp);
     if (!params) {
-        return Status(params.status().code(), "hokuyo " + link_.describe() + ": " + params.status().message());
+        return Status(params.status().code(),
+                      "hokuyo " + link_.describe() + ": " + params.status().message());
     }
     params_ = *params;
     auto ii = transact(encodeStatusInfoCommand());
@@ -147,7 +151,8 @@ Status HokuyoDevice::handshake() {
     request_ = ScanRequest{};
     request_.mode = 'M';
     request_.encoding = ScanEncoding::kThreeCharWithIntensity;
-    request_.start_step = cfg_.start_step >= 0 ? std::max(cfg_.start_step, params_->amin) : params_->amin;
+    request_.start_step =
+        cfg_.start_step >= 0 ? std::max(cfg_.start_step, params_->amin) : params_->amin;
     request_.end_step = cfg_.end_step >= 0 ? std::min(cfg_.end_step, params_->amax) : params_->amax;
     request_.cluster = std::max(cfg_.cluster, 1);
     request_.interval = 0;
@@ -180,7 +185,8 @@ Status HokuyoDevice::connect() {
 
 Status HokuyoDevice::handleEvents(std::vector<LaserScan>& out) {
     // The scans the decoder completed, in stream order with the replies below.
-    out.insert(out.end(), std::make_move_iterator(ready_.begin()), std::make_move_iterator(ready_.end()));
+    out.insert(out.end(), std::make_move_iterator(ready_.begin()),
+               std::make_move_iterator(ready_.end()));
     ready_.clear();
     Status result = Status::ok();
     while (!pending_.empty()) {
@@ -194,7 +200,8 @@ Status HokuyoDevice::handleEvents(std::vector<LaserScan>& out) {
         if (!frame.scan_request || frame.scan_request->mode != 'M') continue;  // late replies
         if (frame.status == "00" || frame.status == "98") continue;  // ack / resumed after an error
         // The sensor stopped the stream on an error (21..49) or a hardware fault (50..97).
-        result = fault(Status(StatusCode::kDeviceError, "hokuyo " + link_.describe() + ": " + frame.statusText()));
+        result = fault(Status(StatusCode::kDeviceError,
+                              "hokuyo " + link_.describe() + ": " + frame.statusText()));
         dropLink(result);
         return result;
     }
@@ -233,8 +240,11 @@ Status HokuyoDevice::stop() {
     Status result = Status::ok();
     if (link_.isOpen()) {
         auto qt = transact(encodeQuitCommand());
-        if (!qt) result = qt.status();
-        else if (!qt->ok()) result = Status(StatusCode::kDeviceError, "hokuyo " + link_.describe() + ": " + qt->statusText());
+        if (!qt)
+            result = qt.status();
+        else if (!qt->ok())
+            result = Status(StatusCode::kDeviceError,
+                            "hokuyo " + link_.describe() + ": " + qt->statusText());
     }
     link_.close();
     decoder_.resetLink();

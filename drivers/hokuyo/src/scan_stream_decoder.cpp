@@ -10,8 +10,8 @@ ScanStreamStats ScanStreamDecoder::stats() const {
     return s;
 }
 
-void ScanStreamDecoder::feed(TimeNs t_rx, std::span<const std::uint8_t> bytes, std::vector<LaserScan>& scans,
-                             std::vector<ScipEvent>& events) {
+void ScanStreamDecoder::feed(TimeNs t_rx, std::span<const std::uint8_t> bytes,
+                             std::vector<LaserScan>& scans, std::vector<ScipEvent>& events) {
     parsed_.clear();
     parser_.feed(bytes, parsed_);
     for (ScipEvent& ev : parsed_) {
@@ -20,8 +20,9 @@ void ScanStreamDecoder::feed(TimeNs t_rx, std::span<const std::uint8_t> bytes, s
             if (params_) {
                 decodeScan(*frame, t_rx, scans);
             } else {
-                events.emplace_back(ScipFault{StatusCode::kProtocolError,
-                                              "hokuyo: scan before the PP reply: geometry unknown, scan dropped"});
+                events.emplace_back(
+                    ScipFault{StatusCode::kProtocolError,
+                              "hokuyo: scan before the PP reply: geometry unknown, scan dropped"});
             }
             continue;
         }
@@ -37,19 +38,23 @@ void ScanStreamDecoder::feed(TimeNs t_rx, std::span<const std::uint8_t> bytes, s
     }
 }
 
-void ScanStreamDecoder::decodeScan(const ScipFrame& frame, TimeNs t_rx, std::vector<LaserScan>& scans) {
+void ScanStreamDecoder::decodeScan(const ScipFrame& frame, TimeNs t_rx,
+                                   std::vector<LaserScan>& scans) {
     const ScanPayload& scan = *frame.scan;
     const ScanRequest& req = *frame.scan_request;
     const double period = valuePeriodNs(req, *params_);
     // The frame's bytes as received: its transmission time comes off the arrival time.
-    const TimeNs t0 = timestamper_.stamp(scan.timestamp_ms, t_rx, frame.stream_end - frame.stream_offset,
-                                         static_cast<int>(scan.ranges.size()), period);
+    const TimeNs t0 =
+        timestamper_.stamp(scan.timestamp_ms, t_rx, frame.stream_end - frame.stream_offset,
+                           static_cast<int>(scan.ranges.size()), period);
     if (last_t_device_) {
         // Scans lost in between (damaged, or missed while reconnecting), from the sensor's clock.
         const std::uint32_t dt = (scan.timestamp_ms - *last_t_device_) & 0xFFFFFFu;
-        const double scan_ms = static_cast<double>(params_->scanPeriodNs()) * 1e-6 * (req.interval + 1);
+        const double scan_ms =
+            static_cast<double>(params_->scanPeriodNs()) * 1e-6 * (req.interval + 1);
         if (scan_ms > 0 && dt < 0x800000u && dt > 1.5 * scan_ms) {
-            stats_.missed_scans += static_cast<std::uint64_t>(static_cast<double>(dt) / scan_ms + 0.5) - 1;
+            stats_.missed_scans +=
+                static_cast<std::uint64_t>(static_cast<double>(dt) / scan_ms + 0.5) - 1;
         }
     }
     last_t_device_ = scan.timestamp_ms;

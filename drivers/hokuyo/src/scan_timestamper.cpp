@@ -23,9 +23,11 @@ TimeNs ScanTimestamper::stamp(std::uint32_t t_device_ms, TimeNs host_rx, std::si
                               int n_values, double value_period_ns) {
     mapper_.observe(t_device_ms, host_rx);
     const TimeNs arrival = mapper_.toHost(t_device_ms).value_or(host_rx);
-    const double transmit_ns = cfg_.link_bps > 0 ? static_cast<double>(frame_bytes) * 8e9 / cfg_.link_bps : 0.0;
+    const double transmit_ns =
+        cfg_.link_bps > 0 ? static_cast<double>(frame_bytes) * 8e9 / cfg_.link_bps : 0.0;
     const double span_ns = std::max(0, n_values - 1) * value_period_ns;
-    return arrival - static_cast<TimeNs>(std::llround(transmit_ns + span_ns)) - cfg_.extra_latency_ns;
+    return arrival - static_cast<TimeNs>(std::llround(transmit_ns + span_ns)) -
+           cfg_.extra_latency_ns;
 }
 
 double valuePeriodNs(const ScanRequest& request, const SensorParameters& params) {
@@ -47,7 +49,8 @@ LaserScan toLaserScan(const ScanPayload& scan, const ScanRequest& request,
     out.error_codes.assign(n, 0);
     for (std::size_t i = 0; i < n; ++i) {
         const std::uint32_t v = scan.ranges[i];
-        if (v < static_cast<std::uint32_t>(params.dmin_mm) || v > static_cast<std::uint32_t>(params.dmax_mm)) {
+        if (v < static_cast<std::uint32_t>(params.dmin_mm) ||
+            v > static_cast<std::uint32_t>(params.dmax_mm)) {
             out.ranges_m[i] = std::numeric_limits<float>::quiet_NaN();
             out.error_codes[i] = static_cast<std::uint16_t>(std::min<std::uint32_t>(v, 0xFFFF));
         } else {

@@ -89,9 +89,15 @@ Result<std::uint32_t> decodeScipChars(std::string_view chars) {
 std::string ScanRequest::symbol() const {
     std::string s(1, mode);
     switch (encoding) {
-        case ScanEncoding::kTwoChar: s += 'S'; break;
-        case ScanEncoding::kThreeChar: s += 'D'; break;
-        case ScanEncoding::kThreeCharWithIntensity: s += 'E'; break;
+        case ScanEncoding::kTwoChar:
+            s += 'S';
+            break;
+        case ScanEncoding::kThreeChar:
+            s += 'D';
+            break;
+        case ScanEncoding::kThreeCharWithIntensity:
+            s += 'E';
+            break;
     }
     return s;
 }
@@ -104,9 +110,12 @@ int ScanRequest::valuesPerScan() const {
 
 int ScanRequest::charsPerValue() const {
     switch (encoding) {
-        case ScanEncoding::kTwoChar: return 2;
-        case ScanEncoding::kThreeChar: return 3;
-        case ScanEncoding::kThreeCharWithIntensity: return 6;
+        case ScanEncoding::kTwoChar:
+            return 2;
+        case ScanEncoding::kThreeChar:
+            return 3;
+        case ScanEncoding::kThreeCharWithIntensity:
+            return 6;
     }
     return 3;
 }
@@ -164,10 +173,17 @@ Result<ScanRequest> parseScanEcho(std::string_view echo) {
     r.mode = body[0];
     if (r.mode != 'M' && r.mode != 'G') return bad("not an MD/MS/ME/GD/GS/GE command");
     switch (body[1]) {
-        case 'S': r.encoding = ScanEncoding::kTwoChar; break;
-        case 'D': r.encoding = ScanEncoding::kThreeChar; break;
-        case 'E': r.encoding = ScanEncoding::kThreeCharWithIntensity; break;
-        default: return bad("not an MD/MS/ME/GD/GS/GE command");
+        case 'S':
+            r.encoding = ScanEncoding::kTwoChar;
+            break;
+        case 'D':
+            r.encoding = ScanEncoding::kThreeChar;
+            break;
+        case 'E':
+            r.encoding = ScanEncoding::kThreeCharWithIntensity;
+            break;
+        default:
+            return bad("not an MD/MS/ME/GD/GS/GE command");
     }
     const std::size_t want = r.mode == 'M' ? 15 : 12;
     if (body.size() != want) {
@@ -302,8 +318,8 @@ Result<std::pair<std::string, std::string>> parseKeyValueLine(std::string_view l
     if (got != scipChecksum(n1) && got != scipChecksum(n2)) {
         return Status(StatusCode::kChecksumError,
                       "SCIP parameter line \"" + printable(line) + "\": sum '" +
-                          printable({&got, 1}) + "' matches neither \"" + printable(n2) +
-                          "\" ('" + std::string(1, scipChecksum(n2)) + "') nor with ';'");
+                          printable({&got, 1}) + "' matches neither \"" + printable(n2) + "\" ('" +
+                          std::string(1, scipChecksum(n2)) + "') nor with ';'");
     }
     std::string_view body = n1;
     if (!body.empty() && body.back() == ';') body.remove_suffix(1);
@@ -336,8 +352,10 @@ std::string describeStatus(std::string_view command, std::string_view status) {
     // (command not defined): it is already speaking SCIP 2.0.
     if (command == "SCIP2.0" && status == "0E") return with("ok, sensor already in SCIP 2.0 mode");
     if (command == "BM") {
-        if (status == "01") return with("laser could not be switched on (laser malfunction); "
-                                        "power-cycle the sensor");
+        if (status == "01")
+            return with(
+                "laser could not be switched on (laser malfunction); "
+                "power-cycle the sensor");
         if (status == "02") return with("laser already on");
     }
     const bool scan = !command.empty() && (command[0] == 'M' || command[0] == 'G');

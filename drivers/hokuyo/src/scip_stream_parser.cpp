@@ -8,7 +8,7 @@ namespace handscan::hokuyo {
 namespace {
 
 constexpr std::size_t kMaxEchoChars = 2 + 13 + 1 + 16;  // symbol, parameters, ';', tag
-constexpr std::size_t kMaxBodyLines = 64;             // far more than any PP/VV/II reply
+constexpr std::size_t kMaxBodyLines = 64;               // far more than any PP/VV/II reply
 
 bool isUpper(char c) { return c >= 'A' && c <= 'Z'; }
 bool isDigit(char c) { return c >= '0' && c <= '9'; }
@@ -110,8 +110,12 @@ void ScipStreamParser::processLine(std::string_view line, std::vector<ScipEvent>
                 stats_.discarded_bytes += line.size() + 1;
             }
             return;
-        case State::kStatus: onStatus(line, out); return;
-        case State::kBody: onBodyLine(line, out); return;
+        case State::kStatus:
+            onStatus(line, out);
+            return;
+        case State::kBody:
+            onBodyLine(line, out);
+            return;
         case State::kScanTimestamp: {
             if (line.size() != 5) {
                 fail(line.empty() ? StatusCode::kTruncated : StatusCode::kProtocolError,
@@ -138,7 +142,9 @@ void ScipStreamParser::processLine(std::string_view line, std::vector<ScipEvent>
             state_ = scan_expected_chars_ == 0 ? State::kScanEnd : State::kScanData;
             return;
         }
-        case State::kScanData: onScanDataLine(line, out); return;
+        case State::kScanData:
+            onScanDataLine(line, out);
+            return;
         case State::kScanEnd:
             if (line.empty()) {
                 emit(out, offset_);
@@ -167,7 +173,8 @@ bool ScipStreamParser::startFrame(std::string_view line) {
         if (body.size() < 2 || !isUpper(body[0]) || !isUpper(body[1]) || body.size() > 15) {
             return false;
         }
-        if (!std::all_of(body.begin() + 2, body.end(), [](char c) { return isDigit(c) || isUpper(c); })) {
+        if (!std::all_of(body.begin() + 2, body.end(),
+                         [](char c) { return isDigit(c) || isUpper(c); })) {
             return false;
         }
         f.command = std::string(body.substr(0, 2));
@@ -208,9 +215,8 @@ void ScipStreamParser::onStatus(std::string_view line, std::vector<ScipEvent>& o
         return;
     }
     const auto& req = frame_.scan_request;
-    const bool data_follows =
-        req && ((req->mode == 'M' && frame_.status == "99") ||
-                (req->mode == 'G' && frame_.status == "00"));
+    const bool data_follows = req && ((req->mode == 'M' && frame_.status == "99") ||
+                                      (req->mode == 'G' && frame_.status == "00"));
     if (data_follows) {
         scan_expected_chars_ = static_cast<std::size_t>(req->valuesPerScan()) *
                                static_cast<std::size_t>(req->charsPerValue());

@@ -23,9 +23,9 @@ Result<SensorParameters> SensorParameters::fromPpReply(const ScipFrame& pp) {
     for (const Key& k : keys) {
         const auto text = pp.item(k.name);
         if (!text) {
-            return Status(StatusCode::kProtocolError,
-                          std::string("PP reply: no ") + k.name + " line; the sensor is not SCIP 2.0 "
-                          "compliant or the reply was cut");
+            return Status(StatusCode::kProtocolError, std::string("PP reply: no ") + k.name +
+                                                          " line; the sensor is not SCIP 2.0 "
+                                                          "compliant or the reply was cut");
         }
         // Values may carry a unit or comment after the number (e.g. "SCAN:2400" vs "2400[rpm]").
         const char* b = text->data();

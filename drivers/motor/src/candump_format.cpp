@@ -22,12 +22,18 @@ constexpr std::int64_t kMaxTimestampSeconds = 9'000'000'000;  // keeps timeNs() 
 
 Status bad(std::string_view where, std::string_view what, std::string_view text) {
     std::string msg = "candump ";
-    msg.append(where).append(": ").append(what).append(" in '").append(text.substr(0, 120)).append("'");
+    msg.append(where)
+        .append(": ")
+        .append(what)
+        .append(" in '")
+        .append(text.substr(0, 120))
+        .append("'");
     return {StatusCode::kProtocolError, std::move(msg)};
 }
 
 std::string_view trimLineEnd(std::string_view s) {
-    while (!s.empty() && (s.back() == '\n' || s.back() == '\r' || s.back() == ' ' || s.back() == '\t')) {
+    while (!s.empty() &&
+           (s.back() == '\n' || s.back() == '\r' || s.back() == ' ' || s.back() == '\t')) {
         s.remove_suffix(1);
     }
     while (!s.empty() && (s.front() == ' ' || s.front() == '\t')) s.remove_prefix(1);
@@ -49,7 +55,8 @@ std::vector<std::string_view> tokens(std::string_view s) {
 
 // "(1700000000.123456)" -> seconds, microseconds.
 Status parseTimestamp(std::string_view tok, CandumpRecord& rec) {
-    if (tok.size() < 3 || tok.front() != '(' || tok.back() != ')') return bad("timestamp", "expected '(sec.usec)'", tok);
+    if (tok.size() < 3 || tok.front() != '(' || tok.back() != ')')
+        return bad("timestamp", "expected '(sec.usec)'", tok);
     const std::string_view inner = tok.substr(1, tok.size() - 2);
     const std::size_t dot = inner.find('.');
     if (dot == std::string_view::npos || dot == 0 || dot > 12 || inner.size() - dot - 1 != 6) {
@@ -65,7 +72,8 @@ Status parseTimestamp(std::string_view tok, CandumpRecord& rec) {
         if (inner[i] < '0' || inner[i] > '9') return bad("timestamp", "non-digit", tok);
         us = us * 10 + (inner[i] - '0');
     }
-    if (s > kMaxTimestampSeconds) return bad("timestamp", "seconds beyond the year 2255 (nanoseconds would overflow)", tok);
+    if (s > kMaxTimestampSeconds)
+        return bad("timestamp", "seconds beyond the year 2255 (nanoseconds would overflow)", tok);
     rec.has_time = true;
     rec.time_s = s;
     rec.time_us = us;
@@ -74,13 +82,15 @@ Status parseTimestamp(std::string_view tok, CandumpRecord& rec) {
 
 void appendTimestamp(std::string& out, const CandumpRecord& rec) {
     char buf[40];
-    std::snprintf(buf, sizeof buf, "(%010lld.%06d)", static_cast<long long>(rec.time_s), rec.time_us);
+    std::snprintf(buf, sizeof buf, "(%010lld.%06d)", static_cast<long long>(rec.time_s),
+                  rec.time_us);
     out += buf;
 }
 
 // Parses an identifier of exactly 3 or 8 hex digits into the frame (EFF or ERR for 8 digits).
 Status parseId(std::string_view digits, CanFrame& f, std::string_view text) {
-    if (digits.size() != 3 && digits.size() != 8) return bad("identifier", "expected 3 or 8 hex digits", text);
+    if (digits.size() != 3 && digits.size() != 8)
+        return bad("identifier", "expected 3 or 8 hex digits", text);
     std::uint32_t id = 0;
     for (char c : digits) {
         const int n = hexNibble(c);
@@ -92,12 +102,14 @@ Status parseId(std::string_view digits, CanFrame& f, std::string_view text) {
             f.error = true;
             f.id = id & transport::kCanErrMask;
         } else {
-            if (id > transport::kCanEffMask) return bad("identifier", "29-bit identifier out of range", text);
+            if (id > transport::kCanEffMask)
+                return bad("identifier", "29-bit identifier out of range", text);
             f.extended = true;
             f.id = id;
         }
     } else {
-        if (id > transport::kCanSffMask) return bad("identifier", "11-bit identifier above 7FF", text);
+        if (id > transport::kCanSffMask)
+            return bad("identifier", "11-bit identifier above 7FF", text);
         f.id = id;
     }
     return Status::ok();
@@ -106,11 +118,14 @@ Status parseId(std::string_view digits, CanFrame& f, std::string_view text) {
 void appendId(std::string& out, const CanFrame& f) {
     char buf[16];
     if (f.error) {
-        std::snprintf(buf, sizeof buf, "%08X", static_cast<unsigned>((f.id & transport::kCanErrMask) | kCanErrFlag));
+        std::snprintf(buf, sizeof buf, "%08X",
+                      static_cast<unsigned>((f.id & transport::kCanErrMask) | kCanErrFlag));
     } else if (f.extended) {
-        std::snprintf(buf, sizeof buf, "%08X", static_cast<unsigned>(f.id & transport::kCanEffMask));
+        std::snprintf(buf, sizeof buf, "%08X",
+                      static_cast<unsigned>(f.id & transport::kCanEffMask));
     } else {
-        std::snprintf(buf, sizeof buf, "%03X", static_cast<unsigned>(f.id & transport::kCanSffMask));
+        std::snprintf(buf, sizeof buf, "%03X",
+                      static_cast<unsigned>(f.id & transport::kCanSffMask));
     }
     out += buf;
 }
@@ -142,7 +157,8 @@ Result<CanFrame> parseCanFrameText(std::string_view text) {
             ++i;
             if (dlc == 8 && i < text.size() && text[i] == '_') {
                 const int raw = i + 1 < text.size() ? hexNibble(text[i + 1]) : -1;
-                if (raw < 9 || raw > 15) return bad("frame", "raw DLC after '_' must be 9..F", text);
+                if (raw < 9 || raw > 15)
+                    return bad("frame", "raw DLC after '_' must be 9..F", text);
                 f.len8_dlc = static_cast<std::uint8_t>(raw);
                 i += 2;
             }
@@ -167,7 +183,8 @@ Result<CanFrame> parseCanFrameText(std::string_view text) {
             continue;
         }
         if (text[i] == '_') break;
-        if (n == max_len) return bad("frame", f.fd ? "more than 64 data bytes" : "more than 8 data bytes", text);
+        if (n == max_len)
+            return bad("frame", f.fd ? "more than 64 data bytes" : "more than 8 data bytes", text);
         const int hi = hexNibble(text[i]);
         const int lo = i + 1 < text.size() ? hexNibble(text[i + 1]) : -1;
         if (hi < 0 || lo < 0) return bad("frame", "data must be pairs of hex digits", text);
@@ -176,10 +193,12 @@ Result<CanFrame> parseCanFrameText(std::string_view text) {
     }
     if (f.fd) {
         // CAN FD lengths are 0..8, 12, 16, 20, 24, 32, 48, 64.
-        static constexpr std::size_t kFdLens[] = {0, 1, 2, 3, 4, 5, 6, 7, 8, 12, 16, 20, 24, 32, 48, 64};
+        static constexpr std::size_t kFdLens[] = {0, 1,  2,  3,  4,  5,  6,  7,
+                                                  8, 12, 16, 20, 24, 32, 48, 64};
         bool ok = false;
         for (std::size_t l : kFdLens) ok = ok || l == n;
-        if (!ok) return bad("frame", "CAN FD length must be 0..8, 12, 16, 20, 24, 32, 48 or 64", text);
+        if (!ok)
+            return bad("frame", "CAN FD length must be 0..8, 12, 16, 20, 24, 32, 48 or 64", text);
     }
     f.len = static_cast<std::uint8_t>(n);
     if (i < text.size()) {  // '_' raw DLC
@@ -212,7 +231,8 @@ std::string formatCanFrameText(const CanFrame& f) {
         out += '#';
         out += kHexUpper[f.fd_flags & 0x0F];
     }
-    const std::size_t n = f.len <= (f.fd ? kCanFdMaxDataLength : kCanMaxDataLength) ? f.len : (f.fd ? 64 : 8);
+    const std::size_t n =
+        f.len <= (f.fd ? kCanFdMaxDataLength : kCanMaxDataLength) ? f.len : (f.fd ? 64 : 8);
     for (std::size_t k = 0; k < n; ++k) {
         out += kHexUpper[f.data[k] >> 4];
         out += kHexUpper[f.data[k] & 0x0F];
@@ -227,7 +247,8 @@ std::string formatCanFrameText(const CanFrame& f) {
 Result<CandumpRecord> parseCandumpLogLine(std::string_view line) {
     const std::string_view s = trimLineEnd(line);
     const auto tok = tokens(s);
-    if (tok.size() < 3 || tok.size() > 4) return bad("log line", "expected '(sec.usec) interface frame'", s);
+    if (tok.size() < 3 || tok.size() > 4)
+        return bad("log line", "expected '(sec.usec) interface frame'", s);
     CandumpRecord rec;
     if (Status st = parseTimestamp(tok[0], rec); !st) return st;
     rec.interface = std::string(tok[1]);
@@ -265,7 +286,8 @@ Result<CandumpRecord> parseCandumpDefaultLine(std::string_view line) {
     rec.interface = std::string(tok[k]);
     if (Status st = parseId(tok[k + 1], rec.frame, s); !st) return st;
     const std::string_view len_tok = tok[k + 2];
-    if (len_tok.size() < 3 || len_tok.front() != '[' || len_tok.back() != ']') return bad("length", "expected '[n]'", s);
+    if (len_tok.size() < 3 || len_tok.front() != '[' || len_tok.back() != ']')
+        return bad("length", "expected '[n]'", s);
     const std::string_view digits = len_tok.substr(1, len_tok.size() - 2);
     if (digits.size() > 2) return bad("length", "expected 1 or 2 digits", s);
     int len = 0;
@@ -278,7 +300,8 @@ Result<CandumpRecord> parseCandumpDefaultLine(std::string_view line) {
     rec.frame.len = static_cast<std::uint8_t>(len);
     const std::size_t first = k + 3;
     if (tok.size() == first + 2 && tok[first] == "remote" && tok[first + 1] == "request") {
-        if (rec.frame.error || rec.frame.fd) return bad("frame", "error frames and CAN FD frames cannot be remote requests", s);
+        if (rec.frame.error || rec.frame.fd)
+            return bad("frame", "error frames and CAN FD frames cannot be remote requests", s);
         rec.frame.remote = true;
         return rec;
     }

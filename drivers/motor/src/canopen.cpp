@@ -7,8 +7,8 @@ namespace {
 
 Status wrongFrame(const char* what, const CanFrame& f, const char* expected) {
     char buf[200];
-    std::snprintf(buf, sizeof buf, "CANopen %s: frame id 0x%03X len %u is not a valid %s (%s)", what,
-                  static_cast<unsigned>(f.id), static_cast<unsigned>(f.len), what, expected);
+    std::snprintf(buf, sizeof buf, "CANopen %s: frame id 0x%03X len %u is not a valid %s (%s)",
+                  what, static_cast<unsigned>(f.id), static_cast<unsigned>(f.len), what, expected);
     return {StatusCode::kProtocolError, buf};
 }
 
@@ -30,7 +30,8 @@ CanFrame frame(std::uint32_t id, std::uint8_t len) {
     return f;
 }
 
-CanFrame sdoFrame(std::uint32_t id, std::uint8_t command, std::uint16_t index, std::uint8_t sub, std::uint32_t data) {
+CanFrame sdoFrame(std::uint32_t id, std::uint8_t command, std::uint16_t index, std::uint8_t sub,
+                  std::uint32_t data) {
     CanFrame f = frame(id, 8);
     f.data[0] = command;
     putLe(f, 1, index, 2);
@@ -43,17 +44,28 @@ CanFrame sdoFrame(std::uint32_t id, std::uint8_t command, std::uint16_t index, s
 
 const char* toString(CanOpenFunction f) {
     switch (f) {
-        case CanOpenFunction::kNmt: return "nmt";
-        case CanOpenFunction::kSync: return "sync";
-        case CanOpenFunction::kEmcy: return "emcy";
-        case CanOpenFunction::kTime: return "time";
-        case CanOpenFunction::kTpdo: return "tpdo";
-        case CanOpenFunction::kRpdo: return "rpdo";
-        case CanOpenFunction::kSdoResponse: return "sdo_response";
-        case CanOpenFunction::kSdoRequest: return "sdo_request";
-        case CanOpenFunction::kHeartbeat: return "heartbeat";
-        case CanOpenFunction::kLss: return "lss";
-        case CanOpenFunction::kUnknown: break;
+        case CanOpenFunction::kNmt:
+            return "nmt";
+        case CanOpenFunction::kSync:
+            return "sync";
+        case CanOpenFunction::kEmcy:
+            return "emcy";
+        case CanOpenFunction::kTime:
+            return "time";
+        case CanOpenFunction::kTpdo:
+            return "tpdo";
+        case CanOpenFunction::kRpdo:
+            return "rpdo";
+        case CanOpenFunction::kSdoResponse:
+            return "sdo_response";
+        case CanOpenFunction::kSdoRequest:
+            return "sdo_request";
+        case CanOpenFunction::kHeartbeat:
+            return "heartbeat";
+        case CanOpenFunction::kLss:
+            return "lss";
+        case CanOpenFunction::kUnknown:
+            break;
     }
     return "unknown";
 }
@@ -70,23 +82,41 @@ CobIdInfo classifyCobId(const CanFrame& f) {
     if (id == 0x7E4 || id == 0x7E5) return {CanOpenFunction::kLss, 0, 0};
     if (node == 0) return info;
     switch (fn) {
-        case 0x1: return {CanOpenFunction::kEmcy, node, 0};
-        case 0x3: case 0x5: case 0x7: case 0x9: return {CanOpenFunction::kTpdo, node, static_cast<int>((fn - 1) / 2)};
-        case 0x4: case 0x6: case 0x8: case 0xA: return {CanOpenFunction::kRpdo, node, static_cast<int>((fn - 2) / 2)};
-        case 0xB: return {CanOpenFunction::kSdoResponse, node, 0};
-        case 0xC: return {CanOpenFunction::kSdoRequest, node, 0};
-        case 0xE: return {CanOpenFunction::kHeartbeat, node, 0};
-        default: return info;
+        case 0x1:
+            return {CanOpenFunction::kEmcy, node, 0};
+        case 0x3:
+        case 0x5:
+        case 0x7:
+        case 0x9:
+            return {CanOpenFunction::kTpdo, node, static_cast<int>((fn - 1) / 2)};
+        case 0x4:
+        case 0x6:
+        case 0x8:
+        case 0xA:
+            return {CanOpenFunction::kRpdo, node, static_cast<int>((fn - 2) / 2)};
+        case 0xB:
+            return {CanOpenFunction::kSdoResponse, node, 0};
+        case 0xC:
+            return {CanOpenFunction::kSdoRequest, node, 0};
+        case 0xE:
+            return {CanOpenFunction::kHeartbeat, node, 0};
+        default:
+            return info;
     }
 }
 
 const char* toString(NmtCommand c) {
     switch (c) {
-        case NmtCommand::kStart: return "start";
-        case NmtCommand::kStop: return "stop";
-        case NmtCommand::kEnterPreOperational: return "enter_pre_operational";
-        case NmtCommand::kResetNode: return "reset_node";
-        case NmtCommand::kResetCommunication: return "reset_communication";
+        case NmtCommand::kStart:
+            return "start";
+        case NmtCommand::kStop:
+            return "stop";
+        case NmtCommand::kEnterPreOperational:
+            return "enter_pre_operational";
+        case NmtCommand::kResetNode:
+            return "reset_node";
+        case NmtCommand::kResetCommunication:
+            return "reset_communication";
     }
     return "?";
 }
@@ -99,9 +129,14 @@ CanFrame encodeNmt(NmtCommand command, std::uint8_t node) {
 }
 
 Result<NmtMessage> decodeNmt(const CanFrame& f) {
-    if (!isClassicData(f) || f.id != kCobNmt || f.len != 2) return wrongFrame("NMT", f, "id 000, 2 bytes");
+    if (!isClassicData(f) || f.id != kCobNmt || f.len != 2)
+        return wrongFrame("NMT", f, "id 000, 2 bytes");
     switch (f.data[0]) {
-        case 0x01: case 0x02: case 0x80: case 0x81: case 0x82:
+        case 0x01:
+        case 0x02:
+        case 0x80:
+        case 0x81:
+        case 0x82:
             return NmtMessage{static_cast<NmtCommand>(f.data[0]), f.data[1]};
         default:
             return wrongFrame("NMT", f, "command 01, 02, 80, 81 or 82");
@@ -110,10 +145,14 @@ Result<NmtMessage> decodeNmt(const CanFrame& f) {
 
 const char* toString(NmtState s) {
     switch (s) {
-        case NmtState::kBootUp: return "boot_up";
-        case NmtState::kStopped: return "stopped";
-        case NmtState::kOperational: return "operational";
-        case NmtState::kPreOperational: return "pre_operational";
+        case NmtState::kBootUp:
+            return "boot_up";
+        case NmtState::kStopped:
+            return "stopped";
+        case NmtState::kOperational:
+            return "operational";
+        case NmtState::kPreOperational:
+            return "pre_operational";
     }
     return "?";
 }
@@ -130,7 +169,8 @@ Result<Heartbeat> decodeHeartbeat(const CanFrame& f) {
         return wrongFrame("heartbeat", f, "id 701..77F, 1 byte");
     }
     const std::uint8_t s = f.data[0] & 0x7F;
-    if (s != 0x00 && s != 0x04 && s != 0x05 && s != 0x7F) return wrongFrame("heartbeat", f, "state 00, 04, 05 or 7F");
+    if (s != 0x00 && s != 0x04 && s != 0x05 && s != 0x7F)
+        return wrongFrame("heartbeat", f, "state 00, 04, 05 or 7F");
     return Heartbeat{info.node, static_cast<NmtState>(s), (f.data[0] & 0x80) != 0};
 }
 
@@ -141,7 +181,8 @@ CanFrame encodeSync(std::optional<std::uint8_t> counter) {
 }
 
 Result<std::optional<std::uint8_t>> decodeSync(const CanFrame& f) {
-    if (!isClassicData(f) || f.id != kCobSync || f.len > 1) return wrongFrame("SYNC", f, "id 080, 0 or 1 byte");
+    if (!isClassicData(f) || f.id != kCobSync || f.len > 1)
+        return wrongFrame("SYNC", f, "id 080, 0 or 1 byte");
     return f.len == 1 ? std::optional<std::uint8_t>(f.data[0]) : std::optional<std::uint8_t>();
 }
 
@@ -168,21 +209,29 @@ Result<Emergency> decodeEmergency(const CanFrame& f) {
 
 const char* toString(SdoKind k) {
     switch (k) {
-        case SdoKind::kDownloadRequest: return "write";
-        case SdoKind::kDownloadResponse: return "write_ack";
-        case SdoKind::kUploadRequest: return "read";
-        case SdoKind::kUploadResponse: return "read_response";
-        case SdoKind::kAbort: return "abort";
-        case SdoKind::kSegmented: return "segmented";
+        case SdoKind::kDownloadRequest:
+            return "write";
+        case SdoKind::kDownloadResponse:
+            return "write_ack";
+        case SdoKind::kUploadRequest:
+            return "read";
+        case SdoKind::kUploadResponse:
+            return "read_response";
+        case SdoKind::kAbort:
+            return "abort";
+        case SdoKind::kSegmented:
+            return "segmented";
     }
     return "?";
 }
 
 // Expedited command byte: ccs/scs in bits 7..5, n (unused bytes) in bits 3..2, e bit 1, s bit 0.
-CanFrame encodeSdoWrite(std::uint8_t node, std::uint16_t index, std::uint8_t sub, std::uint32_t value, std::uint8_t size) {
+CanFrame encodeSdoWrite(std::uint8_t node, std::uint16_t index, std::uint8_t sub,
+                        std::uint32_t value, std::uint8_t size) {
     const std::uint8_t n = static_cast<std::uint8_t>(4 - (size >= 1 && size <= 4 ? size : 4));
     const std::uint32_t masked = n == 0 ? value : (value & ((1u << (8 * (4 - n))) - 1u));
-    return sdoFrame(cobSdoClientToServer(node), static_cast<std::uint8_t>(0x23 | (n << 2)), index, sub, masked);
+    return sdoFrame(cobSdoClientToServer(node), static_cast<std::uint8_t>(0x23 | (n << 2)), index,
+                    sub, masked);
 }
 
 CanFrame encodeSdoRead(std::uint8_t node, std::uint16_t index, std::uint8_t sub) {
@@ -193,14 +242,18 @@ CanFrame encodeSdoWriteAck(std::uint8_t node, std::uint16_t index, std::uint8_t 
     return sdoFrame(cobSdoServerToClient(node), 0x60, index, sub, 0);
 }
 
-CanFrame encodeSdoReadResponse(std::uint8_t node, std::uint16_t index, std::uint8_t sub, std::uint32_t value, std::uint8_t size) {
+CanFrame encodeSdoReadResponse(std::uint8_t node, std::uint16_t index, std::uint8_t sub,
+                               std::uint32_t value, std::uint8_t size) {
     const std::uint8_t n = static_cast<std::uint8_t>(4 - (size >= 1 && size <= 4 ? size : 4));
     const std::uint32_t masked = n == 0 ? value : (value & ((1u << (8 * (4 - n))) - 1u));
-    return sdoFrame(cobSdoServerToClient(node), static_cast<std::uint8_t>(0x43 | (n << 2)), index, sub, masked);
+    return sdoFrame(cobSdoServerToClient(node), static_cast<std::uint8_t>(0x43 | (n << 2)), index,
+                    sub, masked);
 }
 
-CanFrame encodeSdoAbort(std::uint8_t node, std::uint16_t index, std::uint8_t sub, std::uint32_t code, bool from_server) {
-    return sdoFrame(from_server ? cobSdoServerToClient(node) : cobSdoClientToServer(node), 0x80, index, sub, code);
+CanFrame encodeSdoAbort(std::uint8_t node, std::uint16_t index, std::uint8_t sub,
+                        std::uint32_t code, bool from_server) {
+    return sdoFrame(from_server ? cobSdoServerToClient(node) : cobSdoClientToServer(node), 0x80,
+                    index, sub, code);
 }
 
 Result<SdoMessage> decodeSdo(const CanFrame& f) {
@@ -252,27 +305,48 @@ Result<SdoMessage> decodeSdo(const CanFrame& f) {
 
 const char* sdoAbortText(std::uint32_t code) {
     switch (code) {
-        case 0x05030000: return "toggle bit not alternated";
-        case 0x05040000: return "SDO protocol timed out";
-        case 0x05040001: return "client/server command specifier not valid or unknown";
-        case 0x06010000: return "unsupported access to an object";
-        case 0x06010001: return "attempt to read a write-only object";
-        case 0x06010002: return "attempt to write a read-only object";
-        case 0x06020000: return "object does not exist in the object dictionary";
-        case 0x06040041: return "object cannot be mapped to the PDO";
-        case 0x06040042: return "number and length of mapped objects would exceed PDO length";
-        case 0x06040043: return "general parameter incompatibility";
-        case 0x06060000: return "access failed due to a hardware error";
-        case 0x06070010: return "data type does not match, length of service parameter does not match";
-        case 0x06090011: return "sub-index does not exist";
-        case 0x06090030: return "invalid value for parameter";
-        case 0x06090031: return "value of parameter written too high";
-        case 0x06090032: return "value of parameter written too low";
-        case 0x08000000: return "general error";
-        case 0x08000020: return "data cannot be transferred or stored to the application";
-        case 0x08000021: return "data cannot be transferred because of local control";
-        case 0x08000022: return "data cannot be transferred in the present device state";
-        default: return "unknown abort code";
+        case 0x05030000:
+            return "toggle bit not alternated";
+        case 0x05040000:
+            return "SDO protocol timed out";
+        case 0x05040001:
+            return "client/server command specifier not valid or unknown";
+        case 0x06010000:
+            return "unsupported access to an object";
+        case 0x06010001:
+            return "attempt to read a write-only object";
+        case 0x06010002:
+            return "attempt to write a read-only object";
+        case 0x06020000:
+            return "object does not exist in the object dictionary";
+        case 0x06040041:
+            return "object cannot be mapped to the PDO";
+        case 0x06040042:
+            return "number and length of mapped objects would exceed PDO length";
+        case 0x06040043:
+            return "general parameter incompatibility";
+        case 0x06060000:
+            return "access failed due to a hardware error";
+        case 0x06070010:
+            return "data type does not match, length of service parameter does not match";
+        case 0x06090011:
+            return "sub-index does not exist";
+        case 0x06090030:
+            return "invalid value for parameter";
+        case 0x06090031:
+            return "value of parameter written too high";
+        case 0x06090032:
+            return "value of parameter written too low";
+        case 0x08000000:
+            return "general error";
+        case 0x08000020:
+            return "data cannot be transferred or stored to the application";
+        case 0x08000021:
+            return "data cannot be transferred because of local control";
+        case 0x08000022:
+            return "data cannot be transferred in the present device state";
+        default:
+            return "unknown abort code";
     }
 }
 
@@ -284,7 +358,8 @@ CanFrame encodeEncoderPositionTpdo(std::uint8_t node, std::uint32_t position) {
 
 Result<std::uint32_t> decodeEncoderPositionTpdo(const CanFrame& f) {
     const CobIdInfo info = classifyCobId(f);
-    if (!isClassicData(f) || info.function != CanOpenFunction::kTpdo || info.pdo != 1 || f.len < 4) {
+    if (!isClassicData(f) || info.function != CanOpenFunction::kTpdo || info.pdo != 1 ||
+        f.len < 4) {
         return wrongFrame("encoder TPDO1", f, "id 181..1FF with at least 4 bytes (6004h u32 LE)");
     }
     return getLe(f, 0, 4);
@@ -292,14 +367,22 @@ Result<std::uint32_t> decodeEncoderPositionTpdo(const CanFrame& f) {
 
 const char* toString(Cia402State s) {
     switch (s) {
-        case Cia402State::kNotReadyToSwitchOn: return "not_ready_to_switch_on";
-        case Cia402State::kSwitchOnDisabled: return "switch_on_disabled";
-        case Cia402State::kReadyToSwitchOn: return "ready_to_switch_on";
-        case Cia402State::kSwitchedOn: return "switched_on";
-        case Cia402State::kOperationEnabled: return "operation_enabled";
-        case Cia402State::kQuickStopActive: return "quick_stop_active";
-        case Cia402State::kFaultReactionActive: return "fault_reaction_active";
-        case Cia402State::kFault: return "fault";
+        case Cia402State::kNotReadyToSwitchOn:
+            return "not_ready_to_switch_on";
+        case Cia402State::kSwitchOnDisabled:
+            return "switch_on_disabled";
+        case Cia402State::kReadyToSwitchOn:
+            return "ready_to_switch_on";
+        case Cia402State::kSwitchedOn:
+            return "switched_on";
+        case Cia402State::kOperationEnabled:
+            return "operation_enabled";
+        case Cia402State::kQuickStopActive:
+            return "quick_stop_active";
+        case Cia402State::kFaultReactionActive:
+            return "fault_reaction_active";
+        case Cia402State::kFault:
+            return "fault";
     }
     return "?";
 }
@@ -318,19 +401,27 @@ Cia402State cia402StateFromStatusword(std::uint16_t sw) {
 
 std::optional<std::uint16_t> controlwordTowardsOperationEnabled(Cia402State s) {
     switch (s) {
-        case Cia402State::kFault: return controlword::kFaultReset;
-        case Cia402State::kSwitchOnDisabled: return controlword::kShutdown;
-        case Cia402State::kReadyToSwitchOn: return controlword::kSwitchOn;
-        case Cia402State::kSwitchedOn: return controlword::kEnableOperation;
-        case Cia402State::kQuickStopActive: return controlword::kDisableVoltage;
-        case Cia402State::kOperationEnabled: return std::nullopt;
+        case Cia402State::kFault:
+            return controlword::kFaultReset;
+        case Cia402State::kSwitchOnDisabled:
+            return controlword::kShutdown;
+        case Cia402State::kReadyToSwitchOn:
+            return controlword::kSwitchOn;
+        case Cia402State::kSwitchedOn:
+            return controlword::kEnableOperation;
+        case Cia402State::kQuickStopActive:
+            return controlword::kDisableVoltage;
+        case Cia402State::kOperationEnabled:
+            return std::nullopt;
         case Cia402State::kNotReadyToSwitchOn:
-        case Cia402State::kFaultReactionActive: return std::nullopt;  // the drive moves on by itself
+        case Cia402State::kFaultReactionActive:
+            return std::nullopt;  // the drive moves on by itself
     }
     return std::nullopt;
 }
 
-CanFrame encodeDriveVelocityRpdo(int pdo, std::uint8_t node, std::uint16_t cw, std::int32_t target_velocity) {
+CanFrame encodeDriveVelocityRpdo(int pdo, std::uint8_t node, std::uint16_t cw,
+                                 std::int32_t target_velocity) {
     CanFrame f = frame(cobRpdo(pdo, node), 6);
     putLe(f, 0, cw, 2);
     putLe(f, 2, static_cast<std::uint32_t>(target_velocity), 4);

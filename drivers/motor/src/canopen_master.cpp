@@ -9,12 +9,14 @@ namespace handscan::motor {
 namespace {
 std::string objectName(std::uint8_t node, std::uint16_t index, std::uint8_t sub) {
     char buf[48];
-    std::snprintf(buf, sizeof buf, "node %u object %04Xh:%02X", static_cast<unsigned>(node), index, static_cast<unsigned>(sub));
+    std::snprintf(buf, sizeof buf, "node %u object %04Xh:%02X", static_cast<unsigned>(node), index,
+                  static_cast<unsigned>(sub));
     return buf;
 }
 }  // namespace
 
-CanOpenMaster::CanOpenMaster(transport::CanBus& bus, Clock clock, RawTap* tap, std::string interface_name)
+CanOpenMaster::CanOpenMaster(transport::CanBus& bus, Clock clock, RawTap* tap,
+                             std::string interface_name)
     : bus_(bus), clock_(std::move(clock)), tap_(tap), interface_(std::move(interface_name)) {}
 
 void CanOpenMaster::tap(TimeNs t, const CanFrame& frame) {
@@ -38,12 +40,14 @@ Result<transport::TimedCanFrame> CanOpenMaster::receive(TimeNs timeout) {
     return r;
 }
 
-Status CanOpenMaster::pumpUntil(const std::function<bool()>& done, TimeNs timeout, const std::string& what) {
+Status CanOpenMaster::pumpUntil(const std::function<bool()>& done, TimeNs timeout,
+                                const std::string& what) {
     const TimeNs deadline = clock_() + timeout;
     while (!done()) {
         const TimeNs left = deadline - clock_();
         if (left <= 0) {
-            return {StatusCode::kTimeout, what + ": no answer within " + std::to_string(timeout / kNsPerMs) + " ms on " +
+            return {StatusCode::kTimeout, what + ": no answer within " +
+                                              std::to_string(timeout / kNsPerMs) + " ms on " +
                                               bus_.describe()};
         }
         auto r = receive(left);
@@ -56,7 +60,8 @@ Status CanOpenMaster::pumpUntil(const std::function<bool()>& done, TimeNs timeou
     return Status::ok();
 }
 
-Result<SdoMessage> CanOpenMaster::sdoTransfer(const CanFrame& request, SdoKind expect, TimeNs timeout, int retries) {
+Result<SdoMessage> CanOpenMaster::sdoTransfer(const CanFrame& request, SdoKind expect,
+                                              TimeNs timeout, int retries) {
     auto req = decodeSdo(request);
     if (!req) return req.status();
     const std::string name = objectName(req->node, req->index, req->subindex);
@@ -72,7 +77,8 @@ Result<SdoMessage> CanOpenMaster::sdoTransfer(const CanFrame& request, SdoKind e
             if (info.function == CanOpenFunction::kSdoResponse && info.node == req->node) {
                 auto m = decodeSdo(tf.frame);
                 if (m && m->index == req->index && m->subindex == req->subindex &&
-                    (m->kind == expect || m->kind == SdoKind::kAbort || m->kind == SdoKind::kSegmented)) {
+                    (m->kind == expect || m->kind == SdoKind::kAbort ||
+                     m->kind == SdoKind::kSegmented)) {
                     answer = *m;
                     return;
                 }
@@ -80,36 +86,44 @@ Result<SdoMessage> CanOpenMaster::sdoTransfer(const CanFrame& request, SdoKind e
             if (owner) owner(tf);
         };
         handler_ = intercept;
-        last = pumpUntil([&] { return answer.has_value(); }, timeout, std::string(verb) + " " + name);
+        last =
+            pumpUntil([&] { return answer.has_value(); }, timeout, std::string(verb) + " " + name);
         handler_ = owner;
         if (answer) {
             if (answer->kind == SdoKind::kAbort) {
                 char code[16];
                 std::snprintf(code, sizeof code, "0x%08X", static_cast<unsigned>(answer->value));
-                return Status(StatusCode::kDeviceError, std::string(verb) + " " + name + " aborted by the device: " + code +
-                                                            " (" + sdoAbortText(answer->value) + ")");
+                return Status(StatusCode::kDeviceError,
+                              std::string(verb) + " " + name + " aborted by the device: " + code +
+                                  " (" + sdoAbortText(answer->value) + ")");
             }
             if (answer->kind == SdoKind::kSegmented) {
-                return Status(StatusCode::kUnsupported, std::string(verb) + " " + name +
-                                                            ": device answered with a segmented transfer, which this driver does not carry");
+                return Status(StatusCode::kUnsupported,
+                              std::string(verb) + " " + name +
+                                  ": device answered with a segmented transfer, which this driver "
+                                  "does not carry");
             }
             return *answer;
         }
         if (last.code() != StatusCode::kTimeout) return last;
     }
-    return Status(StatusCode::kTimeout, last.message() + " (after " + std::to_string(retries + 1) +
-                                            " attempts; check node id, bitrate and that the node is powered)");
+    return Status(StatusCode::kTimeout,
+                  last.message() + " (after " + std::to_string(retries + 1) +
+                      " attempts; check node id, bitrate and that the node is powered)");
 }
 
-Status CanOpenMaster::sdoWrite(std::uint8_t node, std::uint16_t index, std::uint8_t sub, std::uint32_t value,
-                               std::uint8_t size, TimeNs timeout, int retries) {
-    auto r = sdoTransfer(encodeSdoWrite(node, index, sub, value, size), SdoKind::kDownloadResponse, timeout, retries);
+Status CanOpenMaster::sdoWrite(std::uint8_t node, std::uint16_t index, std::uint8_t sub,
+                               std::uint32_t value, std::uint8_t size, TimeNs timeout,
+                               int retries) {
+    auto r = sdoTransfer(encodeSdoWrite(node, index, sub, value, size), SdoKind::kDownloadResponse,
+                         timeout, retries);
     return r ? Status::ok() : r.status();
 }
 
-Result<std::uint32_t> CanOpenMaster::sdoRead(std::uint8_t node, std::uint16_t index, std::uint8_t sub, TimeNs timeout,
-                                             int retries) {
-    auto r = sdoTransfer(encodeSdoRead(node, index, sub), SdoKind::kUploadResponse, timeout, retries);
+Result<std::uint32_t> CanOpenMaster::sdoRead(std::uint8_t node, std::uint16_t index,
+                                             std::uint8_t sub, TimeNs timeout, int retries) {
+    auto r =
+        sdoTransfer(encodeSdoRead(node, index, sub), SdoKind::kUploadResponse, timeout, retries);
     if (!r) return r.status();
     return r->value;
 }

@@ -14,14 +14,18 @@ void PositionUnwrapper::reset() {
 }
 
 Result<EncoderSample> PositionUnwrapper::update(TimeNs t_host, std::uint32_t raw) {
-    const std::int64_t range = cfg_.total_range == 0 ? (std::int64_t{1} << 32) : static_cast<std::int64_t>(cfg_.total_range);
+    const std::int64_t range = cfg_.total_range == 0 ? (std::int64_t{1} << 32)
+                                                     : static_cast<std::int64_t>(cfg_.total_range);
     if (static_cast<std::int64_t>(raw) >= range) {
         return Status(StatusCode::kProtocolError,
-                      "encoder position " + std::to_string(raw) + " outside the total measuring range " +
-                          std::to_string(range) + " (6002h); check motor.encoder.total_range in device.yaml");
+                      "encoder position " + std::to_string(raw) +
+                          " outside the total measuring range " + std::to_string(range) +
+                          " (6002h); check motor.encoder.total_range in device.yaml");
     }
     if (cfg_.units_per_revolution == 0) {
-        return Status(StatusCode::kInvalidArgument, "encoder units per revolution (6001h) is 0; set motor.encoder.units_per_revolution");
+        return Status(
+            StatusCode::kInvalidArgument,
+            "encoder units per revolution (6001h) is 0; set motor.encoder.units_per_revolution");
     }
     if (have_last_ && t_host < last_t_) {
         return Status(StatusCode::kInvalidArgument, "encoder sample time went backwards by " +
@@ -49,9 +53,11 @@ Result<EncoderSample> PositionUnwrapper::update(TimeNs t_host, std::uint32_t raw
     s.t_host = t_host;
     s.raw_position = raw;
     const double sign = cfg_.reverse ? -1.0 : 1.0;
-    s.angle_rad = sign * static_cast<double>(unwrapped_) * 2.0 * std::numbers::pi / cfg_.units_per_revolution;
+    s.angle_rad =
+        sign * static_cast<double>(unwrapped_) * 2.0 * std::numbers::pi / cfg_.units_per_revolution;
     window_.push_back({t_host, s.angle_rad});
-    while (window_.size() > 2 && window_.front().t < t_host - cfg_.speed_window) window_.pop_front();
+    while (window_.size() > 2 && window_.front().t < t_host - cfg_.speed_window)
+        window_.pop_front();
     s.speed_radps = speedEstimate();
     return s;
 }

@@ -4,7 +4,8 @@
 
 namespace handscan::motor {
 
-EmulatedCanBus::EmulatedCanBus(TimeNs start_time, std::string interface) : now_(start_time), interface_(std::move(interface)) {}
+EmulatedCanBus::EmulatedCanBus(TimeNs start_time, std::string interface)
+    : now_(start_time), interface_(std::move(interface)) {}
 
 Status EmulatedCanBus::open() {
     open_ = true;
@@ -12,7 +13,8 @@ Status EmulatedCanBus::open() {
 }
 
 Status EmulatedCanBus::setFilters(std::span<const transport::CanFilter> filters) {
-    if (filters.size() > transport::kCanMaxFilters) return {StatusCode::kInvalidArgument, "more than 512 CAN filters"};
+    if (filters.size() > transport::kCanMaxFilters)
+        return {StatusCode::kInvalidArgument, "more than 512 CAN filters"};
     filters_.assign(filters.begin(), filters.end());
     return Status::ok();
 }
@@ -32,7 +34,9 @@ Result<transport::TimedCanFrame> EmulatedCanBus::receive(TimeNs timeout) {
     for (;;) {
         CanNodeEmulator* first = nullptr;
         for (CanNodeEmulator* n : nodes_) {
-            if (n->nextTime() <= deadline && (first == nullptr || n->nextTime() < first->nextTime())) first = n;
+            if (n->nextTime() <= deadline &&
+                (first == nullptr || n->nextTime() < first->nextTime()))
+                first = n;
         }
         if (first == nullptr) {
             now_ = deadline;
@@ -57,14 +61,16 @@ Status EmulatedCanBus::send(const CanFrame& frame) {
 CandumpLogBus::CandumpLogBus(std::unique_ptr<std::istream> in, std::ostream* out, std::string name)
     : in_(std::move(in)), out_(out), name_(std::move(name)) {}
 
-Result<std::unique_ptr<CandumpLogBus>> CandumpLogBus::openFile(const std::string& path, std::ostream* out) {
+Result<std::unique_ptr<CandumpLogBus>> CandumpLogBus::openFile(const std::string& path,
+                                                               std::ostream* out) {
     auto in = std::make_unique<std::ifstream>(path);
     if (!*in) return Status(StatusCode::kNotFound, path + ": cannot open candump log for reading");
     return std::make_unique<CandumpLogBus>(std::move(in), out, path);
 }
 
 Status CandumpLogBus::setFilters(std::span<const transport::CanFilter> filters) {
-    if (filters.size() > transport::kCanMaxFilters) return {StatusCode::kInvalidArgument, "more than 512 CAN filters"};
+    if (filters.size() > transport::kCanMaxFilters)
+        return {StatusCode::kInvalidArgument, "more than 512 CAN filters"};
     filters_.assign(filters.begin(), filters.end());
     return Status::ok();
 }
@@ -77,8 +83,10 @@ bool CandumpLogBus::fillNext() {
         auto rec = parseCandumpAnyLine(line);
         if (!rec || !rec->has_time) {
             ++bad_lines_;
-            last_error_ = name_ + ":" + std::to_string(line_no_) + ": " +
-                          (rec ? std::string("line has no timestamp; record with candump -l or -t a") : rec.status().message());
+            last_error_ =
+                name_ + ":" + std::to_string(line_no_) + ": " +
+                (rec ? std::string("line has no timestamp; record with candump -l or -t a")
+                     : rec.status().message());
             continue;
         }
         next_ = std::move(*rec);
@@ -89,7 +97,9 @@ bool CandumpLogBus::fillNext() {
 Result<transport::TimedCanFrame> CandumpLogBus::receive(TimeNs timeout) {
     if (!open_) return Status(StatusCode::kDisconnected, describe() + " is closed");
     for (;;) {
-        if (!fillNext()) return Status(StatusCode::kDisconnected, describe() + ": end of log after line " + std::to_string(line_no_));
+        if (!fillNext())
+            return Status(StatusCode::kDisconnected,
+                          describe() + ": end of log after line " + std::to_string(line_no_));
         const TimeNs t = next_->timeNs();
         if (!started_) {
             now_ = t;  // the log's clock starts at its first frame

@@ -15,17 +15,28 @@ namespace {
 
 std::optional<speed_t> speedOf(int baud) {
     switch (baud) {
-        case 9600: return B9600;
-        case 19200: return B19200;
-        case 38400: return B38400;
-        case 57600: return B57600;
-        case 115200: return B115200;
-        case 230400: return B230400;
-        case 460800: return B460800;
-        case 921600: return B921600;
-        case 2000000: return B2000000;
-        case 4000000: return B4000000;
-        default: return std::nullopt;
+        case 9600:
+            return B9600;
+        case 19200:
+            return B19200;
+        case 38400:
+            return B38400;
+        case 57600:
+            return B57600;
+        case 115200:
+            return B115200;
+        case 230400:
+            return B230400;
+        case 460800:
+            return B460800;
+        case 921600:
+            return B921600;
+        case 2000000:
+            return B2000000;
+        case 4000000:
+            return B4000000;
+        default:
+            return std::nullopt;
     }
 }
 
@@ -43,21 +54,25 @@ SerialStream::~SerialStream() { close(); }
 
 bool SerialStream::supportsBaudrate(int baud) { return speedOf(baud).has_value(); }
 
-std::string SerialStream::describe() const { return "serial " + cfg_.path + " " + std::to_string(cfg_.baud); }
+std::string SerialStream::describe() const {
+    return "serial " + cfg_.path + " " + std::to_string(cfg_.baud);
+}
 
 Status SerialStream::applyTermios(int baud) {
     const auto speed = speedOf(baud);
     if (!speed) {
-        return {StatusCode::kInvalidArgument, describe() + ": " + std::to_string(baud) +
-                                                  " baud is not a standard rate; use 9600 ... 921600"};
+        return {StatusCode::kInvalidArgument,
+                describe() + ": " + std::to_string(baud) +
+                    " baud is not a standard rate; use 9600 ... 921600"};
     }
     termios tio{};
     if (::tcgetattr(fd_, &tio) != 0) {
-        return {StatusCode::kIoError, describe() + ": tcgetattr: " + errnoText() + " (is it a tty?)"};
+        return {StatusCode::kIoError,
+                describe() + ": tcgetattr: " + errnoText() + " (is it a tty?)"};
     }
     // Raw mode, spelled out (what cfmakeraw does, plus 8N1, no flow control, receiver on).
-    tio.c_iflag &= ~static_cast<tcflag_t>(IGNBRK | BRKINT | PARMRK | ISTRIP | INLCR | IGNCR | ICRNL | IXON | IXOFF |
-                                          IXANY | INPCK);
+    tio.c_iflag &= ~static_cast<tcflag_t>(IGNBRK | BRKINT | PARMRK | ISTRIP | INLCR | IGNCR |
+                                          ICRNL | IXON | IXOFF | IXANY | INPCK);
     tio.c_oflag &= ~static_cast<tcflag_t>(OPOST);
     tio.c_lflag &= ~static_cast<tcflag_t>(ECHO | ECHONL | ICANON | ISIG | IEXTEN);
     tio.c_cflag &= ~static_cast<tcflag_t>(CSIZE | PARENB | CSTOPB | CRTSCTS);
@@ -72,10 +87,12 @@ Status SerialStream::applyTermios(int baud) {
     }
     // tcsetattr succeeds if *any* change was applied: read back to be sure the rate took.
     termios check{};
-    if (::tcgetattr(fd_, &check) != 0 || ::cfgetispeed(&check) != *speed || ::cfgetospeed(&check) != *speed ||
-        (check.c_cflag & CSIZE) != CS8 || (check.c_lflag & ICANON) != 0) {
+    if (::tcgetattr(fd_, &check) != 0 || ::cfgetispeed(&check) != *speed ||
+        ::cfgetospeed(&check) != *speed || (check.c_cflag & CSIZE) != CS8 ||
+        (check.c_lflag & ICANON) != 0) {
         return {StatusCode::kIoError, describe() + ": the tty driver did not take raw 8N1 at " +
-                                          std::to_string(baud) + " baud; does the adapter support this rate?"};
+                                          std::to_string(baud) +
+                                          " baud; does the adapter support this rate?"};
     }
     cfg_.baud = baud;
     return Status::ok();
@@ -88,7 +105,8 @@ Status SerialStream::open() {
     if (fd_ < 0) {
         const int err = errno;
         const StatusCode code = err == ENOENT ? StatusCode::kNotFound : StatusCode::kIoError;
-        std::string hint = err == EACCES ? " (add the user to the dialout group or install the udev rule)"
+        std::string hint = err == EACCES
+                               ? " (add the user to the dialout group or install the udev rule)"
                            : err == ENOENT ? " (is the device plugged in?)"
                                            : "";
         return {code, describe() + ": open: " + std::strerror(err) + hint};
@@ -143,13 +161,15 @@ Result<std::size_t> SerialStream::read(std::span<std::uint8_t> buffer, TimeNs ti
     } while (n < 0 && errno == EINTR);
     if (n < 0) {
         if (errno == EAGAIN) return std::size_t{0};
-        const StatusCode code = errno == EIO || errno == ENXIO || errno == ENODEV ? StatusCode::kDisconnected
-                                                                                   : StatusCode::kIoError;
+        const StatusCode code = errno == EIO || errno == ENXIO || errno == ENODEV
+                                    ? StatusCode::kDisconnected
+                                    : StatusCode::kIoError;
         return Status{code, describe() + ": read: " + errnoText()};
     }
     if (n == 0) {
         // poll said readable but there is nothing: the line hung up (USB adapter unplugged).
-        return Status{StatusCode::kDisconnected, describe() + ": end of stream (device unplugged?)"};
+        return Status{StatusCode::kDisconnected,
+                      describe() + ": end of stream (device unplugged?)"};
     }
     return static_cast<std::size_t>(n);
 }
@@ -166,13 +186,15 @@ Status SerialStream::writeAll(std::span<const std::uint8_t> data, TimeNs timeout
         }
         if (n < 0 && errno == EINTR) continue;
         if (n < 0 && errno != EAGAIN) {
-            const StatusCode code = errno == EIO || errno == ENXIO ? StatusCode::kDisconnected : StatusCode::kIoError;
+            const StatusCode code =
+                errno == EIO || errno == ENXIO ? StatusCode::kDisconnected : StatusCode::kIoError;
             return {code, describe() + ": write: " + errnoText()};
         }
         const TimeNs left = deadline - monotonicNow();
         if (left <= 0) {
-            return {StatusCode::kTimeout, describe() + ": write timed out with " + std::to_string(data.size() - done) +
-                                              " of " + std::to_string(data.size()) + " bytes unsent"};
+            return {StatusCode::kTimeout, describe() + ": write timed out with " +
+                                              std::to_string(data.size() - done) + " of " +
+                                              std::to_string(data.size()) + " bytes unsent"};
         }
         pollfd p{fd_, POLLOUT, 0};
         (void)::poll(&p, 1, pollTimeoutMs(left));

@@ -15,8 +15,10 @@
 namespace handscan::transport {
 namespace {
 
-static_assert(CAN_EFF_FLAG == kCanEffFlag && CAN_RTR_FLAG == kCanRtrFlag && CAN_ERR_FLAG == kCanErrFlag);
-static_assert(CAN_SFF_MASK == kCanSffMask && CAN_EFF_MASK == kCanEffMask && CAN_RAW_FILTER_MAX == kCanMaxFilters);
+static_assert(CAN_EFF_FLAG == kCanEffFlag && CAN_RTR_FLAG == kCanRtrFlag &&
+              CAN_ERR_FLAG == kCanErrFlag);
+static_assert(CAN_SFF_MASK == kCanSffMask && CAN_EFF_MASK == kCanEffMask &&
+              CAN_RAW_FILTER_MAX == kCanMaxFilters);
 
 std::string errnoText(int e) { return std::strerror(e); }
 
@@ -25,7 +27,9 @@ CanFrame fromKernel(const canfd_frame& k, bool fd) {
     f.extended = (k.can_id & CAN_EFF_FLAG) != 0;
     f.remote = !fd && (k.can_id & CAN_RTR_FLAG) != 0;
     f.error = (k.can_id & CAN_ERR_FLAG) != 0;
-    f.id = f.error ? (k.can_id & CAN_ERR_MASK) : f.extended ? (k.can_id & CAN_EFF_MASK) : (k.can_id & CAN_SFF_MASK);
+    f.id = f.error      ? (k.can_id & CAN_ERR_MASK)
+           : f.extended ? (k.can_id & CAN_EFF_MASK)
+                        : (k.can_id & CAN_SFF_MASK);
     f.fd = fd;
     f.len = k.len;
     if (fd) {
@@ -53,20 +57,23 @@ Status SocketCanBus::open() {
     const int fd = ::socket(PF_CAN, SOCK_RAW, CAN_RAW);
     if (fd < 0) {
         const int e = errno;
-        return {StatusCode::kUnsupported, "socketcan: socket(PF_CAN, SOCK_RAW, CAN_RAW) failed: " + errnoText(e) +
-                                              " (kernel without CAN support? modprobe can-raw)"};
+        return {StatusCode::kUnsupported,
+                "socketcan: socket(PF_CAN, SOCK_RAW, CAN_RAW) failed: " + errnoText(e) +
+                    " (kernel without CAN support? modprobe can-raw)"};
     }
     ifreq ifr{};
     if (interface_.size() >= IFNAMSIZ) {
         ::close(fd);
-        return {StatusCode::kInvalidArgument, "socketcan: interface name '" + interface_ + "' longer than 15 characters"};
+        return {StatusCode::kInvalidArgument,
+                "socketcan: interface name '" + interface_ + "' longer than 15 characters"};
     }
     std::strncpy(ifr.ifr_name, interface_.c_str(), IFNAMSIZ - 1);
     if (::ioctl(fd, SIOCGIFINDEX, &ifr) < 0) {
         const int e = errno;
         ::close(fd);
-        return {StatusCode::kNotFound, "socketcan: no CAN interface '" + interface_ + "': " + errnoText(e) +
-                                           " (ip link set " + interface_ + " up type can bitrate 1000000)"};
+        return {StatusCode::kNotFound, "socketcan: no CAN interface '" + interface_ +
+                                           "': " + errnoText(e) + " (ip link set " + interface_ +
+                                           " up type can bitrate 1000000)"};
     }
     sockaddr_can addr{};
     addr.can_family = AF_CAN;
@@ -74,12 +81,15 @@ Status SocketCanBus::open() {
     if (::bind(fd, reinterpret_cast<sockaddr*>(&addr), sizeof addr) < 0) {
         const int e = errno;
         ::close(fd);
-        return {StatusCode::kIoError, "socketcan: bind to " + interface_ + " failed: " + errnoText(e)};
+        return {StatusCode::kIoError,
+                "socketcan: bind to " + interface_ + " failed: " + errnoText(e)};
     }
     const int on = 1;
     fd_frames_ = ::setsockopt(fd, SOL_CAN_RAW, CAN_RAW_FD_FRAMES, &on, sizeof on) == 0;
-    const can_err_mask_t err_mask = CAN_ERR_TX_TIMEOUT | CAN_ERR_CRTL | CAN_ERR_BUSOFF | CAN_ERR_RESTARTED;
-    (void)::setsockopt(fd, SOL_CAN_RAW, CAN_RAW_ERR_FILTER, &err_mask, sizeof err_mask);  // best effort
+    const can_err_mask_t err_mask =
+        CAN_ERR_TX_TIMEOUT | CAN_ERR_CRTL | CAN_ERR_BUSOFF | CAN_ERR_RESTARTED;
+    (void)::setsockopt(fd, SOL_CAN_RAW, CAN_RAW_ERR_FILTER, &err_mask,
+                       sizeof err_mask);  // best effort
     fd_ = fd;
     if (Status s = applyFilters(); !s) {
         close();
@@ -92,14 +102,16 @@ Status SocketCanBus::setReceiveOwnMessages(bool on) {
     if (fd_ < 0) return {StatusCode::kDisconnected, describe() + " is not open"};
     const int v = on ? 1 : 0;
     if (::setsockopt(fd_, SOL_CAN_RAW, CAN_RAW_RECV_OWN_MSGS, &v, sizeof v) < 0) {
-        return {StatusCode::kIoError, describe() + ": CAN_RAW_RECV_OWN_MSGS failed: " + errnoText(errno)};
+        return {StatusCode::kIoError,
+                describe() + ": CAN_RAW_RECV_OWN_MSGS failed: " + errnoText(errno)};
     }
     return Status::ok();
 }
 
 Status SocketCanBus::setFilters(std::span<const CanFilter> filters) {
     if (filters.size() > kCanMaxFilters) {
-        return {StatusCode::kInvalidArgument, describe() + ": " + std::to_string(filters.size()) + " filters, the kernel takes at most 512"};
+        return {StatusCode::kInvalidArgument, describe() + ": " + std::to_string(filters.size()) +
+                                                  " filters, the kernel takes at most 512"};
     }
     filters_.assign(filters.begin(), filters.end());
     return fd_ >= 0 ? applyFilters() : Status::ok();
@@ -113,8 +125,10 @@ Status SocketCanBus::applyFilters() {
     for (const CanFilter& f : filters_) {
         k.push_back({f.id | (f.inverted ? CAN_INV_FILTER : 0u), f.mask});
     }
-    if (::setsockopt(fd_, SOL_CAN_RAW, CAN_RAW_FILTER, k.data(), static_cast<socklen_t>(k.size() * sizeof(can_filter))) < 0) {
-        return {StatusCode::kIoError, describe() + ": setsockopt(CAN_RAW_FILTER) failed: " + errnoText(errno)};
+    if (::setsockopt(fd_, SOL_CAN_RAW, CAN_RAW_FILTER, k.data(),
+                     static_cast<socklen_t>(k.size() * sizeof(can_filter))) < 0) {
+        return {StatusCode::kIoError,
+                describe() + ": setsockopt(CAN_RAW_FILTER) failed: " + errnoText(errno)};
     }
     return Status::ok();
 }
@@ -137,22 +151,26 @@ Result<TimedCanFrame> SocketCanBus::receive(TimeNs timeout) {
     const TimeNs t = monotonicNow();
     if (got < 0) {
         const int e = errno;
-        if (e == ENETDOWN || e == ENODEV) return Status(StatusCode::kDisconnected, describe() + ": " + errnoText(e));
+        if (e == ENETDOWN || e == ENODEV)
+            return Status(StatusCode::kDisconnected, describe() + ": " + errnoText(e));
         return Status(StatusCode::kIoError, describe() + ": read failed: " + errnoText(e));
     }
     if (got != static_cast<ssize_t>(CAN_MTU) && got != static_cast<ssize_t>(CANFD_MTU)) {
-        return Status(StatusCode::kProtocolError, describe() + ": short read of " + std::to_string(got) + " bytes");
+        return Status(StatusCode::kProtocolError,
+                      describe() + ": short read of " + std::to_string(got) + " bytes");
     }
     return TimedCanFrame{t, fromKernel(k, got == static_cast<ssize_t>(CANFD_MTU))};
 }
 
 Status SocketCanBus::send(const CanFrame& f) {
     if (fd_ < 0) return {StatusCode::kDisconnected, describe() + " is not open"};
-    if (f.fd && !fd_frames_) return {StatusCode::kUnsupported, describe() + ": interface does not take CAN FD frames"};
+    if (f.fd && !fd_frames_)
+        return {StatusCode::kUnsupported, describe() + ": interface does not take CAN FD frames"};
     canfd_frame k{};
     k.can_id = canIdWithFlags(f);
     if (f.fd) k.can_id &= ~CAN_RTR_FLAG;
-    k.len = f.len > (f.fd ? CANFD_MAX_DLEN : CAN_MAX_DLEN) ? (f.fd ? CANFD_MAX_DLEN : CAN_MAX_DLEN) : f.len;
+    k.len = f.len > (f.fd ? CANFD_MAX_DLEN : CAN_MAX_DLEN) ? (f.fd ? CANFD_MAX_DLEN : CAN_MAX_DLEN)
+                                                           : f.len;
     if (f.fd) {
         k.flags = f.fd_flags;
     } else if (f.len8_dlc > CAN_MAX_DLEN && k.len == CAN_MAX_DLEN) {
@@ -163,7 +181,9 @@ Status SocketCanBus::send(const CanFrame& f) {
     const ssize_t put = ::write(fd_, &k, size);
     if (put != static_cast<ssize_t>(size)) {
         const int e = errno;
-        if (e == ENOBUFS) return {StatusCode::kNoSpace, describe() + ": transmit queue full (bus off or no ACK from any node?)"};
+        if (e == ENOBUFS)
+            return {StatusCode::kNoSpace,
+                    describe() + ": transmit queue full (bus off or no ACK from any node?)"};
         return {StatusCode::kIoError, describe() + ": write failed: " + errnoText(e)};
     }
     return Status::ok();

@@ -64,7 +64,8 @@ void TcpStream::close() {
 Status TcpStream::open() {
     close();
     if (adopted_) {
-        return Status(StatusCode::kUnsupported, describe() + ": an accepted connection cannot be reopened");
+        return Status(StatusCode::kUnsupported,
+                      describe() + ": an accepted connection cannot be reopened");
     }
     const std::string where = describe();
     if (port_ < 1 || port_ > 65535) {
@@ -100,17 +101,21 @@ Status TcpStream::open() {
             }
             int err = 0;
             socklen_t len = sizeof err;
-            if (w < 0) err = errno;
-            else ::getsockopt(fd, SOL_SOCKET, SO_ERROR, &err, &len);
+            if (w < 0)
+                err = errno;
+            else
+                ::getsockopt(fd, SOL_SOCKET, SO_ERROR, &err, &len);
             r = err == 0 ? 0 : -1;
             errno = err;
         }
         if (r < 0) {
             const int e = errno;
             ::close(fd);
-            last = Status(e == ECONNREFUSED ? StatusCode::kDisconnected : StatusCode::kIoError,
-                          where + ": connect: " + errnoText(e) +
-                              (e == ECONNREFUSED ? " (is another client connected, or the port wrong?)" : ""));
+            last =
+                Status(e == ECONNREFUSED ? StatusCode::kDisconnected : StatusCode::kIoError,
+                       where + ": connect: " + errnoText(e) +
+                           (e == ECONNREFUSED ? " (is another client connected, or the port wrong?)"
+                                              : ""));
             continue;
         }
         const int one = 1;
@@ -133,7 +138,8 @@ Result<std::size_t> TcpStream::read(std::span<std::uint8_t> buffer, TimeNs timeo
         if (n > 0) return static_cast<std::size_t>(n);
         if (n == 0) {
             close();
-            return Status(StatusCode::kDisconnected, describe() + ": connection closed by the peer");
+            return Status(StatusCode::kDisconnected,
+                          describe() + ": connection closed by the peer");
         }
         if (errno == EINTR) continue;
         if (errno == EAGAIN || errno == EWOULDBLOCK) return std::size_t{0};
@@ -218,9 +224,11 @@ Result<std::unique_ptr<TcpStream>> TcpListener::accept(TimeNs timeout) {
     if (w < 0) return Status(StatusCode::kIoError, describe() + ": poll: " + errnoText(errno));
     sockaddr_in peer{};
     socklen_t len = sizeof peer;
-    const int fd = ::accept4(fd_, reinterpret_cast<sockaddr*>(&peer), &len, SOCK_NONBLOCK | SOCK_CLOEXEC);
+    const int fd =
+        ::accept4(fd_, reinterpret_cast<sockaddr*>(&peer), &len, SOCK_NONBLOCK | SOCK_CLOEXEC);
     if (fd < 0) {
-        if (errno == EAGAIN || errno == EWOULDBLOCK || errno == EINTR) return std::unique_ptr<TcpStream>{};
+        if (errno == EAGAIN || errno == EWOULDBLOCK || errno == EINTR)
+            return std::unique_ptr<TcpStream>{};
         return Status(StatusCode::kIoError, describe() + ": accept: " + errnoText(errno));
     }
     const int one = 1;

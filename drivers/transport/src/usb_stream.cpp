@@ -15,7 +15,8 @@ constexpr std::size_t kRxBuffer = 4096;  // a multiple of every bulk max packet 
 
 unsigned timeoutMs(TimeNs timeout) {
     // 0 means "no timeout" to libusb: wait at least 1 ms instead.
-    return static_cast<unsigned>(std::clamp<TimeNs>((timeout + kNsPerMs - 1) / kNsPerMs, 1, 60'000));
+    return static_cast<unsigned>(
+        std::clamp<TimeNs>((timeout + kNsPerMs - 1) / kNsPerMs, 1, 60'000));
 }
 
 std::string hex4(std::uint16_t v) {
@@ -24,7 +25,9 @@ std::string hex4(std::uint16_t v) {
     return b;
 }
 
-bool isBulk(const UsbEndpoint& e) { return (e.attributes & usb::kTransferTypeMask) == usb::kTransferTypeBulk; }
+bool isBulk(const UsbEndpoint& e) {
+    return (e.attributes & usb::kTransferTypeMask) == usb::kTransferTypeBulk;
+}
 
 }  // namespace
 
@@ -37,8 +40,11 @@ UsbStream::~UsbStream() {
 }
 
 std::string UsbStream::describe() const {
-    std::string s = "usb " + hex4(cfg_.vendor_id) + ":" + (cfg_.product_id ? hex4(*cfg_.product_id) : "*");
-    if (open_) s += " (bus " + std::to_string(device_.bus) + " address " + std::to_string(device_.address) + ")";
+    std::string s =
+        "usb " + hex4(cfg_.vendor_id) + ":" + (cfg_.product_id ? hex4(*cfg_.product_id) : "*");
+    if (open_)
+        s += " (bus " + std::to_string(device_.bus) + " address " +
+             std::to_string(device_.address) + ")";
     return s;
 }
 
@@ -49,23 +55,29 @@ Status UsbStream::fail(StatusCode code, const std::string& what, int rc) {
 Status UsbStream::open() {
     close();
     if (!initialised_) {
-        if (int rc = layer_->init(); rc != usb::kSuccess) return fail(StatusCode::kIoError, "libusb_init", rc);
+        if (int rc = layer_->init(); rc != usb::kSuccess)
+            return fail(StatusCode::kIoError, "libusb_init", rc);
         initialised_ = true;
     }
     // 1. Find the device.
     std::vector<UsbDeviceInfo> devices;
-    if (int rc = layer_->listDevices(devices); rc < 0) return fail(StatusCode::kIoError, "listing USB devices", rc);
+    if (int rc = layer_->listDevices(devices); rc < 0)
+        return fail(StatusCode::kIoError, "listing USB devices", rc);
     const auto it = std::find_if(devices.begin(), devices.end(), [&](const UsbDeviceInfo& d) {
-        return d.vendor_id == cfg_.vendor_id && (!cfg_.product_id || d.product_id == *cfg_.product_id);
+        return d.vendor_id == cfg_.vendor_id &&
+               (!cfg_.product_id || d.product_id == *cfg_.product_id);
     });
     if (it == devices.end()) {
-        return {StatusCode::kNotFound, describe() + ": no such device among " + std::to_string(devices.size()) +
-                                           " USB devices; is the MTi plugged in (lsusb shows 2639:xxxx)?"};
+        return {StatusCode::kNotFound,
+                describe() + ": no such device among " + std::to_string(devices.size()) +
+                    " USB devices; is the MTi plugged in (lsusb shows 2639:xxxx)?"};
     }
     device_ = *it;
     if (int rc = layer_->open(device_); rc != usb::kSuccess) {
         return fail(StatusCode::kIoError,
-                    rc == usb::kErrorAccess ? "libusb_open (no permission: install the udev rule for 2639:*)" : "libusb_open",
+                    rc == usb::kErrorAccess
+                        ? "libusb_open (no permission: install the udev rule for 2639:*)"
+                        : "libusb_open",
                     rc);
     }
     // 2. The interface with a bulk IN and a bulk OUT endpoint (interface 1 on the MTi; the
@@ -78,7 +90,8 @@ Status UsbStream::open() {
     for (const auto& e : eps) {
         if (!isBulk(e) || (e.address & usb::kEndpointIn) == 0) continue;
         const auto out = std::find_if(eps.begin(), eps.end(), [&](const UsbEndpoint& o) {
-            return o.interface_number == e.interface_number && isBulk(o) && (o.address & usb::kEndpointIn) == 0;
+            return o.interface_number == e.interface_number && isBulk(o) &&
+                   (o.address & usb::kEndpointIn) == 0;
         });
         if (out != eps.end()) {
             in_ = e;
@@ -89,12 +102,15 @@ Status UsbStream::open() {
     }
     if (interface_ < 0) {
         layer_->close();
-        return {StatusCode::kProtocolError, describe() + ": no interface with bulk IN and OUT endpoints; not an MTi?"};
+        return {StatusCode::kProtocolError,
+                describe() + ": no interface with bulk IN and OUT endpoints; not an MTi?"};
     }
     // 3. Take the interface from the kernel driver (xsens_mt / usbserial) if it holds it.
     if (layer_->kernelDriverActive(interface_) == 1) {
         if (int rc = layer_->detachKernelDriver(interface_); rc != usb::kSuccess) {
-            Status s = fail(StatusCode::kIoError, "detaching the kernel driver from interface " + std::to_string(interface_), rc);
+            Status s = fail(
+                StatusCode::kIoError,
+                "detaching the kernel driver from interface " + std::to_string(interface_), rc);
             layer_->close();
             interface_ = -1;
             return s;
@@ -131,13 +147,15 @@ Result<std::size_t> UsbStream::read(std::span<std::uint8_t> buffer, TimeNs timeo
     if (rx_head_ == rx_size_) {
         // Always ask for whole packets: a short buffer would make libusb report an overflow.
         int got = 0;
-        const int rc = layer_->bulkTransfer(in_.address, rx_.data(), static_cast<int>(rx_.size()), &got, timeoutMs(timeout));
+        const int rc = layer_->bulkTransfer(in_.address, rx_.data(), static_cast<int>(rx_.size()),
+                                            &got, timeoutMs(timeout));
         if (rc == usb::kErrorNoDevice) {
             open_ = false;
             return Status{StatusCode::kDisconnected, describe() + ": the device was unplugged"};
         }
         if (rc == usb::kErrorPipe) {
-            layer_->clearHalt(in_.address);  // a stalled endpoint: clear it and let the caller retry
+            layer_->clearHalt(
+                in_.address);  // a stalled endpoint: clear it and let the caller retry
             return std::size_t{0};
         }
         if (rc != usb::kSuccess && rc != usb::kErrorTimeout && rc != usb::kErrorInterrupted) {
@@ -160,8 +178,9 @@ Status UsbStream::writeAll(std::span<const std::uint8_t> data, TimeNs timeout) {
     while (done < data.size()) {
         chunk.assign(data.begin() + static_cast<std::ptrdiff_t>(done), data.end());
         int sent = 0;
-        const int rc = layer_->bulkTransfer(out_.address, chunk.data(), static_cast<int>(chunk.size()), &sent,
-                                            timeoutMs(deadline - monotonicNow()));
+        const int rc =
+            layer_->bulkTransfer(out_.address, chunk.data(), static_cast<int>(chunk.size()), &sent,
+                                 timeoutMs(deadline - monotonicNow()));
         done += static_cast<std::size_t>(std::max(sent, 0));
         if (rc == usb::kErrorNoDevice) {
             open_ = false;
@@ -171,7 +190,8 @@ Status UsbStream::writeAll(std::span<const std::uint8_t> data, TimeNs timeout) {
             return {StatusCode::kTimeout, describe() + ": bulk write timed out with " +
                                               std::to_string(data.size() - done) + " bytes unsent"};
         }
-        if (rc != usb::kSuccess && rc != usb::kErrorTimeout) return fail(StatusCode::kIoError, "bulk write", rc);
+        if (rc != usb::kSuccess && rc != usb::kErrorTimeout)
+            return fail(StatusCode::kIoError, "bulk write", rc);
     }
     return Status::ok();
 }
@@ -181,8 +201,10 @@ Status UsbStream::writeAll(std::span<const std::uint8_t> data, TimeNs timeout) {
 static_assert(usb::kErrorIo == LIBUSB_ERROR_IO && usb::kErrorNoDevice == LIBUSB_ERROR_NO_DEVICE &&
               usb::kErrorTimeout == LIBUSB_ERROR_TIMEOUT && usb::kErrorPipe == LIBUSB_ERROR_PIPE &&
               usb::kErrorBusy == LIBUSB_ERROR_BUSY && usb::kErrorAccess == LIBUSB_ERROR_ACCESS &&
-              usb::kErrorOverflow == LIBUSB_ERROR_OVERFLOW && usb::kErrorInterrupted == LIBUSB_ERROR_INTERRUPTED &&
-              usb::kEndpointIn == LIBUSB_ENDPOINT_IN && usb::kTransferTypeBulk == LIBUSB_TRANSFER_TYPE_BULK &&
+              usb::kErrorOverflow == LIBUSB_ERROR_OVERFLOW &&
+              usb::kErrorInterrupted == LIBUSB_ERROR_INTERRUPTED &&
+              usb::kEndpointIn == LIBUSB_ENDPOINT_IN &&
+              usb::kTransferTypeBulk == LIBUSB_TRANSFER_TYPE_BULK &&
               usb::kTransferTypeMask == LIBUSB_TRANSFER_TYPE_MASK);
 
 namespace {
@@ -205,7 +227,8 @@ public:
         for (ssize_t i = 0; i < n; ++i) {
             libusb_device_descriptor d{};
             if (libusb_get_device_descriptor(list[i], &d) != 0) continue;
-            out.push_back({d.idVendor, d.idProduct, libusb_get_bus_number(list[i]), libusb_get_device_address(list[i])});
+            out.push_back({d.idVendor, d.idProduct, libusb_get_bus_number(list[i]),
+                           libusb_get_device_address(list[i])});
         }
         libusb_free_device_list(list, 1);
         return static_cast<int>(out.size());
@@ -216,7 +239,8 @@ public:
         if (n < 0) return static_cast<int>(n);
         int rc = LIBUSB_ERROR_NO_DEVICE;
         for (ssize_t i = 0; i < n; ++i) {
-            if (libusb_get_bus_number(list[i]) == info.bus && libusb_get_device_address(list[i]) == info.address) {
+            if (libusb_get_bus_number(list[i]) == info.bus &&
+                libusb_get_device_address(list[i]) == info.address) {
                 rc = libusb_open(list[i], &handle_);
                 break;
             }
@@ -238,7 +262,8 @@ public:
             const libusb_interface_descriptor& alt = itf.altsetting[0];
             for (int e = 0; e < alt.bNumEndpoints; ++e) {
                 const libusb_endpoint_descriptor& ep = alt.endpoint[e];
-                out.push_back({alt.bInterfaceNumber, ep.bEndpointAddress, ep.bmAttributes, ep.wMaxPacketSize});
+                out.push_back({alt.bInterfaceNumber, ep.bEndpointAddress, ep.bmAttributes,
+                               ep.wMaxPacketSize});
             }
         }
         libusb_free_config_descriptor(config);
@@ -249,7 +274,8 @@ public:
     int claimInterface(int itf) override { return libusb_claim_interface(handle_, itf); }
     int releaseInterface(int itf) override { return libusb_release_interface(handle_, itf); }
     int clearHalt(std::uint8_t ep) override { return libusb_clear_halt(handle_, ep); }
-    int bulkTransfer(std::uint8_t ep, std::uint8_t* data, int length, int* transferred, unsigned timeout_ms) override {
+    int bulkTransfer(std::uint8_t ep, std::uint8_t* data, int length, int* transferred,
+                     unsigned timeout_ms) override {
         return libusb_bulk_transfer(handle_, ep, data, length, transferred, timeout_ms);
     }
     std::string errorName(int code) override { return libusb_error_name(code); }
@@ -261,7 +287,9 @@ private:
 
 }  // namespace
 
-std::unique_ptr<UsbDeviceLayer> makeLibusbDeviceLayer() { return std::make_unique<LibusbDeviceLayer>(); }
+std::unique_ptr<UsbDeviceLayer> makeLibusbDeviceLayer() {
+    return std::make_unique<LibusbDeviceLayer>();
+}
 
 #endif
 

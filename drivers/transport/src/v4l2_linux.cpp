@@ -13,15 +13,22 @@
 
 namespace handscan::transport {
 
-static_assert(V4L2_CAP_VIDEO_CAPTURE == kV4l2CapVideoCapture && V4L2_CAP_STREAMING == kV4l2CapStreaming &&
+static_assert(V4L2_CAP_VIDEO_CAPTURE == kV4l2CapVideoCapture &&
+              V4L2_CAP_STREAMING == kV4l2CapStreaming &&
               V4L2_CAP_DEVICE_CAPS == kV4l2CapDeviceCaps);
-static_assert(V4L2_BUF_FLAG_ERROR == kV4l2BufFlagError && V4L2_BUF_FLAG_TIMESTAMP_MASK == kV4l2BufFlagTimestampMask &&
+static_assert(V4L2_BUF_FLAG_ERROR == kV4l2BufFlagError &&
+              V4L2_BUF_FLAG_TIMESTAMP_MASK == kV4l2BufFlagTimestampMask &&
               V4L2_BUF_FLAG_TIMESTAMP_MONOTONIC == kV4l2BufFlagTimestampMonotonic &&
-              V4L2_BUF_FLAG_TIMESTAMP_COPY == kV4l2BufFlagTimestampCopy && V4L2_BUF_FLAG_TSTAMP_SRC_MASK == kV4l2BufFlagTstampSrcMask &&
-              V4L2_BUF_FLAG_TSTAMP_SRC_SOE == kV4l2BufFlagTstampSrcSoe && V4L2_BUF_FLAG_TSTAMP_SRC_EOF == kV4l2BufFlagTstampSrcEof);
-static_assert(V4L2_CID_EXPOSURE_AUTO == kV4l2CidExposureAuto && V4L2_CID_EXPOSURE_ABSOLUTE == kV4l2CidExposureAbsolute &&
-              V4L2_EXPOSURE_MANUAL == kV4l2ExposureManual && V4L2_EXPOSURE_APERTURE_PRIORITY == kV4l2ExposureAperturePriority);
-static_assert(V4L2_PIX_FMT_GREY == kFourccGrey && V4L2_PIX_FMT_YUYV == kFourccYuyv && V4L2_PIX_FMT_MJPEG == kFourccMjpeg);
+              V4L2_BUF_FLAG_TIMESTAMP_COPY == kV4l2BufFlagTimestampCopy &&
+              V4L2_BUF_FLAG_TSTAMP_SRC_MASK == kV4l2BufFlagTstampSrcMask &&
+              V4L2_BUF_FLAG_TSTAMP_SRC_SOE == kV4l2BufFlagTstampSrcSoe &&
+              V4L2_BUF_FLAG_TSTAMP_SRC_EOF == kV4l2BufFlagTstampSrcEof);
+static_assert(V4L2_CID_EXPOSURE_AUTO == kV4l2CidExposureAuto &&
+              V4L2_CID_EXPOSURE_ABSOLUTE == kV4l2CidExposureAbsolute &&
+              V4L2_EXPOSURE_MANUAL == kV4l2ExposureManual &&
+              V4L2_EXPOSURE_APERTURE_PRIORITY == kV4l2ExposureAperturePriority);
+static_assert(V4L2_PIX_FMT_GREY == kFourccGrey && V4L2_PIX_FMT_YUYV == kFourccYuyv &&
+              V4L2_PIX_FMT_MJPEG == kFourccMjpeg);
 static_assert(V4L2_FIELD_NONE == kV4l2FieldNone);
 
 namespace {
@@ -44,7 +51,8 @@ public:
 
     Result<V4l2Capability> queryCapability() override {
         v4l2_capability c{};
-        if (xioctl(VIDIOC_QUERYCAP, &c) < 0) return fail(StatusCode::kDeviceError, "VIDIOC_QUERYCAP");
+        if (xioctl(VIDIOC_QUERYCAP, &c) < 0)
+            return fail(StatusCode::kDeviceError, "VIDIOC_QUERYCAP");
         V4l2Capability out;
         out.driver = reinterpret_cast<const char*>(c.driver);
         out.card = reinterpret_cast<const char*>(c.card);
@@ -62,8 +70,8 @@ public:
         fmt.fmt.pix.pixelformat = f.pixelformat;
         fmt.fmt.pix.field = f.field;
         if (xioctl(VIDIOC_S_FMT, &fmt) < 0) return fail(StatusCode::kDeviceError, "VIDIOC_S_FMT");
-        return V4l2PixFormat{fmt.fmt.pix.width, fmt.fmt.pix.height, fmt.fmt.pix.pixelformat, fmt.fmt.pix.field,
-                             fmt.fmt.pix.bytesperline, fmt.fmt.pix.sizeimage};
+        return V4l2PixFormat{fmt.fmt.pix.width, fmt.fmt.pix.height,       fmt.fmt.pix.pixelformat,
+                             fmt.fmt.pix.field, fmt.fmt.pix.bytesperline, fmt.fmt.pix.sizeimage};
     }
 
     Result<V4l2Fraction> setFrameInterval(V4l2Fraction t) override {
@@ -72,7 +80,8 @@ public:
         p.parm.capture.timeperframe.numerator = t.numerator;
         p.parm.capture.timeperframe.denominator = t.denominator;
         if (xioctl(VIDIOC_S_PARM, &p) < 0) return fail(StatusCode::kDeviceError, "VIDIOC_S_PARM");
-        return V4l2Fraction{p.parm.capture.timeperframe.numerator, p.parm.capture.timeperframe.denominator};
+        return V4l2Fraction{p.parm.capture.timeperframe.numerator,
+                            p.parm.capture.timeperframe.denominator};
     }
 
     Result<std::uint32_t> requestBuffers(std::uint32_t count) override {
@@ -89,7 +98,8 @@ public:
         b.type = V4L2_BUF_TYPE_VIDEO_CAPTURE;
         b.memory = V4L2_MEMORY_MMAP;
         b.index = index;
-        if (xioctl(VIDIOC_QUERYBUF, &b) < 0) return fail(StatusCode::kDeviceError, "VIDIOC_QUERYBUF");
+        if (xioctl(VIDIOC_QUERYBUF, &b) < 0)
+            return fail(StatusCode::kDeviceError, "VIDIOC_QUERYBUF");
         return convert(b);
     }
 
@@ -115,7 +125,8 @@ public:
         b.memory = V4L2_MEMORY_MMAP;
         if (xioctl(VIDIOC_DQBUF, &b) < 0) {
             if (errno == EAGAIN) return Status(StatusCode::kTimeout, "no buffer ready");
-            return fail(errno == ENODEV ? StatusCode::kDisconnected : StatusCode::kIoError, "VIDIOC_DQBUF");
+            return fail(errno == ENODEV ? StatusCode::kDisconnected : StatusCode::kIoError,
+                        "VIDIOC_DQBUF");
         }
         return convert(b);
     }
@@ -129,7 +140,9 @@ public:
         const int n = ::poll(&p, 1, ms);
         if (n < 0 && errno != EINTR) return fail(StatusCode::kIoError, "poll");
         if (n > 0 && (p.revents & (POLLERR | POLLHUP | POLLNVAL))) {
-            return Status(StatusCode::kDisconnected, describe() + ": device error or unplugged (poll revents " + std::to_string(p.revents) + ")");
+            return Status(StatusCode::kDisconnected,
+                          describe() + ": device error or unplugged (poll revents " +
+                              std::to_string(p.revents) + ")");
         }
         return n > 0;
     }
@@ -138,13 +151,15 @@ public:
         v4l2_control c{};
         c.id = id;
         c.value = value;
-        if (xioctl(VIDIOC_S_CTRL, &c) < 0) return fail(StatusCode::kDeviceError, "VIDIOC_S_CTRL " + std::to_string(id));
+        if (xioctl(VIDIOC_S_CTRL, &c) < 0)
+            return fail(StatusCode::kDeviceError, "VIDIOC_S_CTRL " + std::to_string(id));
         return Status::ok();
     }
     Result<std::int32_t> getControl(std::uint32_t id) override {
         v4l2_control c{};
         c.id = id;
-        if (xioctl(VIDIOC_G_CTRL, &c) < 0) return fail(StatusCode::kDeviceError, "VIDIOC_G_CTRL " + std::to_string(id));
+        if (xioctl(VIDIOC_G_CTRL, &c) < 0)
+            return fail(StatusCode::kDeviceError, "VIDIOC_G_CTRL " + std::to_string(id));
         return c.value;
     }
 
@@ -173,7 +188,8 @@ private:
         o.flags = b.flags;
         o.field = b.field;
         o.sequence = b.sequence;
-        o.timestamp_ns = static_cast<TimeNs>(b.timestamp.tv_sec) * kNsPerSec + static_cast<TimeNs>(b.timestamp.tv_usec) * kNsPerUs;
+        o.timestamp_ns = static_cast<TimeNs>(b.timestamp.tv_sec) * kNsPerSec +
+                         static_cast<TimeNs>(b.timestamp.tv_usec) * kNsPerUs;
         o.offset = b.m.offset;
         o.length = b.length;
         return o;
@@ -194,6 +210,8 @@ std::string fourccName(std::uint32_t code) {
     return s;
 }
 
-std::unique_ptr<V4l2Device> makeLinuxV4l2Device(std::string path) { return std::make_unique<LinuxV4l2Device>(std::move(path)); }
+std::unique_ptr<V4l2Device> makeLinuxV4l2Device(std::string path) {
+    return std::make_unique<LinuxV4l2Device>(std::move(path));
+}
 
 }  // namespace handscan::transport

@@ -18,7 +18,8 @@ ClockMapperConfig sampleTimeFineClock() {
 
 TimeNs ImuFrameTiming::delayOf(std::size_t frame_bytes) const {
     // 10 bits per byte on the wire (start, 8 data, stop).
-    const TimeNs wire = baud > 0 ? static_cast<TimeNs>(static_cast<double>(frame_bytes) * 10.0 * 1e9 / baud) : 0;
+    const TimeNs wire =
+        baud > 0 ? static_cast<TimeNs>(static_cast<double>(frame_bytes) * 10.0 * 1e9 / baud) : 0;
     return frame_latency_ns + wire;
 }
 
@@ -42,7 +43,8 @@ void ImuStreamDecoder::resetLink() {
     counter_.reset();
 }
 
-void ImuStreamDecoder::feed(TimeNs t_rx, std::span<const std::uint8_t> bytes, std::vector<ImuSample>& out) {
+void ImuStreamDecoder::feed(TimeNs t_rx, std::span<const std::uint8_t> bytes,
+                            std::vector<ImuSample>& out) {
     parser_.feed(bytes);
     decodePending(t_rx, out);
 }
@@ -51,11 +53,13 @@ void ImuStreamDecoder::decodePending(TimeNs t_rx, std::vector<ImuSample>& out) {
     while (auto f = parser_.next()) decode(*f, t_rx, out);
 }
 
-void ImuStreamDecoder::decode(const XbusFrameView& frame, TimeNs t_rx, std::vector<ImuSample>& out) {
+void ImuStreamDecoder::decode(const XbusFrameView& frame, TimeNs t_rx,
+                              std::vector<ImuSample>& out) {
     if (frame.mid == toByte(MessageId::kError)) {
         ++stats_.device_errors;
         auto e = decodeError(frame.payload);
-        problem(source_ + " reported Error " + (e.isOk() ? errorText(e->code) : e.status().message()));
+        problem(source_ + " reported Error " +
+                (e.isOk() ? errorText(e->code) : e.status().message()));
         return;
     }
     if (frame.mid == toByte(MessageId::kWakeUp)) {
@@ -65,8 +69,10 @@ void ImuStreamDecoder::decode(const XbusFrameView& frame, TimeNs t_rx, std::vect
         ++stats_.restarts;
         clock_ = ClockMapper(sampleTimeFineClock());
         counter_.reset();
-        problem(source_ + " restarted (WakeUp) while measuring; resuming with its stored configuration. Check the "
-                          "supply if this repeats.");
+        problem(source_ +
+                " restarted (WakeUp) while measuring; resuming with its stored configuration. "
+                "Check the "
+                "supply if this repeats.");
         return;
     }
     if (frame.mid != toByte(MessageId::kMtData2)) return;
@@ -93,8 +99,10 @@ void ImuStreamDecoder::decode(const XbusFrameView& frame, TimeNs t_rx, std::vect
     const auto gyro = packet->vector3(xdi::kRateOfTurn);
     if (!stf || !acc || !gyro) {
         ++stats_.incomplete;
-        problem(source_ + " MTData2 without SampleTimeFine, Acceleration or RateOfTurn (packet counter " +
-                std::to_string(counter_.last().value_or(0)) + "): no sample; is the output configuration ours?");
+        problem(source_ +
+                " MTData2 without SampleTimeFine, Acceleration or RateOfTurn (packet counter " +
+                std::to_string(counter_.last().value_or(0)) +
+                "): no sample; is the output configuration ours?");
         return;
     }
     // The frame's last byte came in at t_rx: the sample was taken at least the fixed latency and

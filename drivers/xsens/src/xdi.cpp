@@ -2,11 +2,11 @@
 // low-level protocol documentation as implemented by einride/xsens-go and Scottapotamas/xsens-mti
 // and checked against the real captures in ../shared/data/xsens. Layouts we could not confirm are
 // kOpaque: reported as raw bytes, never guessed.
+#include "handscan/xsens/xdi.hpp"
+
 #include <algorithm>
 #include <array>
 #include <numbers>
-
-#include "handscan/xsens/xdi.hpp"
 
 namespace handscan::xsens {
 namespace {
@@ -30,7 +30,8 @@ constexpr std::array<IntFieldInfo, 1> kSampleTimeCoarse{{{"value", IntType::kU32
 constexpr std::array<IntFieldInfo, 1> kSampleTime64{{{"value", IntType::kU64, 1e-4, "s"}}};
 constexpr std::array<IntFieldInfo, 1> kItow{{{"value", IntType::kU32, 1e-3, "s"}}};
 constexpr std::array<IntFieldInfo, 1> kPressure{{{"value", IntType::kU32, 1.0, "Pa"}}};
-constexpr std::array<IntFieldInfo, 2> kFrameRange{{{"start", IntType::kU16}, {"end", IntType::kU16}}};
+constexpr std::array<IntFieldInfo, 2> kFrameRange{
+    {{"start", IntType::kU16}, {"end", IntType::kU16}}};
 
 constexpr std::array<IntFieldInfo, 8> kUtc{{
     {"ns", IntType::kU32},  // nanoseconds within the second
@@ -98,16 +99,25 @@ constexpr std::array<IntFieldInfo, 4> kSat{{
 
 // Raw sensor counts (unsigned ADC values, temperature signed).
 constexpr std::array<IntFieldInfo, 10> kRawAgmt{{
-    {"acc_x", IntType::kU16}, {"acc_y", IntType::kU16}, {"acc_z", IntType::kU16},
-    {"gyr_x", IntType::kU16}, {"gyr_y", IntType::kU16}, {"gyr_z", IntType::kU16},
-    {"mag_x", IntType::kU16}, {"mag_y", IntType::kU16}, {"mag_z", IntType::kU16},
+    {"acc_x", IntType::kU16},
+    {"acc_y", IntType::kU16},
+    {"acc_z", IntType::kU16},
+    {"gyr_x", IntType::kU16},
+    {"gyr_y", IntType::kU16},
+    {"gyr_z", IntType::kU16},
+    {"mag_x", IntType::kU16},
+    {"mag_y", IntType::kU16},
+    {"mag_z", IntType::kU16},
     {"temp", IntType::kI16},
 }};
-constexpr std::array<IntFieldInfo, 3> kRawXyz{{{"x", IntType::kU16}, {"y", IntType::kU16}, {"z", IntType::kU16}}};
-constexpr std::array<IntFieldInfo, 3> kRawGyrTemp{{{"x", IntType::kI16}, {"y", IntType::kI16}, {"z", IntType::kI16}}};
+constexpr std::array<IntFieldInfo, 3> kRawXyz{
+    {{"x", IntType::kU16}, {"y", IntType::kU16}, {"z", IntType::kU16}}};
+constexpr std::array<IntFieldInfo, 3> kRawGyrTemp{
+    {{"x", IntType::kI16}, {"y", IntType::kI16}, {"z", IntType::kI16}}};
 
-constexpr XdiInfo reals(std::uint16_t type, std::string_view name, std::span<const std::string_view> comps,
-                        std::string_view unit, double si_scale, std::string_view si_unit, bool coords = false) {
+constexpr XdiInfo reals(std::uint16_t type, std::string_view name,
+                        std::span<const std::string_view> comps, std::string_view unit,
+                        double si_scale, std::string_view si_unit, bool coords = false) {
     XdiInfo i;
     i.type = type;
     i.name = name;
@@ -120,7 +130,8 @@ constexpr XdiInfo reals(std::uint16_t type, std::string_view name, std::span<con
     i.has_coord_sys = coords;
     return i;
 }
-constexpr XdiInfo ints(std::uint16_t type, std::string_view name, std::span<const IntFieldInfo> fields) {
+constexpr XdiInfo ints(std::uint16_t type, std::string_view name,
+                       std::span<const IntFieldInfo> fields) {
     XdiInfo i;
     i.type = type;
     i.name = name;
@@ -161,7 +172,8 @@ constexpr std::array kTable{
     reals(0x2030, "EulerAngles", kEuler, "deg", kDeg, "rad", true),
     reals(0x2040, "QuaternionStd", {}, "", 1.0, "", true),
     reals(0x2050, "EulerAnglesStd", kEuler, "deg", kDeg, "rad", true),
-    // BaroPressure is a u32 in Pa whatever the format bits say (MTi-300 capture: XDI 0x3013, 4 bytes).
+    // BaroPressure is a u32 in Pa whatever the format bits say (MTi-300 capture: XDI 0x3013, 4
+    // bytes).
     ints(0x3010, "BaroPressure", kPressure),
     reals(0x4010, "DeltaV", kXyz, "m/s", 1.0, "m/s"),
     reals(0x4020, "Acceleration", kXyz, "m/s^2", 1.0, "m/s^2"),
@@ -213,19 +225,26 @@ constexpr std::array kTable{
 
 std::string_view precisionName(Precision p) {
     switch (p) {
-        case Precision::kFloat32: return "Float32";
-        case Precision::kFp1220: return "FP1220";
-        case Precision::kFp1632: return "FP1632";
-        case Precision::kFloat64: return "Float64";
+        case Precision::kFloat32:
+            return "Float32";
+        case Precision::kFp1220:
+            return "FP1220";
+        case Precision::kFp1632:
+            return "FP1632";
+        case Precision::kFloat64:
+            return "Float64";
     }
     return "invalid";
 }
 
 std::string_view coordSysName(CoordSys c) {
     switch (c) {
-        case CoordSys::kEnu: return "ENU";
-        case CoordSys::kNed: return "NED";
-        case CoordSys::kNwu: return "NWU";
+        case CoordSys::kEnu:
+            return "ENU";
+        case CoordSys::kNed:
+            return "NED";
+        case CoordSys::kNwu:
+            return "NWU";
     }
     return "invalid";
 }

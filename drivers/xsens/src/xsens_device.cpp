@@ -15,12 +15,17 @@ constexpr std::size_t kReadChunk = 4096;
 }  // namespace
 
 XsensDevice::XsensDevice(transport::ByteStream& stream, XsensDeviceConfig config, RawTap* tap)
-    : stream_(stream), cfg_(std::move(config)), tap_(tap), decoder_("Xsens " + stream.describe()), rx_(kReadChunk),
+    : stream_(stream),
+      cfg_(std::move(config)),
+      tap_(tap),
+      decoder_("Xsens " + stream.describe()),
+      rx_(kReadChunk),
       link_baud_(cfg_.baudrate) {
     decoder_.onProblem([this](const std::string& p) { note(p); });
 }
 
-std::vector<OutputConfigEntry> XsensDevice::outputConfigurationFor(const XsensDeviceConfig& config) {
+std::vector<OutputConfigEntry> XsensDevice::outputConfigurationFor(
+    const XsensDeviceConfig& config) {
     const std::uint16_t hz = config.output_rate_hz;
     std::vector<OutputConfigEntry> entries{
         {xdi::kPacketCounter, kEveryPacket},
@@ -61,31 +66,35 @@ Status XsensDevice::readSome(TimeNs timeout, TimeNs& t_rx) {
     return Status::ok();
 }
 
-Result<XsensDevice::Reply> XsensDevice::request(MessageId mid, std::span<const std::uint8_t> payload,
+Result<XsensDevice::Reply> XsensDevice::request(MessageId mid,
+                                                std::span<const std::uint8_t> payload,
                                                 const char* step) {
     const std::vector<std::uint8_t> frame = encodeFrame(mid, payload);
     const MessageId ack = ackOf(mid);
     std::string last_error;
     for (int attempt = 1; attempt <= cfg_.attempts; ++attempt) {
         if (Status s = stream_.writeAll(frame, cfg_.reply_timeout); !s) {
-            return Status{s.code(), "Xsens " + std::string(step) + ": sending " + messageName(toByte(mid)) +
-                                        " over " + stream_.describe() + " failed: " + s.message()};
+            return Status{s.code(), "Xsens " + std::string(step) + ": sending " +
+                                        messageName(toByte(mid)) + " over " + stream_.describe() +
+                                        " failed: " + s.message()};
         }
         const TimeNs deadline = cfg_.clock() + cfg_.reply_timeout;
         bool resend = false;
         for (TimeNs now = cfg_.clock(); now < deadline && !resend;) {
             if (Status s = readSome(deadline - now, now); !s) {
-                return Status{s.code(), "Xsens " + std::string(step) + ": " + stream_.describe() + ": " + s.message()};
+                return Status{s.code(), "Xsens " + std::string(step) + ": " + stream_.describe() +
+                                            ": " + s.message()};
             }
             while (auto f = decoder_.nextFrame()) {
-                if (f->mid == toByte(ack)) return Reply{f->mid, {f->payload.begin(), f->payload.end()}};
+                if (f->mid == toByte(ack))
+                    return Reply{f->mid, {f->payload.begin(), f->payload.end()}};
                 if (f->mid == toByte(MessageId::kError)) {
                     ++refused_requests_;
                     auto e = decodeError(f->payload);
                     last_error = e.isOk() ? errorText(e->code) : e.status().message();
-                    note("Xsens " + std::string(step) + ": device answered " + messageName(toByte(mid)) +
-                         " with Error " + last_error + " (attempt " + std::to_string(attempt) + " of " +
-                         std::to_string(cfg_.attempts) + ")");
+                    note("Xsens " + std::string(step) + ": device answered " +
+                         messageName(toByte(mid)) + " with Error " + last_error + " (attempt " +
+                         std::to_string(attempt) + " of " + std::to_string(cfg_.attempts) + ")");
                     resend = true;
                     break;
                 }
@@ -94,7 +103,8 @@ Result<XsensDevice::Reply> XsensDevice::request(MessageId mid, std::span<const s
                     // where we are taking it anyway.
                     const auto wake_ack = encodeFrame(MessageId::kWakeUpAck);
                     if (Status s = stream_.writeAll(wake_ack, cfg_.reply_timeout); !s) return s;
-                    note("Xsens " + std::string(step) + ": " + stream_.describe() + " announced itself (WakeUp)");
+                    note("Xsens " + std::string(step) + ": " + stream_.describe() +
+                         " announced itself (WakeUp)");
                     continue;
                 }
                 // Anything else is left over from before the request (MTData2 while the device
@@ -103,21 +113,24 @@ Result<XsensDevice::Reply> XsensDevice::request(MessageId mid, std::span<const s
         }
     }
     if (!last_error.empty()) {
-        return Status{StatusCode::kDeviceError, "Xsens " + std::string(step) + ": " + stream_.describe() +
-                                                    " refused " + messageName(toByte(mid)) + " " +
-                                                    std::to_string(cfg_.attempts) + " times; last error: " + last_error};
+        return Status{StatusCode::kDeviceError,
+                      "Xsens " + std::string(step) + ": " + stream_.describe() + " refused " +
+                          messageName(toByte(mid)) + " " + std::to_string(cfg_.attempts) +
+                          " times; last error: " + last_error};
     }
-    return Status{StatusCode::kTimeout,
-                  "Xsens " + std::string(step) + ": no " + messageName(toByte(ack)) + " from " + stream_.describe() +
-                      " after " + std::to_string(cfg_.attempts) + " attempts of " +
-                      std::to_string(cfg_.reply_timeout / kNsPerMs) +
-                      " ms; check power, cable, port and baud rate (MTi default 115200, configured 921600?)"};
+    return Status{
+        StatusCode::kTimeout,
+        "Xsens " + std::string(step) + ": no " + messageName(toByte(ack)) + " from " +
+            stream_.describe() + " after " + std::to_string(cfg_.attempts) + " attempts of " +
+            std::to_string(cfg_.reply_timeout / kNsPerMs) +
+            " ms; check power, cable, port and baud rate (MTi default 115200, configured 921600?)"};
 }
 
 Status XsensDevice::enterConfigMode() {
     // The device may be streaming since power-up: GoToConfig is resent until acked.
     auto r = request(MessageId::kGoToConfig, {}, "entering config mode");
-    if (r || r.status().code() != StatusCode::kTimeout || !cfg_.set_link_baudrate) return r.status();
+    if (r || r.status().code() != StatusCode::kTimeout || !cfg_.set_link_baudrate)
+        return r.status();
     // Silence at this rate: the device may talk at another one (factory default 115200).
     const int tried = link_baud_;
     const int saved_attempts = cfg_.attempts;
@@ -133,8 +146,8 @@ Status XsensDevice::enterConfigMode() {
         decoder_.resetLink();
         auto probe = request(MessageId::kGoToConfig, {}, "probing the baud rate");
         if (probe) {
-            note("Xsens " + stream_.describe() + ": device found at " + std::to_string(baud) + " baud, not " +
-                 std::to_string(tried));
+            note("Xsens " + stream_.describe() + ": device found at " + std::to_string(baud) +
+                 " baud, not " + std::to_string(tried));
             found = Status::ok();
             break;
         }
@@ -142,9 +155,11 @@ Status XsensDevice::enterConfigMode() {
     cfg_.attempts = saved_attempts;
     if (!found && cfg_.set_link_baudrate(tried)) link_baud_ = tried;
     if (!found) {
-        return Status{StatusCode::kTimeout, "Xsens entering config mode: no answer from " + stream_.describe() +
-                                                " at any Xbus baud rate (9600 ... 921600); check power, cable and "
-                                                "port (" + r.status().message() + ")"};
+        return Status{StatusCode::kTimeout,
+                      "Xsens entering config mode: no answer from " + stream_.describe() +
+                          " at any Xbus baud rate (9600 ... 921600); check power, cable and "
+                          "port (" +
+                          r.status().message() + ")"};
     }
     return found;
 }
@@ -153,22 +168,27 @@ Status XsensDevice::switchBaudrate(int baud) {
     const auto id = baudrateId(baud);
     if (!id) {
         return {StatusCode::kInvalidArgument,
-                "Xsens: " + std::to_string(baud) + " baud is not an Xbus rate; use 921600, 460800, 230400 or 115200"};
+                "Xsens: " + std::to_string(baud) +
+                    " baud is not an Xbus rate; use 921600, 460800, 230400 or 115200"};
     }
     if (!cfg_.set_link_baudrate) {
-        return {StatusCode::kUnsupported, "Xsens: " + stream_.describe() + " has no line rate to change"};
+        return {StatusCode::kUnsupported,
+                "Xsens: " + stream_.describe() + " has no line rate to change"};
     }
     const std::uint8_t payload = *id;
-    if (auto r = request(MessageId::kSetBaudrate, std::span(&payload, 1), "setting the baud rate"); !r) {
+    if (auto r = request(MessageId::kSetBaudrate, std::span(&payload, 1), "setting the baud rate");
+        !r) {
         return r.status();
     }
     // The new rate takes effect when the device restarts; the ResetAck still comes at the old one.
-    if (auto r = request(MessageId::kReset, {}, "resetting to apply the baud rate"); !r) return r.status();
+    if (auto r = request(MessageId::kReset, {}, "resetting to apply the baud rate"); !r)
+        return r.status();
     if (Status s = cfg_.set_link_baudrate(baud); !s) return s;
     link_baud_ = baud;
     decoder_.resetLink();
     // It reboots (WakeUp, which request() acknowledges) and must be caught in config mode again.
-    if (auto r = request(MessageId::kGoToConfig, {}, "entering config mode after the baud change"); !r) {
+    if (auto r = request(MessageId::kGoToConfig, {}, "entering config mode after the baud change");
+        !r) {
         return r.status();
     }
     log().info("Xsens {} now at {} baud", stream_.describe(), baud);
@@ -198,7 +218,8 @@ Status XsensDevice::configure() {
     product_code_ = decodeProductCode(pc->payload);
     // 3. Outputs. The ack echoes the configuration the device actually took.
     const auto wanted = outputConfigurationFor(cfg_);
-    auto oc = request(MessageId::kSetOutputConfiguration, encodeOutputConfiguration(wanted), "setting the outputs");
+    auto oc = request(MessageId::kSetOutputConfiguration, encodeOutputConfiguration(wanted),
+                      "setting the outputs");
     if (!oc) return oc.status();
     auto echoed = decodeOutputConfiguration(oc->payload);
     if (!echoed) return echoed.status();
@@ -206,19 +227,21 @@ Status XsensDevice::configure() {
         if (std::find(echoed->begin(), echoed->end(), w) == echoed->end()) {
             char buf[96];
             std::snprintf(buf, sizeof buf, "XDI 0x%04X at %u Hz", w.xdi, w.rate_hz);
-            return Status{StatusCode::kDeviceError,
-                          "Xsens setting the outputs: " + product_code_ + " on " + stream_.describe() +
-                              " did not take " + buf + "; is it an MTi model with that output?"};
+            return Status{StatusCode::kDeviceError, "Xsens setting the outputs: " + product_code_ +
+                                                        " on " + stream_.describe() +
+                                                        " did not take " + buf +
+                                                        "; is it an MTi model with that output?"};
         }
     }
     output_config_ = *echoed;
     // 4. Measurement.
-    if (auto r = request(MessageId::kGoToMeasurement, {}, "starting measurement"); !r) return r.status();
+    if (auto r = request(MessageId::kGoToMeasurement, {}, "starting measurement"); !r)
+        return r.status();
     measuring_ = true;
     decoder_.forgetCounter();
     decoder_.setSource("Xsens " + stream_.describe());
-    log().info("Xsens {} (id {:08X}) on {} streaming at {} Hz", product_code_, device_id_, stream_.describe(),
-               cfg_.output_rate_hz);
+    log().info("Xsens {} (id {:08X}) on {} streaming at {} Hz", product_code_, device_id_,
+               stream_.describe(), cfg_.output_rate_hz);
     return Status::ok();
 }
 
@@ -231,7 +254,8 @@ Status XsensDevice::poll(std::vector<ImuSample>& out, TimeNs timeout) {
     TimeNs t_rx = 0;
     if (Status s = readSome(timeout, t_rx); !s) {
         measuring_ = false;
-        return Status{s.code(), "Xsens " + stream_.describe() + ": " + s.message() + "; reconnect with configure()"};
+        return Status{s.code(), "Xsens " + stream_.describe() + ": " + s.message() +
+                                    "; reconnect with configure()"};
     }
     decoder_.decodePending(last_rx_, out);
     return Status::ok();

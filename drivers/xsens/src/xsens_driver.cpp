@@ -11,8 +11,9 @@ namespace handscan::xsens {
 Result<XsensLink> makeXsensLink(const XsensConfig& c) {
     XsensLink link;
     if (c.rate_hz <= 0 || c.rate_hz > 400 || 400 % c.rate_hz != 0) {
-        return Status{StatusCode::kInvalidArgument, "xsens.rate_hz: " + std::to_string(c.rate_hz) +
-                                                        " is not a divisor of the MTi's 400 Hz (use 100, 200 or 400)"};
+        return Status{StatusCode::kInvalidArgument,
+                      "xsens.rate_hz: " + std::to_string(c.rate_hz) +
+                          " is not a divisor of the MTi's 400 Hz (use 100, 200 or 400)"};
     }
     link.device.output_rate_hz = static_cast<std::uint16_t>(c.rate_hz);
     link.device.delta_q_delta_v = c.delta_q_v;
@@ -20,9 +21,11 @@ Result<XsensLink> makeXsensLink(const XsensConfig& c) {
     if (c.transport == "serial") {
         if (!baudrateId(c.baud)) {
             return Status{StatusCode::kInvalidArgument,
-                          "xsens.baud: " + std::to_string(c.baud) + " is not an Xbus rate (921600, 460800, 230400, 115200)"};
+                          "xsens.baud: " + std::to_string(c.baud) +
+                              " is not an Xbus rate (921600, 460800, 230400, 115200)"};
         }
-        auto serial = std::make_unique<transport::SerialStream>(transport::SerialConfig{c.serial_path, c.baud});
+        auto serial = std::make_unique<transport::SerialStream>(
+            transport::SerialConfig{c.serial_path, c.baud});
         transport::SerialStream* raw = serial.get();
         link.device.baudrate = c.baud;
         link.device.set_link_baudrate = [raw](int baud) { return raw->setBaudrate(baud); };
@@ -31,14 +34,17 @@ Result<XsensLink> makeXsensLink(const XsensConfig& c) {
     }
     if (c.transport == "usb") {
 #if defined(HANDSCAN_WITH_LIBUSB) && HANDSCAN_WITH_LIBUSB
-        link.stream = std::make_unique<transport::UsbStream>(transport::UsbConfig{}, transport::makeLibusbDeviceLayer());
+        link.stream = std::make_unique<transport::UsbStream>(transport::UsbConfig{},
+                                                             transport::makeLibusbDeviceLayer());
         return link;
 #else
         return Status{StatusCode::kUnsupported,
-                      "xsens.transport: usb needs a build with HANDSCAN_WITH_LIBUSB=ON (libusb-1.0); use serial"};
+                      "xsens.transport: usb needs a build with HANDSCAN_WITH_LIBUSB=ON "
+                      "(libusb-1.0); use serial"};
 #endif
     }
-    return Status{StatusCode::kInvalidArgument, "xsens.transport: expected serial or usb, got '" + c.transport + "'"};
+    return Status{StatusCode::kInvalidArgument,
+                  "xsens.transport: expected serial or usb, got '" + c.transport + "'"};
 }
 
 XsensDriver::XsensDriver(XsensLink link, Sink sink, RawTap* tap, XsensDriverOptions options)

@@ -65,8 +65,8 @@ std::string utcIso(const std::vector<XdiField>& f) {
     // ns, year, month, day, hour, minute, second, flags (see xdi.cpp); all unsigned, ns < 2^32.
     auto n = [&](std::size_t i) { return static_cast<long long>(f[i].value); };
     char buf[96];
-    std::snprintf(buf, sizeof buf, "%04lld-%02lld-%02lldT%02lld:%02lld:%02lld.%09lldZ", n(1), n(2), n(3), n(4), n(5),
-                  n(6), n(0));
+    std::snprintf(buf, sizeof buf, "%04lld-%02lld-%02lldT%02lld:%02lld:%02lld.%09lldZ", n(1), n(2),
+                  n(3), n(4), n(5), n(6), n(0));
     return buf;
 }
 
@@ -144,7 +144,8 @@ void writeItemJson(const MtData2Value& v, std::ostream& out) {
     out << '}';
 }
 
-void XsensJsonDecoder::feed(TimeNs t_host, std::span<const std::uint8_t> bytes, std::ostream& jsonl) {
+void XsensJsonDecoder::feed(TimeNs t_host, std::span<const std::uint8_t> bytes,
+                            std::ostream& jsonl) {
     parser_.feed(bytes);
     while (auto f = parser_.next()) writeFrame(t_host, *f, jsonl);
 }
@@ -233,13 +234,15 @@ void XsensJsonDecoder::writeMtData2(const MtData2Packet& packet, std::ostream& o
     if (auto stf = packet.integer(xdi::kSampleTimeFine)) {
         const auto raw = static_cast<std::uint32_t>(*stf);
         // Unwrap the 32-bit 10 kHz counter (wraps every 4.97 days).
-        stf_unwrapped_ = last_stf_ ? stf_unwrapped_ + static_cast<std::int32_t>(raw - *last_stf_) : raw;
+        stf_unwrapped_ =
+            last_stf_ ? stf_unwrapped_ + static_cast<std::int32_t>(raw - *last_stf_) : raw;
         last_stf_ = raw;
         out << ",\"t_device_s\":";
         number(out, static_cast<double>(stf_unwrapped_) * 1e-4);
     }
     if (auto pc = packet.integer(xdi::kPacketCounter)) {
-        if (const std::uint16_t missing = counter_.missingBefore(static_cast<std::uint16_t>(*pc)); missing != 0) {
+        if (const std::uint16_t missing = counter_.missingBefore(static_cast<std::uint16_t>(*pc));
+            missing != 0) {
             ++summary_.gaps;
             summary_.lost_packets += missing;
             out << ",\"gap\":" << missing;

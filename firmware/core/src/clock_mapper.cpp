@@ -16,8 +16,9 @@ std::int64_t ClockMapper::unwrap(std::uint64_t device_raw) const {
     const std::uint64_t half = (mask_ >> 1) + 1;
     const std::uint64_t delta = (device_raw - last_raw_) & mask_;
     // Forward by less than half the range, or backward by less than half the range.
-    const std::int64_t signed_delta = delta < half ? static_cast<std::int64_t>(delta)
-                                                   : static_cast<std::int64_t>(delta) - static_cast<std::int64_t>(mask_ + 1);
+    const std::int64_t signed_delta =
+        delta < half ? static_cast<std::int64_t>(delta)
+                     : static_cast<std::int64_t>(delta) - static_cast<std::int64_t>(mask_ + 1);
     return last_unwrapped_ + signed_delta;
 }
 
@@ -45,9 +46,9 @@ ClockMapper::Event ClockMapper::observe(std::uint64_t device_raw, TimeNs host_rx
     const Point p{(static_cast<double>(unwrapped - origin_ticks_)) * cfg_.tick_ns,
                   static_cast<double>(host_rx - origin_host_)};
     const double r = residual(p);
-    const bool went_backwards = unwrapped < last_unwrapped_ &&
-                                static_cast<double>(last_unwrapped_ - unwrapped) * cfg_.tick_ns >
-                                    static_cast<double>(cfg_.outlier_ns);
+    const bool went_backwards =
+        unwrapped<last_unwrapped_&& static_cast<double>(last_unwrapped_ - unwrapped) *
+                  cfg_.tick_ns> static_cast<double>(cfg_.outlier_ns);
     if (went_backwards || std::abs(r) > static_cast<double>(cfg_.reset_ns)) {
         // Either a restart of the device or a single garbage timestamp: restart only when it
         // persists, otherwise drop the point.
@@ -117,7 +118,10 @@ void ClockMapper::refit() {
             const Point& a = hull[hull.size() - 2];
             const Point& b = hull.back();
             const double cross = (b.d - a.d) * (q.h - a.h) - (b.h - a.h) * (q.d - a.d);
-            if (cross <= 0.0) hull.pop_back(); else break;
+            if (cross <= 0.0)
+                hull.pop_back();
+            else
+                break;
         }
         hull.push_back(q);
     }

@@ -15,16 +15,28 @@ namespace {
 // syslog priorities (sd-daemon.h: SD_ERR "<3>" ... SD_DEBUG "<7>").
 class JournalPriorityFlag final : public spdlog::custom_flag_formatter {
 public:
-    void format(const spdlog::details::log_msg& msg, const std::tm&, spdlog::memory_buf_t& dest) override {
+    void format(const spdlog::details::log_msg& msg, const std::tm&,
+                spdlog::memory_buf_t& dest) override {
         int prio = 6;
         switch (msg.level) {
             case spdlog::level::trace:
-            case spdlog::level::debug: prio = 7; break;
-            case spdlog::level::info: prio = 6; break;
-            case spdlog::level::warn: prio = 4; break;
-            case spdlog::level::err: prio = 3; break;
-            case spdlog::level::critical: prio = 2; break;
-            default: prio = 6;
+            case spdlog::level::debug:
+                prio = 7;
+                break;
+            case spdlog::level::info:
+                prio = 6;
+                break;
+            case spdlog::level::warn:
+                prio = 4;
+                break;
+            case spdlog::level::err:
+                prio = 3;
+                break;
+            case spdlog::level::critical:
+                prio = 2;
+                break;
+            default:
+                prio = 6;
         }
         const char text[4] = {'<', static_cast<char>('0' + prio), '>', '\0'};
         dest.append(text, text + 3);

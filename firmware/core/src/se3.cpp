@@ -6,9 +6,7 @@ namespace handscan {
 
 Eigen::Matrix3d skew(const Eigen::Vector3d& w) {
     Eigen::Matrix3d S;
-    S << 0.0, -w.z(), w.y(),
-         w.z(), 0.0, -w.x(),
-         -w.y(), w.x(), 0.0;
+    S << 0.0, -w.z(), w.y(), w.z(), 0.0, -w.x(), -w.y(), w.x(), 0.0;
     return S;
 }
 

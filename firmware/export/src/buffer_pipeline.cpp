@@ -49,7 +49,8 @@ void BufferPipeline::run() {
         if (err == 0) {
             draining_ = true;
             lock.unlock();  // the write (or CRC) runs while the producer fills the next buffer
-            err = drain_(std::span<const std::uint8_t>(buffers_[job.buffer].get(), job.bytes), job.offset);
+            err = drain_(std::span<const std::uint8_t>(buffers_[job.buffer].get(), job.bytes),
+                         job.offset);
             lock.lock();
             draining_ = false;
             if (err != 0 && error_ == 0) error_ = err;

@@ -41,7 +41,9 @@ public:
 
 private:
     struct AlignedDelete {
-        void operator()(std::uint8_t* p) const { ::operator delete[](p, std::align_val_t{kAlignment}); }
+        void operator()(std::uint8_t* p) const {
+            ::operator delete[](p, std::align_val_t{kAlignment});
+        }
     };
     struct Job {
         std::size_t buffer;
@@ -58,7 +60,7 @@ private:
     std::deque<Job> queue_;          // submitted, not yet drained
     std::vector<std::size_t> free_;  // neither current nor queued nor being drained
     std::size_t current_ = 0;
-    bool draining_ = false;          // the worker holds a buffer outside the queue
+    bool draining_ = false;  // the worker holds a buffer outside the queue
     bool stop_ = false;
     int error_ = 0;
     std::thread worker_;

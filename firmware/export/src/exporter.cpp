@@ -12,8 +12,8 @@
 #include <memory>
 #include <sstream>
 
-#include "handscan/journal/journal_reader.hpp"
 #include "handscan/export/voxel_filter.hpp"
+#include "handscan/journal/journal_reader.hpp"
 
 #ifndef HANDSCAN_VERSION
 #define HANDSCAN_VERSION "0.0.0"
@@ -28,7 +28,8 @@ namespace fs = std::filesystem;
 // and Debian's CloudCompare is built without its E57 plugin), so there is no E57 writer and no
 // independent reader to prove one against.
 constexpr const char* kE57Unavailable =
-    "not available: Debian 12 packages no E57 library (libE57Format); export LAS 1.4 or PLY and convert";
+    "not available: Debian 12 packages no E57 library (libE57Format); export LAS 1.4 or PLY and "
+    "convert";
 
 std::span<const std::uint8_t> asBytes(const std::string& s) {
     return {reinterpret_cast<const std::uint8_t*>(s.data()), s.size()};
@@ -46,7 +47,8 @@ std::string trajectoryTum(const std::vector<journal::TrajectoryPose>& poses) {
     os.precision(9);
     os << std::fixed;
     for (const auto& p : poses) {
-        os << p.t_s << ' ' << p.x << ' ' << p.y << ' ' << p.z << ' ' << p.qx << ' ' << p.qy << ' ' << p.qz << ' ' << p.qw << '\n';
+        os << p.t_s << ' ' << p.x << ' ' << p.y << ' ' << p.z << ' ' << p.qx << ' ' << p.qy << ' '
+           << p.qz << ' ' << p.qw << '\n';
     }
     return os.str();
 }
@@ -56,7 +58,8 @@ std::string trajectoryCsv(const std::vector<journal::TrajectoryPose>& poses) {
     os.precision(9);
     os << std::fixed << "time_s,x_m,y_m,z_m,qx,qy,qz,qw\n";
     for (const auto& p : poses) {
-        os << p.t_s << ',' << p.x << ',' << p.y << ',' << p.z << ',' << p.qx << ',' << p.qy << ',' << p.qz << ',' << p.qw << '\n';
+        os << p.t_s << ',' << p.x << ',' << p.y << ',' << p.z << ',' << p.qx << ',' << p.qy << ','
+           << p.qz << ',' << p.qw << '\n';
     }
     return os.str();
 }
@@ -76,19 +79,23 @@ std::string jsonEscape(const std::string& s) {
     return o;
 }
 
-std::string metadataJson(const journal::JournalSummary& js, const ExportReport& r, const ExportOptions& o,
-                         const std::vector<std::string>& formats) {
+std::string metadataJson(const journal::JournalSummary& js, const ExportReport& r,
+                         const ExportOptions& o, const std::vector<std::string>& formats) {
     std::ostringstream os;
     os.precision(6);
     os << std::fixed;
     os << "{\n  \"software\": \"handscan " << HANDSCAN_VERSION << "\",\n";
     os << "  \"scan\": " << (js.metadata_json.empty() ? "{}" : js.metadata_json) << ",\n";
     os << "  \"journal\": {\"path\": \"" << jsonEscape(js.path) << "\", \"points\": " << js.points
-       << ", \"finished\": " << (js.finished ? "true" : "false") << ", \"damage\": \"" << jsonEscape(js.damage) << "\"},\n";
-    os << "  \"export\": {\"points\": " << r.points << ", \"voxel_m\": " << o.voxel_m << ", \"formats\": [";
-    for (std::size_t i = 0; i < formats.size(); ++i) os << (i ? ", " : "") << '"' << formats[i] << '"';
-    os << "],\n    \"bounds_min\": [" << r.bounds.min[0] << ", " << r.bounds.min[1] << ", " << r.bounds.min[2]
-       << "], \"bounds_max\": [" << r.bounds.max[0] << ", " << r.bounds.max[1] << ", " << r.bounds.max[2] << "],\n";
+       << ", \"finished\": " << (js.finished ? "true" : "false") << ", \"damage\": \""
+       << jsonEscape(js.damage) << "\"},\n";
+    os << "  \"export\": {\"points\": " << r.points << ", \"voxel_m\": " << o.voxel_m
+       << ", \"formats\": [";
+    for (std::size_t i = 0; i < formats.size(); ++i)
+        os << (i ? ", " : "") << '"' << formats[i] << '"';
+    os << "],\n    \"bounds_min\": [" << r.bounds.min[0] << ", " << r.bounds.min[1] << ", "
+       << r.bounds.min[2] << "], \"bounds_max\": [" << r.bounds.max[0] << ", " << r.bounds.max[1]
+       << ", " << r.bounds.max[2] << "],\n";
     os << "    \"trajectory_poses\": " << js.trajectory.size() << "},\n";
     os << "  \"formats_unavailable\": {\"e57\": \"" << kE57Unavailable << "\"}\n}\n";
     return os.str();
@@ -97,11 +104,13 @@ std::string metadataJson(const journal::JournalSummary& js, const ExportReport& 
 // The points to export: straight from the journal (streamed) or voxel-filtered.
 class PointSource {
 public:
-    PointSource(const journal::JournalReader& reader, double voxel_m, const std::function<void(double)>& progress)
+    PointSource(const journal::JournalReader& reader, double voxel_m,
+                const std::function<void(double)>& progress)
         : reader_(reader) {
         if (voxel_m > 0.0) {
             VoxelFilter filter(voxel_m);
-            const double total = static_cast<double>(std::max<std::uint64_t>(1, reader.summary().points));
+            const double total =
+                static_cast<double>(std::max<std::uint64_t>(1, reader.summary().points));
             double done = 0.0;
             status_ = reader.forEachPoints([&](std::span<const journal::MapPoint> pts) {
                 filter.add(pts);
@@ -148,16 +157,20 @@ Result<std::string> findJournal(const std::string& source) {
     return Status(StatusCode::kNotFound, source + ": no such journal file or directory");
 }
 
-Result<ExportReport> exportScan(const std::string& source, const std::string& target_dir, const ExportOptions& options) {
+Result<ExportReport> exportScan(const std::string& source, const std::string& target_dir,
+                                const ExportOptions& options) {
     const auto started = std::chrono::steady_clock::now();
     auto progress = [&](double f, const std::string& stage) {
         if (options.progress) options.progress(std::clamp(f, 0.0, 1.0), stage);
     };
     std::vector<std::string> formats;  // in the order given, each once
     for (const std::string& f : options.formats) {
-        if (f == "e57") return Status(StatusCode::kInvalidArgument, std::string("export: E57 is ") + kE57Unavailable);
+        if (f == "e57")
+            return Status(StatusCode::kInvalidArgument,
+                          std::string("export: E57 is ") + kE57Unavailable);
         if (f != "ply" && f != "las") {
-            return Status(StatusCode::kInvalidArgument, "export: unknown format '" + f + "' (expected ply, las)");
+            return Status(StatusCode::kInvalidArgument,
+                          "export: unknown format '" + f + "' (expected ply, las)");
         }
         if (std::find(formats.begin(), formats.end(), f) == formats.end()) formats.push_back(f);
     }
@@ -169,23 +182,28 @@ Result<ExportReport> exportScan(const std::string& source, const std::string& ta
 
     std::error_code ec;
     if (!fs::is_directory(target_dir, ec)) {
-        return Status(StatusCode::kNotFound, "export: target " + target_dir + " is not a directory (vanished or not mounted?)");
+        return Status(StatusCode::kNotFound, "export: target " + target_dir +
+                                                 " is not a directory (vanished or not mounted?)");
     }
     std::string name = options.scan_name;
     if (name.empty()) {
         const fs::path jp(*journal_path);
-        name = jp.filename() == "journal.hsj" ? jp.parent_path().filename().string() : jp.stem().string();
+        name = jp.filename() == "journal.hsj" ? jp.parent_path().filename().string()
+                                              : jp.stem().string();
         if (name.empty()) name = "scan";
     }
     const fs::path out_dir = fs::path(target_dir) / name;
     fs::create_directories(out_dir, ec);
-    if (ec) return Status(StatusCode::kIoError, "export: cannot create " + out_dir.string() + ": " + ec.message());
+    if (ec)
+        return Status(StatusCode::kIoError,
+                      "export: cannot create " + out_dir.string() + ": " + ec.message());
 
     // Progress: thinning (if any) up to 30 %, writing up to 85 %, then verifying each file.
     const double write_from = options.voxel_m > 0.0 ? 0.3 : 0.0;
     constexpr double kWriteTo = 0.85;
     progress(0.0, options.voxel_m > 0.0 ? "thinning" : "reading journal");
-    PointSource points(*reader, options.voxel_m, [&](double f) { progress(f * write_from, "thinning"); });
+    PointSource points(*reader, options.voxel_m,
+                       [&](double f) { progress(f * write_from, "thinning"); });
     if (!points.status().isOk()) return points.status();
     const std::uint64_t count = points.count();
 
@@ -194,9 +212,10 @@ Result<ExportReport> exportScan(const std::string& source, const std::string& ta
     for (const std::string& f : formats) need += f == "ply" ? plyBytes(count) : lasBytes(count);
     const fs::space_info space = fs::space(out_dir, ec);
     if (!ec && space.available < need) {
-        return Status(StatusCode::kNoSpace, "export: " + target_dir + " has " + std::to_string(space.available >> 20) +
-                                                " MiB free but the export needs " + std::to_string((need >> 20) + 1) +
-                                                " MiB; use a larger stick or --voxel to thin the cloud");
+        return Status(StatusCode::kNoSpace,
+                      "export: " + target_dir + " has " + std::to_string(space.available >> 20) +
+                          " MiB free but the export needs " + std::to_string((need >> 20) + 1) +
+                          " MiB; use a larger stick or --voxel to thin the cloud");
     }
 
     ExportReport report;
@@ -234,7 +253,8 @@ Result<ExportReport> exportScan(const std::string& source, const std::string& ta
     if (!failure.isOk()) return failure;
     for (std::size_t i = 0; i < clouds.size(); ++i) {
         CloudFile& c = clouds[i];
-        progress(kWriteTo + (0.99 - kWriteTo) * static_cast<double>(i) / static_cast<double>(clouds.size()),
+        progress(kWriteTo + (0.99 - kWriteTo) * static_cast<double>(i) /
+                                static_cast<double>(clouds.size()),
                  "verifying " + fs::path(c.path).filename().string());
         if (Status s = c.writer->end(); !s.isOk()) return s;
         report.bounds = c.writer->bounds();
@@ -259,11 +279,13 @@ Result<ExportReport> exportScan(const std::string& source, const std::string& ta
         ::close(fd);
     }
     progress(1.0, "done");
-    report.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
+    report.seconds =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
     return report;
 }
 
-Result<ExportReport> exportToUsb(const std::string& source, const ExportOptions& options, const SystemPaths& paths) {
+Result<ExportReport> exportToUsb(const std::string& source, const ExportOptions& options,
+                                 const SystemPaths& paths) {
     auto stick = findUsbStick(paths);
     if (!stick.isOk()) return stick.status();
     return exportScan(source, stick->mount_point, options);

@@ -18,7 +18,8 @@ public:
         bytes.insert(bytes.end(), raw, raw + sizeof(T));
     }
     void text(const std::string& s, std::size_t width) {  // fixed-width, NUL padded
-        for (std::size_t i = 0; i < width; ++i) bytes.push_back(i < s.size() ? static_cast<std::uint8_t>(s[i]) : 0);
+        for (std::size_t i = 0; i < width; ++i)
+            bytes.push_back(i < s.size() ? static_cast<std::uint8_t>(s[i]) : 0);
     }
     std::vector<std::uint8_t> bytes;
 };
@@ -93,31 +94,37 @@ public:
                 std::memcpy(o, q, 12);
                 std::memcpy(o + 12, &p.intensity, 2);
                 o[14] = 0x11;  // return 1 of 1
-                o[15] = 0;     // classification flags, scanner channel, scan direction, edge of flight line
-                o[16] = 0;     // classification: never classified
-                o[17] = 0;     // user data
+                o[15] = 0;  // classification flags, scanner channel, scan direction, edge of flight
+                            // line
+                o[16] = 0;  // classification: never classified
+                o[17] = 0;  // user data
                 std::memset(o + 18, 0, 4);       // scan angle, point source id
                 std::memcpy(o + 22, &p.t_s, 8);  // GPS time: seconds of the scan clock
-                const std::uint16_t rgb[3] = {static_cast<std::uint16_t>(p.r * 257), static_cast<std::uint16_t>(p.g * 257),
-                                              static_cast<std::uint16_t>(p.b * 257)};  // 8 -> 16 bit colour
+                const std::uint16_t rgb[3] = {
+                    static_cast<std::uint16_t>(p.r * 257), static_cast<std::uint16_t>(p.g * 257),
+                    static_cast<std::uint16_t>(p.b * 257)};  // 8 -> 16 bit colour
                 std::memcpy(o + 30, rgb, 6);
                 return true;
             },
             [this](const journal::MapPoint& p) {
-                return Status(StatusCode::kInvalidArgument,
-                              "export " + file_.finalPath() + ": point (" + std::to_string(p.x) + ", " + std::to_string(p.y) +
-                                  ", " + std::to_string(p.z) + ") m is not finite or too far from the scan origin for LAS integers");
+                return Status(
+                    StatusCode::kInvalidArgument,
+                    "export " + file_.finalPath() + ": point (" + std::to_string(p.x) + ", " +
+                        std::to_string(p.y) + ", " + std::to_string(p.z) +
+                        ") m is not finite or too far from the scan origin for LAS integers");
             });
     }
 
     Status end() override {
         if (written_ != expected_) {
-            return Status(StatusCode::kInvalidArgument, "export " + file_.finalPath() + ": wrote " + std::to_string(written_) +
-                                                            " points, expected " + std::to_string(expected_));
+            return Status(StatusCode::kInvalidArgument,
+                          "export " + file_.finalPath() + ": wrote " + std::to_string(written_) +
+                              " points, expected " + std::to_string(expected_));
         }
         const std::vector<std::uint8_t> h = header();
         if (h.size() != kLasHeaderBytes) {
-            return Status(StatusCode::kInvalidArgument, "internal: LAS header is " + std::to_string(h.size()) + " bytes");
+            return Status(StatusCode::kInvalidArgument,
+                          "internal: LAS header is " + std::to_string(h.size()) + " bytes");
         }
         if (Status s = file_.patchHeader(h); !s.isOk()) return s;
         return file_.commit();
@@ -125,8 +132,12 @@ public:
 
 private:
     // Rounds half away from zero, like llround, without the libm call per coordinate.
-    static std::int32_t roundAway(double v) { return static_cast<std::int32_t>(v + std::copysign(0.5, v)); }
-    std::int32_t quantise(double v, int axis) const { return roundAway((v - offset_[axis]) * inv_scale_); }
+    static std::int32_t roundAway(double v) {
+        return static_cast<std::int32_t>(v + std::copysign(0.5, v));
+    }
+    std::int32_t quantise(double v, int axis) const {
+        return roundAway((v - offset_[axis]) * inv_scale_);
+    }
     double dequantise(std::int32_t q, int axis) const { return q * opt_.scale + offset_[axis]; }
 
     SafeFileWriter& file_;
@@ -144,6 +155,8 @@ std::unique_ptr<PointFileWriter> makeLasWriter(SafeFileWriter& file, LasOptions 
     return std::make_unique<LasWriter>(file, std::move(options));
 }
 
-std::uint64_t lasBytes(std::uint64_t points) { return kLasHeaderBytes + points * kLasPointRecordBytes; }
+std::uint64_t lasBytes(std::uint64_t points) {
+    return kLasHeaderBytes + points * kLasPointRecordBytes;
+}
 
 }  // namespace handscan::exporter

@@ -10,8 +10,10 @@ namespace {
 constexpr std::size_t kPlyRecordBytes = 3 * 4 + 3 + 2 + 8;  // 25
 
 std::string plyHeader(std::uint64_t count) {
-    return "ply\nformat binary_little_endian 1.0\ncomment handscan colourised point cloud, metres, world frame\n"
-           "element vertex " + std::to_string(count) +
+    return "ply\nformat binary_little_endian 1.0\ncomment handscan colourised point cloud, metres, "
+           "world frame\n"
+           "element vertex " +
+           std::to_string(count) +
            "\nproperty float x\nproperty float y\nproperty float z\n"
            "property uchar red\nproperty uchar green\nproperty uchar blue\n"
            "property ushort intensity\nproperty double time\nend_header\n";
@@ -29,7 +31,8 @@ public:
         written_ += points.size();
         return writeRecords<kPlyRecordBytes>(
             file_, buf_, points,
-            [this](const journal::MapPoint& p, std::uint8_t* o) {  // x86 and ARM are little-endian: fields copy as is
+            [this](const journal::MapPoint& p,
+                   std::uint8_t* o) {  // x86 and ARM are little-endian: fields copy as is
                 bounds_.add(p.x, p.y, p.z);
                 std::memcpy(o, &p.x, 4);
                 std::memcpy(o + 4, &p.y, 4);
@@ -45,8 +48,9 @@ public:
     }
     Status end() override {
         if (written_ != expected_) {
-            return Status(StatusCode::kInvalidArgument, "export " + file_.finalPath() + ": wrote " + std::to_string(written_) +
-                                                            " points but the header says " + std::to_string(expected_));
+            return Status(StatusCode::kInvalidArgument,
+                          "export " + file_.finalPath() + ": wrote " + std::to_string(written_) +
+                              " points but the header says " + std::to_string(expected_));
         }
         return file_.commit();
     }
@@ -60,8 +64,12 @@ private:
 
 }  // namespace
 
-std::unique_ptr<PointFileWriter> makePlyWriter(SafeFileWriter& file) { return std::make_unique<PlyWriter>(file); }
+std::unique_ptr<PointFileWriter> makePlyWriter(SafeFileWriter& file) {
+    return std::make_unique<PlyWriter>(file);
+}
 
-std::uint64_t plyBytes(std::uint64_t points) { return plyHeader(points).size() + points * kPlyRecordBytes; }
+std::uint64_t plyBytes(std::uint64_t points) {
+    return plyHeader(points).size() + points * kPlyRecordBytes;
+}
 
 }  // namespace handscan::exporter

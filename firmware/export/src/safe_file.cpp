@@ -30,9 +30,11 @@ std::uint32_t crcUpdate(std::uint32_t crc, std::span<const std::uint8_t> bytes) 
 }
 
 // The part of `bytes` (at file `offset`) after the header region, which is checksummed apart.
-std::span<const std::uint8_t> afterHeader(std::span<const std::uint8_t> bytes, std::uint64_t offset, std::size_t header_bytes) {
+std::span<const std::uint8_t> afterHeader(std::span<const std::uint8_t> bytes, std::uint64_t offset,
+                                          std::size_t header_bytes) {
     const std::uint64_t skip = offset < header_bytes ? header_bytes - offset : 0;
-    return skip >= bytes.size() ? std::span<const std::uint8_t>{} : bytes.subspan(static_cast<std::size_t>(skip));
+    return skip >= bytes.size() ? std::span<const std::uint8_t>{}
+                                : bytes.subspan(static_cast<std::size_t>(skip));
 }
 
 bool clearDirect(int fd) {
@@ -45,7 +47,9 @@ bool clearDirect(int fd) {
 SafeFileWriter::SafeFileWriter(std::string final_path, WriteFaults faults)
     : final_path_(std::move(final_path)), faults_(std::move(faults)) {
     const std::filesystem::path p(final_path_);
-    partial_path_ = (std::filesystem::path(dirOf(final_path_)) / ("." + p.filename().string() + ".partial")).string();
+    partial_path_ =
+        (std::filesystem::path(dirOf(final_path_)) / ("." + p.filename().string() + ".partial"))
+            .string();
 }
 
 SafeFileWriter::~SafeFileWriter() {
@@ -62,9 +66,12 @@ Status SafeFileWriter::fail(const std::string& what, int err) {
     }
     ::unlink(partial_path_.c_str());  // may fail too when the medium is gone; nothing else to do
     std::string hint;
-    if (err == ENOSPC) hint = ": the target is full; free space or use a larger stick, then export again";
-    else if (err == EROFS || err == EACCES || err == EPERM) hint = ": the target is read-only; check the stick's lock switch";
-    else if (err == EIO || err == ENODEV || err == ENOENT || err == ENXIO) hint = ": the target vanished or failed (stick pulled?); reinsert it and export again";
+    if (err == ENOSPC)
+        hint = ": the target is full; free space or use a larger stick, then export again";
+    else if (err == EROFS || err == EACCES || err == EPERM)
+        hint = ": the target is read-only; check the stick's lock switch";
+    else if (err == EIO || err == ENODEV || err == ENOENT || err == ENXIO)
+        hint = ": the target vanished or failed (stick pulled?); reinsert it and export again";
     return Status(err == ENOSPC ? StatusCode::kNoSpace : StatusCode::kIoError,
                   "export " + final_path_ + ": " + what + ": " + std::strerror(err) + hint +
                       " (the scan on internal storage is untouched)");
@@ -80,17 +87,19 @@ Status SafeFileWriter::open() {
     if (fd_ < 0) fd_ = ::open(partial_path_.c_str(), kFlags, 0644);  // no O_DIRECT here (EINVAL)
     if (fd_ < 0) return fail("cannot create " + partial_path_, errno);
     // The I/O thread checksums each buffer, then writes it; it alone touches crc_ until finish().
-    pipe_ = std::make_unique<BufferPipeline>(kBufferBytes, kBuffers, [this](std::span<const std::uint8_t> bytes, std::uint64_t offset) {
-        crc_ = crcUpdate(crc_, afterHeader(bytes, offset, header_bytes_));
-        return writeAt(bytes, offset);
-    });
+    pipe_ = std::make_unique<BufferPipeline>(
+        kBufferBytes, kBuffers, [this](std::span<const std::uint8_t> bytes, std::uint64_t offset) {
+            crc_ = crcUpdate(crc_, afterHeader(bytes, offset, header_bytes_));
+            return writeAt(bytes, offset);
+        });
     return Status::ok();
 }
 
 Status SafeFileWriter::reserveHeader(std::size_t bytes) {
     if (fd_ < 0) return Status(StatusCode::kIoError, "export " + final_path_ + ": not open");
     if (flushed_ != 0 || fill_ != 0 || bytes > kBufferBytes) {
-        return Status(StatusCode::kInvalidArgument, "export " + final_path_ + ": header after data");
+        return Status(StatusCode::kInvalidArgument,
+                      "export " + final_path_ + ": header after data");
     }
     header_bytes_ = bytes;
     header_.assign(bytes, 0);
@@ -101,12 +110,14 @@ Status SafeFileWriter::reserveHeader(std::size_t bytes) {
 
 Status SafeFileWriter::patchHeader(std::span<const std::uint8_t> header) {
     if (header.size() != header_.size()) {
-        return Status(StatusCode::kInvalidArgument, "export " + final_path_ + ": header is " + std::to_string(header.size()) +
-                                                        " bytes, reserved " + std::to_string(header_.size()));
+        return Status(StatusCode::kInvalidArgument,
+                      "export " + final_path_ + ": header is " + std::to_string(header.size()) +
+                          " bytes, reserved " + std::to_string(header_.size()));
     }
     header_.assign(header.begin(), header.end());
     // Still in the first buffer: patch it there. Otherwise commit() writes it once the data is out.
-    if (flushed_ == 0 && pipe_) std::memcpy(pipe_->current().data(), header_.data(), header_.size());
+    if (flushed_ == 0 && pipe_)
+        std::memcpy(pipe_->current().data(), header_.data(), header_.size());
     return Status::ok();
 }
 
@@ -132,7 +143,9 @@ Status SafeFileWriter::handOff() {
     return err == 0 ? Status::ok() : ioFailure(err);
 }
 
-Status SafeFileWriter::ioFailure(int err) { return fail("write failed at byte " + std::to_string(error_offset_), err); }
+Status SafeFileWriter::ioFailure(int err) {
+    return fail("write failed at byte " + std::to_string(error_offset_), err);
+}
 
 int SafeFileWriter::writeAt(std::span<const std::uint8_t> bytes, std::uint64_t offset) {
     std::size_t done = 0;
@@ -143,7 +156,8 @@ int SafeFileWriter::writeAt(std::span<const std::uint8_t> bytes, std::uint64_t o
                 return err;
             }
         }
-        const ssize_t n = ::pwrite(fd_, bytes.data() + done, bytes.size() - done, static_cast<off_t>(offset + done));
+        const ssize_t n = ::pwrite(fd_, bytes.data() + done, bytes.size() - done,
+                                   static_cast<off_t>(offset + done));
         if (n < 0 && errno == EINTR) continue;
         if (n < 0 && errno == EINVAL && direct_ && clearDirect(fd_)) {
             direct_ = false;  // the filesystem opened with O_DIRECT but refuses such writes
@@ -166,18 +180,21 @@ Status SafeFileWriter::commit() {
     const std::span<const std::uint8_t> tail(pipe_->current().data() + aligned, fill_ - aligned);
     const std::uint64_t tail_offset = flushed_ + aligned;
     int err = aligned > 0 ? pipe_->submit(aligned, flushed_) : 0;
-    if (err == 0) err = pipe_->finish();  // the tail's buffer is not reused after this: nothing fills it
+    if (err == 0)
+        err = pipe_->finish();  // the tail's buffer is not reused after this: nothing fills it
     if (err != 0) return ioFailure(err);
     flushed_ += fill_;
     fill_ = 0;
-    if ((!tail.empty() || !header_.empty()) && direct_ && !clearDirect(fd_)) return fail("fcntl(O_DIRECT) failed", errno);
+    if ((!tail.empty() || !header_.empty()) && direct_ && !clearDirect(fd_))
+        return fail("fcntl(O_DIRECT) failed", errno);
     if (!tail.empty()) {
         crc_ = crcUpdate(crc_, afterHeader(tail, tail_offset, header_bytes_));
         if (const int e = writeAt(tail, tail_offset); e != 0) return ioFailure(e);
     }
     // The header region went out as placeholder bytes; now that the data is out, the real header.
     for (std::size_t done = 0; done < header_.size();) {
-        const ssize_t n = ::pwrite(fd_, header_.data() + done, header_.size() - done, static_cast<off_t>(done));
+        const ssize_t n =
+            ::pwrite(fd_, header_.data() + done, header_.size() - done, static_cast<off_t>(done));
         if (n < 0 && errno == EINTR) continue;
         if (n <= 0) return fail("header write failed", n == 0 ? EIO : errno);
         done += static_cast<std::size_t>(n);
@@ -189,7 +206,8 @@ Status SafeFileWriter::commit() {
     fd_ = -1;
     if (faults_.before_verify) faults_.before_verify(partial_path_);
     if (Status s = verify(); !s.isOk()) return s;
-    if (::rename(partial_path_.c_str(), final_path_.c_str()) != 0) return fail("rename failed", errno);
+    if (::rename(partial_path_.c_str(), final_path_.c_str()) != 0)
+        return fail("rename failed", errno);
     committed_ = true;
     const int dfd = ::open(dirOf(final_path_).c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC);
     if (dfd >= 0) {
@@ -219,10 +237,11 @@ Status SafeFileWriter::verify() {
     std::uint64_t total = 0;
     int read_err = 0;
     {
-        BufferPipeline checksum(kBufferBytes, kBuffers, [&crc](std::span<const std::uint8_t> bytes, std::uint64_t) {
-            crc = crcUpdate(crc, bytes);
-            return 0;
-        });
+        BufferPipeline checksum(kBufferBytes, kBuffers,
+                                [&crc](std::span<const std::uint8_t> bytes, std::uint64_t) {
+                                    crc = crcUpdate(crc, bytes);
+                                    return 0;
+                                });
         while (true) {
             const std::span<std::uint8_t> buf = checksum.current();
             const ssize_t n = ::read(rfd, buf.data(), buf.size());
@@ -249,11 +268,11 @@ Status SafeFileWriter::verify() {
     if (rfd >= 0) ::close(rfd);
     if (read_err != 0) return fail("read-back failed", read_err);
     const std::uint32_t header_crc = crcUpdate(0, header_);
-    const std::uint32_t expected =
-        static_cast<std::uint32_t>(::crc32_combine(header_crc, crc_, static_cast<z_off_t>(flushed_ - header_bytes_)));
+    const std::uint32_t expected = static_cast<std::uint32_t>(
+        ::crc32_combine(header_crc, crc_, static_cast<z_off_t>(flushed_ - header_bytes_)));
     if (crc != expected || total != flushed_) {
-        return fail("verification failed (read back " + std::to_string(total) + " of " + std::to_string(flushed_) +
-                        " bytes, CRC mismatch)",
+        return fail("verification failed (read back " + std::to_string(total) + " of " +
+                        std::to_string(flushed_) + " bytes, CRC mismatch)",
                     EIO);
     }
     return Status::ok();

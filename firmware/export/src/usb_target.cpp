@@ -25,7 +25,8 @@ std::string unescape(const std::string& s) {
     for (std::size_t i = 0; i < s.size(); ++i) {
         if (s[i] == '\\' && i + 3 < s.size()) {
             const std::string oct = s.substr(i + 1, 3);
-            if (oct.size() == 3 && std::all_of(oct.begin(), oct.end(), [](char c) { return c >= '0' && c <= '7'; })) {
+            if (oct.size() == 3 &&
+                std::all_of(oct.begin(), oct.end(), [](char c) { return c >= '0' && c <= '7'; })) {
                 out.push_back(static_cast<char>(std::stoi(oct, nullptr, 8)));
                 i += 3;
                 continue;
@@ -59,12 +60,14 @@ std::vector<MountedVolume> listVolumes(const SystemPaths& paths) {
     std::vector<MountedVolume> out;
     std::ifstream in(paths.mountinfo);
     for (std::string line; std::getline(in, line);) {
-        // id parent major:minor root mount-point options [optional...] - fstype source super-options
+        // id parent major:minor root mount-point options [optional...] - fstype source
+        // super-options
         std::istringstream is(line);
         std::string id, parent, majmin, root, mount_point, options;
         is >> id >> parent >> majmin >> root >> mount_point >> options;
         std::string tok;
-        while (is >> tok && tok != "-") {}
+        while (is >> tok && tok != "-") {
+        }
         std::string fstype, source, super_options;
         is >> fstype >> source >> super_options;
         if (source.rfind("/dev/", 0) != 0) continue;  // only block devices
@@ -76,7 +79,8 @@ std::vector<MountedVolume> listVolumes(const SystemPaths& paths) {
         v.read_only = options.rfind("ro", 0) == 0 && (options.size() == 2 || options[2] == ',');
         v.removable = isRemovable(paths, v.major, v.minor);
         struct statvfs vfs {};
-        if (::statvfs(v.mount_point.c_str(), &vfs) == 0) v.free_bytes = static_cast<std::uint64_t>(vfs.f_bavail) * vfs.f_frsize;
+        if (::statvfs(v.mount_point.c_str(), &vfs) == 0)
+            v.free_bytes = static_cast<std::uint64_t>(vfs.f_bavail) * vfs.f_frsize;
         out.push_back(v);
     }
     return out;
@@ -88,8 +92,9 @@ Result<MountedVolume> volumeOf(const std::string& path, const SystemPaths& paths
     const MountedVolume* best = nullptr;
     const auto volumes = listVolumes(paths);
     for (const MountedVolume& v : volumes) {
-        const bool prefix = abs == v.mount_point ||
-                            (abs.rfind(v.mount_point, 0) == 0 && (v.mount_point == "/" || abs[v.mount_point.size()] == '/'));
+        const bool prefix =
+            abs == v.mount_point || (abs.rfind(v.mount_point, 0) == 0 &&
+                                     (v.mount_point == "/" || abs[v.mount_point.size()] == '/'));
         if (prefix && (!best || v.mount_point.size() > best->mount_point.size())) best = &v;
     }
     if (!best) return Status(StatusCode::kNotFound, path + ": not on a mounted block device");
@@ -103,10 +108,12 @@ Result<MountedVolume> findUsbStick(const SystemPaths& paths) {
     }
     if (sticks.empty()) {
         return Status(StatusCode::kNotFound,
-                      "no USB stick found: insert a stick (FAT32, exFAT or ext4), wait for it to mount, and try again");
+                      "no USB stick found: insert a stick (FAT32, exFAT or ext4), wait for it to "
+                      "mount, and try again");
     }
-    return *std::max_element(sticks.begin(), sticks.end(),
-                             [](const auto& a, const auto& b) { return a.free_bytes < b.free_bytes; });
+    return *std::max_element(sticks.begin(), sticks.end(), [](const auto& a, const auto& b) {
+        return a.free_bytes < b.free_bytes;
+    });
 }
 
 }  // namespace handscan::exporter

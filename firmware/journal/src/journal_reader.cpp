@@ -36,7 +36,9 @@ bool readAt(int fd, std::uint64_t offset, std::uint8_t* out, std::size_t n) {
 
 Result<JournalReader> JournalReader::open(const std::string& path) {
     ReadFd f(path);
-    if (f.fd < 0) return Status(StatusCode::kIoError, "journal " + path + ": cannot open: " + std::strerror(errno));
+    if (f.fd < 0)
+        return Status(StatusCode::kIoError,
+                      "journal " + path + ": cannot open: " + std::strerror(errno));
     struct stat st {};
     ::fstat(f.fd, &st);
     JournalReader reader;
@@ -47,8 +49,10 @@ Result<JournalReader> JournalReader::open(const std::string& path) {
     std::vector<std::uint8_t> header(kChunkHeaderBytes);
     std::vector<std::uint8_t> payload;
     while (offset < s.file_bytes) {
-        const std::string where = "chunk " + std::to_string(s.chunks) + " at byte " + std::to_string(offset);
-        if (s.file_bytes - offset < kChunkHeaderBytes || !readAt(f.fd, offset, header.data(), kChunkHeaderBytes)) {
+        const std::string where =
+            "chunk " + std::to_string(s.chunks) + " at byte " + std::to_string(offset);
+        if (s.file_bytes - offset < kChunkHeaderBytes ||
+            !readAt(f.fd, offset, header.data(), kChunkHeaderBytes)) {
             s.damage = where + ": truncated header";
             break;
         }
@@ -62,17 +66,21 @@ Result<JournalReader> JournalReader::open(const std::string& path) {
             break;
         }
         if (s.file_bytes - offset - kChunkHeaderBytes < h.payload_bytes) {
-            s.damage = where + ": truncated payload (" + std::to_string(s.file_bytes - offset - kChunkHeaderBytes) + " of " +
+            s.damage = where + ": truncated payload (" +
+                       std::to_string(s.file_bytes - offset - kChunkHeaderBytes) + " of " +
                        std::to_string(h.payload_bytes) + " bytes)";
             break;
         }
         payload.resize(h.payload_bytes);
-        if (!readAt(f.fd, offset + kChunkHeaderBytes, payload.data(), payload.size()) || crc32(payload) != h.payload_crc) {
+        if (!readAt(f.fd, offset + kChunkHeaderBytes, payload.data(), payload.size()) ||
+            crc32(payload) != h.payload_crc) {
             s.damage = where + ": payload CRC mismatch";
             break;
         }
         switch (h.kind) {
-            case ChunkKind::kMetadata: s.metadata_json.assign(payload.begin(), payload.end()); break;
+            case ChunkKind::kMetadata:
+                s.metadata_json.assign(payload.begin(), payload.end());
+                break;
             case ChunkKind::kPoints:
                 if (h.payload_bytes != h.record_count * kPointRecordBytes) {
                     s.damage = where + ": point count does not match the payload size";
@@ -81,9 +89,15 @@ Result<JournalReader> JournalReader::open(const std::string& path) {
                     s.points += h.record_count;
                 }
                 break;
-            case ChunkKind::kTrajectory: decodePoses(payload, s.trajectory); break;
-            case ChunkKind::kEndOfScan: s.finished = true; break;
-            default: s.damage = where + ": unknown chunk kind " + std::to_string(static_cast<int>(h.kind));
+            case ChunkKind::kTrajectory:
+                decodePoses(payload, s.trajectory);
+                break;
+            case ChunkKind::kEndOfScan:
+                s.finished = true;
+                break;
+            default:
+                s.damage =
+                    where + ": unknown chunk kind " + std::to_string(static_cast<int>(h.kind));
         }
         if (!s.damage.empty()) break;
         s.t_last_s = std::max(s.t_last_s, h.t_last_s);
@@ -92,26 +106,34 @@ Result<JournalReader> JournalReader::open(const std::string& path) {
         s.good_bytes = offset;
     }
     if (s.chunks == 0) {
-        return Status(StatusCode::kTruncated, "journal " + path + ": no intact chunk (" +
-                                                  (s.damage.empty() ? std::string("empty file") : s.damage) + ")");
+        return Status(StatusCode::kTruncated,
+                      "journal " + path + ": no intact chunk (" +
+                          (s.damage.empty() ? std::string("empty file") : s.damage) + ")");
     }
     return reader;
 }
 
-Status JournalReader::forEachPoints(const std::function<void(std::span<const MapPoint>)>& sink) const {
+Status JournalReader::forEachPoints(
+    const std::function<void(std::span<const MapPoint>)>& sink) const {
     ReadFd f(summary_.path);
-    if (f.fd < 0) return Status(StatusCode::kIoError, "journal " + summary_.path + ": cannot open: " + std::strerror(errno));
+    if (f.fd < 0)
+        return Status(StatusCode::kIoError,
+                      "journal " + summary_.path + ": cannot open: " + std::strerror(errno));
     std::vector<std::uint8_t> payload;
     std::vector<MapPoint> points;
     for (std::size_t i = 0; i < point_chunks_.size(); ++i) {
         const ChunkRef& c = point_chunks_[i];
-        if (i + 1 < point_chunks_.size()) {  // let the kernel read the next chunk while this one is used
+        if (i + 1 <
+            point_chunks_.size()) {  // let the kernel read the next chunk while this one is used
             const ChunkRef& next = point_chunks_[i + 1];
-            ::posix_fadvise(f.fd, static_cast<off_t>(next.offset), static_cast<off_t>(next.bytes), POSIX_FADV_WILLNEED);
+            ::posix_fadvise(f.fd, static_cast<off_t>(next.offset), static_cast<off_t>(next.bytes),
+                            POSIX_FADV_WILLNEED);
         }
         payload.resize(c.bytes);
         if (!readAt(f.fd, c.offset, payload.data(), payload.size())) {
-            return Status(StatusCode::kIoError, "journal " + summary_.path + ": read failed at byte " + std::to_string(c.offset));
+            return Status(
+                StatusCode::kIoError,
+                "journal " + summary_.path + ": read failed at byte " + std::to_string(c.offset));
         }
         // Same size as the last chunk (the usual case): resize() is a no-op, nothing is zeroed.
         points.resize(c.bytes / kPointRecordBytes);
@@ -127,7 +149,9 @@ Result<JournalSummary> recoverJournal(const std::string& path) {
     const JournalSummary& s = reader->summary();
     if (s.good_bytes < s.file_bytes) {
         if (::truncate(path.c_str(), static_cast<off_t>(s.good_bytes)) != 0) {
-            return Status(StatusCode::kIoError, "journal " + path + ": cannot cut the damaged tail: " + std::strerror(errno));
+            return Status(
+                StatusCode::kIoError,
+                "journal " + path + ": cannot cut the damaged tail: " + std::strerror(errno));
         }
     }
     return s;

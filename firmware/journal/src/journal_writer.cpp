@@ -29,33 +29,43 @@ JournalWriter::~JournalWriter() {
     }
 }
 
-Result<std::unique_ptr<JournalWriter>> JournalWriter::create(const std::string& path, const std::string& metadata_json,
-                                                              JournalOptions options) {
+Result<std::unique_ptr<JournalWriter>> JournalWriter::create(const std::string& path,
+                                                             const std::string& metadata_json,
+                                                             JournalOptions options) {
     const int fd = ::open(path.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0644);
     if (fd < 0) {
-        return Status(StatusCode::kIoError, "journal " + path + ": cannot create: " + std::strerror(errno));
+        return Status(StatusCode::kIoError,
+                      "journal " + path + ": cannot create: " + std::strerror(errno));
     }
     std::unique_ptr<JournalWriter> w(new JournalWriter(path, fd, options));
     w->refreshFreeSpace();
     std::vector<std::uint8_t> payload(metadata_json.begin(), metadata_json.end());
-    if (Status s = w->writeChunk(static_cast<int>(ChunkKind::kMetadata), 1, 0.0, payload); !s.isOk()) return s;
+    if (Status s = w->writeChunk(static_cast<int>(ChunkKind::kMetadata), 1, 0.0, payload);
+        !s.isOk())
+        return s;
     // The directory entry must survive a power cut too.
-    const std::string dir = path.find('/') == std::string::npos ? "." : path.substr(0, path.rfind('/'));
-    if (int dfd = ::open(dir.empty() ? "/" : dir.c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC); dfd >= 0) {
+    const std::string dir =
+        path.find('/') == std::string::npos ? "." : path.substr(0, path.rfind('/'));
+    if (int dfd = ::open(dir.empty() ? "/" : dir.c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC);
+        dfd >= 0) {
         ::fsync(dfd);
         ::close(dfd);
     }
     return w;
 }
 
-Result<std::unique_ptr<JournalWriter>> JournalWriter::resume(const std::string& path, JournalOptions options) {
+Result<std::unique_ptr<JournalWriter>> JournalWriter::resume(const std::string& path,
+                                                             JournalOptions options) {
     auto summary = recoverJournal(path);
     if (!summary.isOk()) return summary.status();
     if (summary->finished) {
-        return Status(StatusCode::kInvalidArgument, "journal " + path + ": the scan was finished; start a new one");
+        return Status(StatusCode::kInvalidArgument,
+                      "journal " + path + ": the scan was finished; start a new one");
     }
     const int fd = ::open(path.c_str(), O_WRONLY | O_CLOEXEC);
-    if (fd < 0) return Status(StatusCode::kIoError, "journal " + path + ": cannot open: " + std::strerror(errno));
+    if (fd < 0)
+        return Status(StatusCode::kIoError,
+                      "journal " + path + ": cannot open: " + std::strerror(errno));
     std::unique_ptr<JournalWriter> w(new JournalWriter(path, fd, options));
     w->end_offset_ = summary->good_bytes;
     w->sequence_ = summary->chunks;
@@ -66,7 +76,8 @@ Result<std::unique_ptr<JournalWriter>> JournalWriter::resume(const std::string& 
 
 void JournalWriter::refreshFreeSpace() {
     struct statvfs vfs {};
-    if (::fstatvfs(fd_, &vfs) == 0) free_bytes_ = static_cast<std::uint64_t>(vfs.f_bavail) * vfs.f_frsize;
+    if (::fstatvfs(fd_, &vfs) == 0)
+        free_bytes_ = static_cast<std::uint64_t>(vfs.f_bavail) * vfs.f_frsize;
 }
 
 Status JournalWriter::stop(Status reason) {
@@ -98,7 +109,8 @@ Status JournalWriter::flush() {
     std::vector<std::uint8_t> payload;
     if (!pending_poses_.empty()) {
         encodePoses(pending_poses_, payload);
-        if (Status s = writeChunk(static_cast<int>(ChunkKind::kTrajectory), static_cast<std::uint32_t>(pending_poses_.size()),
+        if (Status s = writeChunk(static_cast<int>(ChunkKind::kTrajectory),
+                                  static_cast<std::uint32_t>(pending_poses_.size()),
                                   pending_poses_.back().t_s, payload);
             !s.isOk()) {
             return s;
@@ -114,9 +126,11 @@ Status JournalWriter::flush() {
         encodePoints(part, payload);
         double t_last = 0.0;
         for (const MapPoint& p : part) t_last = std::max(t_last, p.t_s);
-        if (Status s = writeChunk(static_cast<int>(ChunkKind::kPoints), static_cast<std::uint32_t>(n), t_last, payload);
+        if (Status s = writeChunk(static_cast<int>(ChunkKind::kPoints),
+                                  static_cast<std::uint32_t>(n), t_last, payload);
             !s.isOk()) {
-            pending_points_.erase(pending_points_.begin(), pending_points_.begin() + static_cast<std::ptrdiff_t>(done));
+            pending_points_.erase(pending_points_.begin(),
+                                  pending_points_.begin() + static_cast<std::ptrdiff_t>(done));
             return s;
         }
         committed_points_ += n;
@@ -131,13 +145,16 @@ Status JournalWriter::finish() {
     return writeChunk(static_cast<int>(ChunkKind::kEndOfScan), 0, 0.0, {});
 }
 
-Status JournalWriter::writeChunk(int kind, std::uint32_t records, double t_last, const std::vector<std::uint8_t>& payload) {
+Status JournalWriter::writeChunk(int kind, std::uint32_t records, double t_last,
+                                 const std::vector<std::uint8_t>& payload) {
     const std::uint64_t bytes = kChunkHeaderBytes + payload.size();
     refreshFreeSpace();
     if (free_bytes_ < bytes + options_.reserve_bytes) {
         return stop(Status(StatusCode::kNoSpace,
-                           "journal " + path_ + ": only " + mib(free_bytes_) + " free, " + mib(options_.reserve_bytes) +
-                               " kept in reserve: scan stopped; everything up to chunk " + std::to_string(sequence_) +
+                           "journal " + path_ + ": only " + mib(free_bytes_) + " free, " +
+                               mib(options_.reserve_bytes) +
+                               " kept in reserve: scan stopped; everything up to chunk " +
+                               std::to_string(sequence_) +
                                " is safe; export the scan, then free space"));
     }
     ChunkHeader h;
@@ -171,15 +188,17 @@ Status JournalWriter::writeChunk(int kind, std::uint32_t records, double t_last,
             // Cut what was partly written so the file ends on a whole chunk.
             (void)!::ftruncate(fd_, static_cast<off_t>(end_offset_));
             return stop(Status(err == ENOSPC ? StatusCode::kNoSpace : StatusCode::kIoError,
-                               "journal " + path_ + ": write failed at byte " + std::to_string(end_offset_) + ": " +
-                                   std::strerror(err) + "; scan stopped, everything before is safe"));
+                               "journal " + path_ + ": write failed at byte " +
+                                   std::to_string(end_offset_) + ": " + std::strerror(err) +
+                                   "; scan stopped, everything before is safe"));
         }
         written += static_cast<std::uint64_t>(n);
     }
     if (::fdatasync(fd_) != 0) {
         const int err = errno;
         (void)!::ftruncate(fd_, static_cast<off_t>(end_offset_));
-        return stop(Status(StatusCode::kIoError, "journal " + path_ + ": fdatasync failed: " + std::strerror(err)));
+        return stop(Status(StatusCode::kIoError,
+                           "journal " + path_ + ": fdatasync failed: " + std::strerror(err)));
     }
     end_offset_ += bytes;
     ++sequence_;

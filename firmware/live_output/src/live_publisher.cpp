@@ -8,14 +8,16 @@
 
 namespace handscan::live_output {
 
-Result<std::unique_ptr<LivePublisher>> LivePublisher::create(const shm::WriterOptions& options, std::string storage_dir) {
+Result<std::unique_ptr<LivePublisher>> LivePublisher::create(const shm::WriterOptions& options,
+                                                             std::string storage_dir) {
     auto w = shm::LiveMapWriter::create(options);
     if (!w.isOk()) return w.status();
     (*w)->newScan();
     return std::unique_ptr<LivePublisher>(new LivePublisher(std::move(*w), std::move(storage_dir)));
 }
 
-Result<std::unique_ptr<LivePublisher>> LivePublisher::create(const std::string& name, std::string storage_dir) {
+Result<std::unique_ptr<LivePublisher>> LivePublisher::create(const std::string& name,
+                                                             std::string storage_dir) {
     shm::WriterOptions opt;
     if (!name.empty()) opt.name = name;
     return create(opt, std::move(storage_dir));
@@ -24,8 +26,11 @@ Result<std::unique_ptr<LivePublisher>> LivePublisher::create(const std::string& 
 void LivePublisher::pose(const PoseEstimate& pose) {
     if (last_pose_ && pose.t_host > last_pose_->t_host) {
         const double dt = toSeconds(pose.t_host - last_pose_->t_host);
-        const double step = (pose.T_world_body.translation() - last_pose_->T_world_body.translation()).norm();
-        const double turn = Eigen::AngleAxisd(last_pose_->T_world_body.linear().transpose() * pose.T_world_body.linear()).angle();
+        const double step =
+            (pose.T_world_body.translation() - last_pose_->T_world_body.translation()).norm();
+        const double turn = Eigen::AngleAxisd(last_pose_->T_world_body.linear().transpose() *
+                                              pose.T_world_body.linear())
+                                .angle();
         // Smoothed over ~0.2 s so one noisy sample does not flash "moving too fast".
         const float a = static_cast<float>(std::min(1.0, dt / 0.2));
         linear_speed_mps_ += a * (static_cast<float>(step / dt) - linear_speed_mps_);
@@ -39,7 +44,8 @@ void LivePublisher::pose(const PoseEstimate& pose) {
     writer_->publishPose(pose);
 }
 
-void LivePublisher::sweep(const lio::RegisteredSweep& sweep, std::span<const journal::MapPoint> points) {
+void LivePublisher::sweep(const lio::RegisteredSweep& sweep,
+                          std::span<const journal::MapPoint> points) {
     last_solved_mask_ = sweep.result.pose.solved_dof_mask;
     std::vector<shm::DisplayPoint> shown;
     for (const journal::MapPoint& m : points) {
@@ -66,10 +72,12 @@ void LivePublisher::status(const lio::LaserInertialOdometry& pipeline, const Liv
     }
     s.module_count = 2;
     shm::setText(s.modules[0].name, "imu");
-    s.modules[0].state = static_cast<std::uint8_t>(pipeline.aligned() ? shm::ModuleState::kActive : shm::ModuleState::kOff);
+    s.modules[0].state = static_cast<std::uint8_t>(pipeline.aligned() ? shm::ModuleState::kActive
+                                                                      : shm::ModuleState::kOff);
     s.modules[0].rate_hz = 200.0f;
     shm::setText(s.modules[1].name, "scan-match");
-    s.modules[1].state = static_cast<std::uint8_t>(pipeline.stats().sweeps > 0 ? shm::ModuleState::kActive : shm::ModuleState::kOff);
+    s.modules[1].state = static_cast<std::uint8_t>(
+        pipeline.stats().sweeps > 0 ? shm::ModuleState::kActive : shm::ModuleState::kOff);
     s.modules[1].degenerate_dof_mask = static_cast<std::uint8_t>(~last_solved_mask_ & 0x3F);
     s.modules[1].rate_hz = 2.0f;
     s.scan_state = static_cast<std::uint8_t>(in.scan_state);

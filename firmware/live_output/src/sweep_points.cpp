@@ -4,13 +4,20 @@
 
 namespace handscan::live_output {
 
-std::vector<journal::MapPoint> sweepMapPoints(const lio::RegisteredSweep& s, const colour::ColourResult* colours) {
+std::vector<journal::MapPoint> sweepMapPoints(const lio::RegisteredSweep& s,
+                                              const colour::ColourResult* colours) {
     std::vector<journal::MapPoint> pts;
     pts.reserve(s.points_world.size());
     for (std::size_t i = 0; i < s.points_world.size(); ++i) {
         const auto& p = s.points_world[i];
         const auto grey = static_cast<std::uint8_t>(std::min(255.0f, s.intensities[i] / 16.0f));
-        journal::MapPoint m{toSeconds(s.times[i]), p.x(), p.y(), p.z(), grey, grey, grey,
+        journal::MapPoint m{toSeconds(s.times[i]),
+                            p.x(),
+                            p.y(),
+                            p.z(),
+                            grey,
+                            grey,
+                            grey,
                             static_cast<std::uint16_t>(std::min(65535.0f, s.intensities[i]))};
         if (colours && colours->valid(i)) {
             m.r = colours->rgb[i][0];

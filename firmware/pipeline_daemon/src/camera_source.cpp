@@ -13,7 +13,9 @@ camera::CameraConfig cameraConfig(const CameraConfig& c) {
     camera::CameraConfig cc;
     cc.width = static_cast<std::uint32_t>(c.width);
     cc.height = static_cast<std::uint32_t>(c.height);
-    const PixelFormat wanted = c.format == "YUYV" ? PixelFormat::kYuyv : c.format == "MJPEG" ? PixelFormat::kMjpeg : PixelFormat::kGrey8;
+    const PixelFormat wanted = c.format == "YUYV"    ? PixelFormat::kYuyv
+                               : c.format == "MJPEG" ? PixelFormat::kMjpeg
+                                                     : PixelFormat::kGrey8;
     std::erase(cc.formats, wanted);
     cc.formats.insert(cc.formats.begin(), wanted);
     cc.frame_interval = {1000, static_cast<std::uint32_t>(std::lround(c.fps * 1000.0))};
@@ -23,25 +25,32 @@ camera::CameraConfig cameraConfig(const CameraConfig& c) {
 
 // Mean luma of every 64th pixel (GREY, or YUYV's Y bytes); -1 for compressed frames.
 float meanLuma(const Image& img) {
-    const int step = img.format == PixelFormat::kYuyv ? 2 : img.format == PixelFormat::kGrey8 ? 1 : 0;
+    const int step = img.format == PixelFormat::kYuyv    ? 2
+                     : img.format == PixelFormat::kGrey8 ? 1
+                                                         : 0;
     if (step == 0 || img.data.empty()) return -1.0f;
     double sum = 0;
     std::size_t n = 0;
-    for (std::size_t i = 0; i < img.data.size(); i += 64 * static_cast<std::size_t>(step), ++n) sum += img.data[i];
+    for (std::size_t i = 0; i < img.data.size(); i += 64 * static_cast<std::size_t>(step), ++n)
+        sum += img.data[i];
     return n ? static_cast<float>(sum / static_cast<double>(n)) : -1.0f;
 }
 
 class CameraSource final : public SensorSource {
 public:
     CameraSource(const SourceContext& c, bool colour)
-        : SensorSource(colour ? "colour-cam" : "tracking-cam", static_cast<float>(colour ? c.config.colour_camera.fps : c.config.tracking_camera.fps)),
-          config_(colour ? c.config.colour_camera : c.config.tracking_camera), colour_(colour), c_(c) {}
+        : SensorSource(colour ? "colour-cam" : "tracking-cam",
+                       static_cast<float>(colour ? c.config.colour_camera.fps
+                                                 : c.config.tracking_camera.fps)),
+          config_(colour ? c.config.colour_camera : c.config.tracking_camera),
+          colour_(colour),
+          c_(c) {}
     ~CameraSource() override { stop(); }
 
 private:
     void run() override {
-        runSessions(500 * kNsPerMs, 5 * kNsPerSec, "camera " + config_.device, " (check the cable; retrying)",
-                    [this] { return session(); });
+        runSessions(500 * kNsPerMs, 5 * kNsPerSec, "camera " + config_.device,
+                    " (check the cable; retrying)", [this] { return session(); });
     }
 
     Status session() {
@@ -60,7 +69,8 @@ private:
             if (!*frame) continue;
             health_.addSample((*frame)->t_host);
             if (colour_) {
-                if (!c_.queues.colour_images.tryPush(std::move(**frame))) c_.queues.dropped.fetch_add(1, std::memory_order_relaxed);
+                if (!c_.queues.colour_images.tryPush(std::move(**frame)))
+                    c_.queues.dropped.fetch_add(1, std::memory_order_relaxed);
             } else if (const float luma = meanLuma(**frame); luma >= 0) {
                 c_.queues.camera_brightness.store(luma, std::memory_order_relaxed);
             }

@@ -7,51 +7,60 @@ namespace handscan::pipeline_daemon {
 using shm::CommandState;
 using shm::CommandType;
 
-
 void CommandHandler::pollChannel() {
     while (auto cmd = channel_.pollCommand()) {
         log().info("command #{} {} '{}'", cmd->seq, shm::toString(cmd->type), cmd->argument);
         channel_.ack(cmd->seq, CommandState::kAccepted, "");
         const Outcome o = execute(cmd->type, cmd->argument, cmd->seq);
-        channel_.ack(cmd->seq, o.state, o.message, o.state == CommandState::kInProgress ? 0.0f : 1.0f);
+        channel_.ack(cmd->seq, o.state, o.message,
+                     o.state == CommandState::kInProgress ? 0.0f : 1.0f);
     }
 }
 
 void CommandHandler::onButton(ButtonAction action) {
     CommandType type = CommandType::kExport;
     if (action == ButtonAction::kToggleScan) {
-        type = worker_.scanState() == shm::ScanState::kScanning ? CommandType::kStopScan : CommandType::kStartScan;
+        type = worker_.scanState() == shm::ScanState::kScanning ? CommandType::kStopScan
+                                                                : CommandType::kStartScan;
     }
     const Outcome o = execute(type, "usb", 0);
     log().info("button: {}: {} {}", shm::toString(type), shm::toString(o.state), o.message);
 }
 
-CommandHandler::Outcome CommandHandler::execute(CommandType type, const std::string& argument, std::uint64_t seq) {
+CommandHandler::Outcome CommandHandler::execute(CommandType type, const std::string& argument,
+                                                std::uint64_t seq) {
     const auto fromResult = [](const Result<std::string>& r) {
         if (r.isOk()) return Outcome{CommandState::kDone, *r};
-        return Outcome{r.status().code() == StatusCode::kInvalidArgument ? CommandState::kRejected : CommandState::kFailed,
+        return Outcome{r.status().code() == StatusCode::kInvalidArgument ? CommandState::kRejected
+                                                                         : CommandState::kFailed,
                        r.status().message()};
     };
     switch (type) {
         case CommandType::kStartScan:
-            if (exports_.running()) return {CommandState::kRejected, "an export is running; wait for it to finish"};
+            if (exports_.running())
+                return {CommandState::kRejected, "an export is running; wait for it to finish"};
             return fromResult(worker_.control(ScanControl::kStart));
-        case CommandType::kStopScan: return fromResult(worker_.control(ScanControl::kStop));
+        case CommandType::kStopScan:
+            return fromResult(worker_.control(ScanControl::kStop));
         case CommandType::kNewScan:
-            if (exports_.running()) return {CommandState::kRejected, "an export is running; wait for it to finish"};
+            if (exports_.running())
+                return {CommandState::kRejected, "an export is running; wait for it to finish"};
             return fromResult(worker_.control(ScanControl::kNewScan));
         case CommandType::kExport: {
-            if (worker_.scanState() == shm::ScanState::kScanning) return {CommandState::kRejected, "stop the scan before exporting"};
+            if (worker_.scanState() == shm::ScanState::kScanning)
+                return {CommandState::kRejected, "stop the scan before exporting"};
             const std::string journal = worker_.journalPath();
             if (journal.empty()) return {CommandState::kRejected, "no scan to export: scan first"};
-            if (Status s = exports_.start(journal, argument); !s.isOk()) return {CommandState::kRejected, s.message()};
+            if (Status s = exports_.start(journal, argument); !s.isOk())
+                return {CommandState::kRejected, s.message()};
             export_seq_ = seq;
             return {CommandState::kInProgress, "exporting"};
         }
         case CommandType::kShutdown:
             shutdown_ = true;
             return {CommandState::kDone, "shutting down: the scan is saved"};
-        case CommandType::kNone: break;
+        case CommandType::kNone:
+            break;
     }
     return {CommandState::kRejected, "unknown command " + std::to_string(static_cast<int>(type))};
 }
@@ -59,8 +68,10 @@ CommandHandler::Outcome CommandHandler::execute(CommandType type, const std::str
 void CommandHandler::tick() {
     if (auto result = exports_.takeResult()) {
         if (export_seq_ != 0) {
-            if (result->isOk()) channel_.ack(export_seq_, CommandState::kDone, **result, 1.0f);
-            else channel_.ack(export_seq_, CommandState::kFailed, result->status().message(), 1.0f);
+            if (result->isOk())
+                channel_.ack(export_seq_, CommandState::kDone, **result, 1.0f);
+            else
+                channel_.ack(export_seq_, CommandState::kFailed, result->status().message(), 1.0f);
         }
         export_seq_ = 0;
         return;

@@ -16,7 +16,9 @@ constexpr const char* kCandumpPrefix = "candump:";
 class EmulatedMotorBus {
 public:
     explicit EmulatedMotorBus(const MotorConfig& c)
-        : encoder_(encoderConfig(c)), drive_(driveConfig(c)), paced_(bus_, [this] { return bus_.now(); }) {
+        : encoder_(encoderConfig(c)),
+          drive_(driveConfig(c)),
+          paced_(bus_, [this] { return bus_.now(); }) {
         bus_.addNode(&encoder_);
         if (c.drive_node_id > 0) bus_.addNode(&drive_);
     }
@@ -46,9 +48,12 @@ private:
 class LinuxDeviceLinks final : public DeviceLinks {
 public:
     std::unique_ptr<transport::ByteStream> hokuyo(const HokuyoConfig& c) override {
-        return std::make_unique<transport::TcpStream>(c.host, c.port, fromSeconds(c.connect_timeout_s));
+        return std::make_unique<transport::TcpStream>(c.host, c.port,
+                                                      fromSeconds(c.connect_timeout_s));
     }
-    Result<xsens::XsensLink> xsens(const XsensConfig& c) override { return xsens::makeXsensLink(c); }
+    Result<xsens::XsensLink> xsens(const XsensConfig& c) override {
+        return xsens::makeXsensLink(c);
+    }
     Result<CanLink> can(const MotorConfig& c) override {
         if (c.can_interface == "emulated") {
             auto owner = std::make_shared<EmulatedMotorBus>(c);
@@ -56,7 +61,8 @@ public:
             return CanLink{bus, [owner] { return owner->paced().now(); }};
         }
         if (c.can_interface.rfind(kCandumpPrefix, 0) == 0) {
-            auto log = motor::CandumpLogBus::openFile(c.can_interface.substr(std::string(kCandumpPrefix).size()));
+            auto log = motor::CandumpLogBus::openFile(
+                c.can_interface.substr(std::string(kCandumpPrefix).size()));
             if (!log.isOk()) return log.status();
             struct Replay {
                 std::unique_ptr<motor::CandumpLogBus> log;
@@ -64,7 +70,8 @@ public:
             };
             auto owner = std::make_shared<Replay>();
             owner->log = std::move(*log);
-            owner->paced = std::make_unique<motor::PacedCanBus>(*owner->log, [l = owner->log.get()] { return l->now(); });
+            owner->paced = std::make_unique<motor::PacedCanBus>(
+                *owner->log, [l = owner->log.get()] { return l->now(); });
             std::shared_ptr<transport::CanBus> bus(owner, owner->paced.get());
             return CanLink{bus, [owner] { return owner->paced->now(); }};
         }

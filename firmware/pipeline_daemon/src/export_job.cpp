@@ -32,7 +32,8 @@ void ExportJob::run(std::string source, std::string target) {
     };
     const bool usb = target.empty() || target == "usb";
     log().info("export of {} to {}", source, usb ? "the USB stick" : target);
-    auto report = usb ? exporter::exportToUsb(source, options, usb_paths_) : exporter::exportScan(source, target, options);
+    auto report = usb ? exporter::exportToUsb(source, options, usb_paths_)
+                      : exporter::exportScan(source, target, options);
     std::lock_guard lock(mutex_);
     running_ = false;
     if (!report.isOk()) {
@@ -49,8 +50,8 @@ void ExportJob::run(std::string source, std::string target) {
     status_.progress = 1.0f;
     status_.bytes_written = report->bytes;
     shm::setText(status_.target, report->directory);
-    const std::string msg = "exported " + std::to_string(report->points) + " points to " + report->directory +
-                            (usb ? "; safe to remove the USB stick" : "");
+    const std::string msg = "exported " + std::to_string(report->points) + " points to " +
+                            report->directory + (usb ? "; safe to remove the USB stick" : "");
     shm::setText(status_.message, msg);
     result_ = msg;
     log().info("{}", msg);

@@ -25,13 +25,17 @@ gpio::PanelConfig panelConfig(const GpioConfig& c) {
 class GpioSource final : public SensorSource {
 public:
     GpioSource(const SourceContext& c, PanelLeds& leds, std::function<void(ButtonAction)> on_button)
-        : SensorSource("buttons", 0.0f), config_(c.config.gpio), c_(c), leds_(leds), on_button_(std::move(on_button)) {}
+        : SensorSource("buttons", 0.0f),
+          config_(c.config.gpio),
+          c_(c),
+          leds_(leds),
+          on_button_(std::move(on_button)) {}
     ~GpioSource() override { stop(); }
 
 private:
     void run() override {
-        runSessions(kNsPerSec, 10 * kNsPerSec, "gpio " + config_.chip, " (buttons and LEDs unavailable; retrying)",
-                    [this] { return session(); });
+        runSessions(kNsPerSec, 10 * kNsPerSec, "gpio " + config_.chip,
+                    " (buttons and LEDs unavailable; retrying)", [this] { return session(); });
     }
 
     Status session() {
@@ -80,7 +84,8 @@ private:
 
 }  // namespace
 
-std::unique_ptr<SensorSource> makeGpioSource(const SourceContext& c, PanelLeds& leds, std::function<void(ButtonAction)> on_button) {
+std::unique_ptr<SensorSource> makeGpioSource(const SourceContext& c, PanelLeds& leds,
+                                             std::function<void(ButtonAction)> on_button) {
     return std::make_unique<GpioSource>(c, leds, std::move(on_button));
 }
 

@@ -9,7 +9,10 @@ namespace {
 class HokuyoSource final : public SensorSource {
 public:
     explicit HokuyoSource(const SourceContext& c)
-        : SensorSource("hokuyo", 40.0f), config_(c.config.hokuyo), queues_(c.queues), link_(c.links.hokuyo(config_)) {}
+        : SensorSource("hokuyo", 40.0f),
+          config_(c.config.hokuyo),
+          queues_(c.queues),
+          link_(c.links.hokuyo(config_)) {}
     ~HokuyoSource() override { stop(); }
 
 private:
@@ -24,7 +27,8 @@ private:
             const Status st = device.poll(scans);
             for (LaserScan& s : scans) {
                 health_.addSample(s.t_host);
-                if (!queues_.scans.tryPush(std::move(s))) queues_.dropped.fetch_add(1, std::memory_order_relaxed);
+                if (!queues_.scans.tryPush(std::move(s)))
+                    queues_.dropped.fetch_add(1, std::memory_order_relaxed);
             }
             const bool streaming = device.state() == hokuyo::HokuyoDevice::State::kStreaming;
             const auto stats = device.stats();
@@ -32,12 +36,14 @@ private:
                 health_.setConnected();
             } else if (!streaming && stats.faults + stats.connect_failures > faults_seen) {
                 std::string what = device.lastFault();
-                if (what.find(link_->describe()) == std::string::npos) what = "hokuyo " + link_->describe() + ": " + what;
+                if (what.find(link_->describe()) == std::string::npos)
+                    what = "hokuyo " + link_->describe() + ": " + what;
                 health_.setLost(what + " (check the laser's power and Ethernet cable; retrying)");
             }
             if (!st.isOk() && streaming) health_.setWarning(st.message());
             faults_seen = stats.faults + stats.connect_failures;
-            if (streaming || stats.connect_failures > 0 || stats.faults > 0) health_.markAttempted();
+            if (streaming || stats.connect_failures > 0 || stats.faults > 0)
+                health_.markAttempted();
         }
         (void)device.stop();
     }
@@ -49,6 +55,8 @@ private:
 
 }  // namespace
 
-std::unique_ptr<SensorSource> makeHokuyoSource(const SourceContext& c) { return std::make_unique<HokuyoSource>(c); }
+std::unique_ptr<SensorSource> makeHokuyoSource(const SourceContext& c) {
+    return std::make_unique<HokuyoSource>(c);
+}
 
 }  // namespace handscan::pipeline_daemon

@@ -26,7 +26,9 @@ motor::MotorConfig motorConfig(const MotorConfig& c) {
 class MotorSource final : public SensorSource {
 public:
     explicit MotorSource(const SourceContext& c)
-        : SensorSource("encoder", 1000.0f / static_cast<float>(c.config.motor.tpdo_period_ms)), config_(c.config.motor), c_(c) {}
+        : SensorSource("encoder", 1000.0f / static_cast<float>(c.config.motor.tpdo_period_ms)),
+          config_(c.config.motor),
+          c_(c) {}
     ~MotorSource() override { stop(); }
 
 private:
@@ -42,7 +44,8 @@ private:
         if (Status s = link->bus->open(); !s.isOk()) return s;
         motor::MotorDevice device(*link->bus, motorConfig(config_), link->now);
         if (Status s = device.start(); !s.isOk()) return s;
-        if (Status s = device.setMotorSpeed(2.0 * std::numbers::pi * config_.target_speed_rev_s); !s.isOk()) {
+        if (Status s = device.setMotorSpeed(2.0 * std::numbers::pi * config_.target_speed_rev_s);
+            !s.isOk()) {
             (void)device.stop();
             return s;
         }
@@ -57,7 +60,8 @@ private:
             }
             if (*r) {
                 health_.addSample((*r)->t_host);
-                if (!c_.queues.encoder.tryPush(**r)) c_.queues.dropped.fetch_add(1, std::memory_order_relaxed);
+                if (!c_.queues.encoder.tryPush(**r))
+                    c_.queues.dropped.fetch_add(1, std::memory_order_relaxed);
             }
         }
         (void)device.stop();  // speed 0 and pre-operational, best effort
@@ -71,6 +75,8 @@ private:
 
 }  // namespace
 
-std::unique_ptr<SensorSource> makeMotorSource(const SourceContext& c) { return std::make_unique<MotorSource>(c); }
+std::unique_ptr<SensorSource> makeMotorSource(const SourceContext& c) {
+    return std::make_unique<MotorSource>(c);
+}
 
 }  // namespace handscan::pipeline_daemon

@@ -36,15 +36,20 @@ Status PipelineDaemon::open() {
     log().debug("handscan-pipeline: opening");
     const std::string config_dir = defaultConfigDir();
     try {
-        device_ = loadDeviceConfig(options_.device_config.empty() ? config_dir + "/device.yaml" : options_.device_config);
-        calibration_ = loadCalibration(options_.calibration.empty() ? config_dir + "/calibration.yaml" : options_.calibration);
+        device_ = loadDeviceConfig(options_.device_config.empty() ? config_dir + "/device.yaml"
+                                                                  : options_.device_config);
+        calibration_ = loadCalibration(
+            options_.calibration.empty() ? config_dir + "/calibration.yaml" : options_.calibration);
     } catch (const std::exception& e) {  // ConfigError: file, line, key, expected and found
         return Status(StatusCode::kInvalidArgument, e.what());
     }
-    const std::string journal_dir = options_.journal_dir.empty() ? device_.storage.journal_dir : options_.journal_dir;
+    const std::string journal_dir =
+        options_.journal_dir.empty() ? device_.storage.journal_dir : options_.journal_dir;
     std::error_code ec;
     std::filesystem::create_directories(journal_dir, ec);  // its free space is shown from the start
-    if (ec) log().error("journal directory {}: {} (scans cannot start until it is writable)", journal_dir, ec.message());
+    if (ec)
+        log().error("journal directory {}: {} (scans cannot start until it is writable)",
+                    journal_dir, ec.message());
     shm::WriterOptions wo;
     wo.name = options_.shm_name;
     wo.map_capacity_points = options_.map_capacity_points;
@@ -52,10 +57,12 @@ Status PipelineDaemon::open() {
     if (!publisher.isOk()) return publisher.status();
 
     parts_ = std::make_unique<Parts>(options_.usb_paths);
-    const std::string metadata = "{\"source\": \"handscan-pipeline\", \"device_config\": \"" + device_.source_file + "\"}";
+    const std::string metadata =
+        "{\"source\": \"handscan-pipeline\", \"device_config\": \"" + device_.source_file + "\"}";
     auto session = std::make_unique<ScanSession>(journal_dir, options_.journal, metadata);
     // A scan cut short by a crash or power cut is taken back, so the UI can still export it.
-    if (auto recovered = session->recoverUnfinished(); !recovered.isOk()) log().error("{}", recovered.status().message());
+    if (auto recovered = session->recoverUnfinished(); !recovered.isOk())
+        log().error("{}", recovered.status().message());
     WorkerInputs inputs;
     inputs.sensors = [this] {
         std::vector<live_output::LiveSensor> out;
@@ -64,9 +71,11 @@ Status PipelineDaemon::open() {
         return out;
     };
     inputs.export_status = [this] { return parts_->exports.status(); };
-    parts_->worker = std::make_unique<PipelineWorker>(device_, calibration_, std::move(*publisher), std::move(session), queues_,
-                                                      std::move(inputs));
-    parts_->commands = std::make_unique<CommandHandler>(*parts_->worker, parts_->exports, parts_->worker->commands());
+    parts_->worker =
+        std::make_unique<PipelineWorker>(device_, calibration_, std::move(*publisher),
+                                         std::move(session), queues_, std::move(inputs));
+    parts_->commands = std::make_unique<CommandHandler>(*parts_->worker, parts_->exports,
+                                                        parts_->worker->commands());
 
     const SourceContext c{device_, *links_, queues_};
     parts_->sources.push_back(makeHokuyoSource(c));
@@ -80,8 +89,8 @@ Status PipelineDaemon::open() {
     }));
     parts_->worker->start();
     for (auto& s : parts_->sources) s->start();
-    log().info("handscan-pipeline: {} devices, journal in {}, live map /dev/shm{}", parts_->sources.size(), journal_dir,
-               options_.shm_name);
+    log().info("handscan-pipeline: {} devices, journal in {}, live map /dev/shm{}",
+               parts_->sources.size(), journal_dir, options_.shm_name);
     return Status::ok();
 }
 
@@ -94,7 +103,9 @@ bool PipelineDaemon::allAttempted() const {
 
 std::string PipelineDaemon::statusLine() {
     const auto state = parts_->worker->scanState();
-    std::string line = state == shm::ScanState::kScanning ? "scanning" : state == shm::ScanState::kStopped ? "stopped" : "idle";
+    std::string line = state == shm::ScanState::kScanning  ? "scanning"
+                       : state == shm::ScanState::kStopped ? "stopped"
+                                                           : "idle";
     const TimeNs now = monotonicNow();
     for (auto& s : parts_->sources) {
         const live_output::LiveSensor h = s->health().snapshot(now);
@@ -119,7 +130,9 @@ void PipelineDaemon::updateLeds() {
 }
 
 Status PipelineDaemon::run(const std::atomic<bool>& stop) {
-    if (!parts_) return Status(StatusCode::kInvalidArgument, "handscan-pipeline: run() before a successful open()");
+    if (!parts_)
+        return Status(StatusCode::kInvalidArgument,
+                      "handscan-pipeline: run() before a successful open()");
     Parts& p = *parts_;
     const TimeNs started = monotonicNow();
     bool ready = false;
@@ -150,7 +163,8 @@ Status PipelineDaemon::run(const std::atomic<bool>& stop) {
     for (auto& s : p.sources) s->stop();
     auto finished = p.worker->control(ScanControl::kFinish);
     p.worker->stop();
-    while (p.exports.running()) std::this_thread::sleep_for(std::chrono::milliseconds(50));  // never cut a write short
+    while (p.exports.running())
+        std::this_thread::sleep_for(std::chrono::milliseconds(50));  // never cut a write short
     p.commands->tick();
     if (!finished.isOk()) return finished.status();
     log().info("handscan-pipeline: stopped cleanly ({})", *finished);

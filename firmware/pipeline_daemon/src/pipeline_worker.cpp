@@ -8,15 +8,16 @@
 namespace handscan::pipeline_daemon {
 namespace {
 
-constexpr TimeNs kHoldBack = 100 * kNsPerMs;   // ordering window (see the header)
+constexpr TimeNs kHoldBack = 100 * kNsPerMs;  // ordering window (see the header)
 constexpr TimeNs kLoopPeriod = 10 * kNsPerMs;
 constexpr TimeNs kStatusPeriod = 100 * kNsPerMs;
 constexpr TimeNs kFinishBudget = 3 * kNsPerSec;  // of systemd's 15 s TimeoutStopSec
 
 lio::LioConfig lioConfig(const DeviceConfig& device) {
     lio::LioConfig c;
-    c.assembler.boundary = device.motor.sweep_boundary == "full" ? scan::SweepBoundary::kFullRevolution
-                                                                 : scan::SweepBoundary::kHalfRevolution;
+    c.assembler.boundary = device.motor.sweep_boundary == "full"
+                               ? scan::SweepBoundary::kFullRevolution
+                               : scan::SweepBoundary::kHalfRevolution;
     // As in replay: scan-matching feedback corrects the IMU prediction (section 4.2).
     c.imu_feedback = true;
     return c;
@@ -30,10 +31,15 @@ void drain(SpscQueue<T>& q, std::deque<T>& into) {
 }  // namespace
 
 PipelineWorker::PipelineWorker(const DeviceConfig& device, const Calibration& calibration,
-                               std::unique_ptr<live_output::LivePublisher> publisher, std::unique_ptr<ScanSession> session,
-                               SampleQueues& queues, WorkerInputs inputs)
-    : device_(device), calibration_(calibration), publisher_(std::move(publisher)), session_(std::move(session)),
-      queues_(queues), inputs_(std::move(inputs)) {
+                               std::unique_ptr<live_output::LivePublisher> publisher,
+                               std::unique_ptr<ScanSession> session, SampleQueues& queues,
+                               WorkerInputs inputs)
+    : device_(device),
+      calibration_(calibration),
+      publisher_(std::move(publisher)),
+      session_(std::move(session)),
+      queues_(queues),
+      inputs_(std::move(inputs)) {
     publisher_->setScanning(false);
     scan_state_.store(session_->state(), std::memory_order_release);
     journal_path_ = session_->journalPath();
@@ -67,7 +73,8 @@ Result<std::string> PipelineWorker::control(ScanControl c, TimeNs timeout) {
         done = requests_.back().done.get_future();
     }
     if (done.wait_for(std::chrono::nanoseconds(timeout)) != std::future_status::ready) {
-        return Status(StatusCode::kTimeout, "pipeline thread did not answer within " + std::to_string(timeout / kNsPerMs) + " ms");
+        return Status(StatusCode::kTimeout, "pipeline thread did not answer within " +
+                                                std::to_string(timeout / kNsPerMs) + " ms");
     }
     return done.get();
 }
@@ -77,7 +84,9 @@ std::string PipelineWorker::journalPath() const {
     return journal_path_;
 }
 
-void PipelineWorker::resetPipeline() { lio_ = std::make_unique<lio::LaserInertialOdometry>(lioConfig(device_), calibration_); }
+void PipelineWorker::resetPipeline() {
+    lio_ = std::make_unique<lio::LaserInertialOdometry>(lioConfig(device_), calibration_);
+}
 
 void PipelineWorker::run() {
     while (!stop_.load(std::memory_order_acquire)) {
@@ -97,7 +106,8 @@ void PipelineWorker::run() {
         std::this_thread::sleep_for(std::chrono::nanoseconds(kLoopPeriod));
     }
     std::lock_guard lock(mutex_);
-    for (Request& r : requests_) r.done.set_value(Status(StatusCode::kDisconnected, "the pipeline is shutting down"));
+    for (Request& r : requests_)
+        r.done.set_value(Status(StatusCode::kDisconnected, "the pipeline is shutting down"));
     requests_.clear();
 }
 
@@ -114,7 +124,9 @@ void PipelineWorker::handle(Request& r) {
             }
             break;
         }
-        case ScanControl::kStop: out = session_->stop(); break;
+        case ScanControl::kStop:
+            out = session_->stop();
+            break;
         case ScanControl::kNewScan:
             out = session_->newScan();
             if (out.isOk()) {
@@ -130,8 +142,10 @@ void PipelineWorker::handle(Request& r) {
             feed(std::numeric_limits<TimeNs>::max(), monotonicNow() + kFinishBudget);
             if (imu_.empty() && encoder_.empty() && scans_.empty()) lio_->finish();
             consume();
-            if (Status s = session_->finish(); !s.isOk()) out = s;
-            else out = std::string("journal closed");
+            if (Status s = session_->finish(); !s.isOk())
+                out = s;
+            else
+                out = std::string("journal closed");
             break;
     }
     publisher_->setScanning(session_->scanning());
@@ -155,16 +169,20 @@ void PipelineWorker::feed(TimeNs horizon, TimeNs deadline) {
     // Merge the three streams by time up to the horizon.
     for (std::uint64_t n = 1;; ++n) {
         if ((n % 64) == 0 && monotonicNow() > deadline) {
-            log().warn("pipeline: {} IMU, {} encoder samples and {} scans not processed before shutdown", imu_.size(),
-                       encoder_.size(), scans_.size());
+            log().warn(
+                "pipeline: {} IMU, {} encoder samples and {} scans not processed before shutdown",
+                imu_.size(), encoder_.size(), scans_.size());
             imu_.clear();
             encoder_.clear();
             scans_.clear();
             break;
         }
-        const TimeNs t_imu = imu_.empty() ? std::numeric_limits<TimeNs>::max() : imu_.front().t_host;
-        const TimeNs t_enc = encoder_.empty() ? std::numeric_limits<TimeNs>::max() : encoder_.front().t_host;
-        const TimeNs t_scan = scans_.empty() ? std::numeric_limits<TimeNs>::max() : scans_.front().t_host;
+        const TimeNs t_imu =
+            imu_.empty() ? std::numeric_limits<TimeNs>::max() : imu_.front().t_host;
+        const TimeNs t_enc =
+            encoder_.empty() ? std::numeric_limits<TimeNs>::max() : encoder_.front().t_host;
+        const TimeNs t_scan =
+            scans_.empty() ? std::numeric_limits<TimeNs>::max() : scans_.front().t_host;
         const TimeNs t = std::min({t_imu, t_enc, t_scan});
         if (t == std::numeric_limits<TimeNs>::max() || t > horizon) break;
         if (t == t_imu) {
@@ -180,7 +198,8 @@ void PipelineWorker::feed(TimeNs horizon, TimeNs deadline) {
     }
     while (!images_.empty() && images_.front().t_host <= horizon) {
         if (colouriser_) {
-            if (Status s = colouriser_->addImage(images_.front()); !s.isOk()) log().warn("colour camera: {}", s.message());
+            if (Status s = colouriser_->addImage(images_.front()); !s.isOk())
+                log().warn("colour camera: {}", s.message());
         }
         images_.pop_front();
     }
@@ -201,7 +220,8 @@ void PipelineWorker::consume() {
             };
             colours = colouriser_->colourise(s.points_world, s.times, pose_at);
         }
-        const std::vector<journal::MapPoint> pts = live_output::sweepMapPoints(s, colours ? &*colours : nullptr);
+        const std::vector<journal::MapPoint> pts =
+            live_output::sweepMapPoints(s, colours ? &*colours : nullptr);
         session_->appendPoints(pts);
         publisher_->sweep(s, pts);
     }
@@ -214,10 +234,12 @@ void PipelineWorker::consume() {
 
 void PipelineWorker::publishStatus() {
     last_status_ = monotonicNow();
-    // Samples the drivers could not queue: the pipeline fell behind (say so, at most once a second).
+    // Samples the drivers could not queue: the pipeline fell behind (say so, at most once a
+    // second).
     const std::uint64_t dropped = queues_.dropped.load(std::memory_order_relaxed);
     if (dropped > dropped_reported_ && last_status_ - dropped_logged_ >= kNsPerSec) {
-        log().warn("pipeline behind: {} samples dropped at full queues ({} in all)", dropped - dropped_reported_, dropped);
+        log().warn("pipeline behind: {} samples dropped at full queues ({} in all)",
+                   dropped - dropped_reported_, dropped);
         dropped_reported_ = dropped;
         dropped_logged_ = last_status_;
     }

@@ -20,7 +20,8 @@ fs::path freshScanDir(const fs::path& root) {
     char name[32];
     std::strftime(name, sizeof(name), "scan-%Y%m%d-%H%M%S", &tm);
     fs::path dir = root / name;
-    for (int i = 2; fs::exists(dir); ++i) dir = root / (std::string(name) + "-" + std::to_string(i));
+    for (int i = 2; fs::exists(dir); ++i)
+        dir = root / (std::string(name) + "-" + std::to_string(i));
     return dir;
 }
 
@@ -29,7 +30,8 @@ fs::path freshScanDir(const fs::path& root) {
 ScanSession::~ScanSession() { (void)finish(); }
 
 Result<std::string> ScanSession::start() {
-    if (state_ == shm::ScanState::kScanning) return Status(StatusCode::kInvalidArgument, "already scanning");
+    if (state_ == shm::ScanState::kScanning)
+        return Status(StatusCode::kInvalidArgument, "already scanning");
     if (canResume()) {
         state_ = shm::ScanState::kScanning;
         return std::string("scanning (resumed)");
@@ -39,8 +41,9 @@ Result<std::string> ScanSession::start() {
     const fs::path dir = freshScanDir(dir_);
     fs::create_directories(dir, ec);
     if (ec) {
-        return Status(StatusCode::kIoError, "journal: cannot create " + dir.string() + ": " + ec.message() +
-                                                " (is storage.journal_dir writable by the handscan user?)");
+        return Status(StatusCode::kIoError,
+                      "journal: cannot create " + dir.string() + ": " + ec.message() +
+                          " (is storage.journal_dir writable by the handscan user?)");
     }
     auto j = journal::JournalWriter::create((dir / "journal.hsj").string(), metadata_, options_);
     if (!j.isOk()) return j.status();
@@ -55,7 +58,8 @@ Result<std::string> ScanSession::start() {
 }
 
 Result<std::string> ScanSession::stop() {
-    if (state_ != shm::ScanState::kScanning) return Status(StatusCode::kInvalidArgument, "not scanning");
+    if (state_ != shm::ScanState::kScanning)
+        return Status(StatusCode::kInvalidArgument, "not scanning");
     state_ = shm::ScanState::kStopped;
     if (Status s = journal_->flush(); !s.isOk()) onJournalError(s);
     log().info("scan stopped: {} points in {}", points_, path_);
@@ -63,7 +67,8 @@ Result<std::string> ScanSession::stop() {
 }
 
 Result<std::string> ScanSession::newScan() {
-    if (state_ == shm::ScanState::kScanning) return Status(StatusCode::kInvalidArgument, "stop the scan first");
+    if (state_ == shm::ScanState::kScanning)
+        return Status(StatusCode::kInvalidArgument, "stop the scan first");
     if (Status s = finish(); !s.isOk()) return s;
     state_ = shm::ScanState::kIdle;
     path_.clear();
@@ -105,7 +110,8 @@ Result<std::string> ScanSession::recoverUnfinished() {
         resumable_ = false;
         problem_ = "recovered the scan cut short at the last shutdown (" + std::to_string(points_) +
                    " points): export it or start a new scan";
-        log().warn("{}: {}{}", path_, problem_, summary->damage.empty() ? "" : "; cut: " + summary->damage);
+        log().warn("{}: {}{}", path_, problem_,
+                   summary->damage.empty() ? "" : "; cut: " + summary->damage);
         return problem_;
     }
     return std::string();

@@ -36,13 +36,19 @@ live_output::LiveSensor SensorHealth::snapshot(TimeNs now) {
         window_start_ = now;
         window_samples_ = samples_;
     } else if (now - window_start_ >= kNsPerSec) {
-        rate_hz_ = static_cast<float>(static_cast<double>(samples_ - window_samples_) / toSeconds(now - window_start_));
+        rate_hz_ = static_cast<float>(static_cast<double>(samples_ - window_samples_) /
+                                      toSeconds(now - window_start_));
         window_start_ = now;
         window_samples_ = samples_;
     }
     // A device that stopped delivering for 2 s is not streaming, whatever its driver believes.
     const bool fresh = last_sample_ != 0 && now - last_sample_ < 2 * kNsPerSec;
-    return {name_, connected_ && (fresh || expected_hz_ == 0), fresh ? rate_hz_ : 0.0f, expected_hz_, last_sample_, error_};
+    return {name_,
+            connected_ && (fresh || expected_hz_ == 0),
+            fresh ? rate_hz_ : 0.0f,
+            expected_hz_,
+            last_sample_,
+            error_};
 }
 
 }  // namespace handscan::pipeline_daemon

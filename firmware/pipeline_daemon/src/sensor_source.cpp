@@ -22,13 +22,14 @@ bool SensorSource::sleepFor(TimeNs t) {
     while (!stopping()) {
         const TimeNs left = until - monotonicNow();
         if (left <= 0) return true;
-        std::this_thread::sleep_for(std::chrono::nanoseconds(std::min<TimeNs>(left, 20 * kNsPerMs)));
+        std::this_thread::sleep_for(
+            std::chrono::nanoseconds(std::min<TimeNs>(left, 20 * kNsPerMs)));
     }
     return false;
 }
 
-void SensorSource::runSessions(TimeNs first_wait, TimeNs max_wait, const std::string& what, const char* hint,
-                               const std::function<Status()>& session) {
+void SensorSource::runSessions(TimeNs first_wait, TimeNs max_wait, const std::string& what,
+                               const char* hint, const std::function<Status()>& session) {
     Backoff backoff(first_wait, max_wait);
     while (!stopping()) {
         const Status end = session();

@@ -8,11 +8,13 @@ namespace handscan::pipeline_daemon {
 
 SystemdNotifier::SystemdNotifier() {
     std::uint64_t usec = 0;
-    if (sd_watchdog_enabled(0, &usec) > 0 && usec > 0) watchdog_interval_ = static_cast<TimeNs>(usec) * 1000 / 2;
+    if (sd_watchdog_enabled(0, &usec) > 0 && usec > 0)
+        watchdog_interval_ = static_cast<TimeNs>(usec) * 1000 / 2;
 }
 
 void SystemdNotifier::send(const std::string& message) {
-    if (const int r = sd_notify(0, message.c_str()); r < 0) log().warn("sd_notify({}) failed: error {}", message, -r);
+    if (const int r = sd_notify(0, message.c_str()); r < 0)
+        log().warn("sd_notify({}) failed: error {}", message, -r);
 }
 
 void SystemdNotifier::ready(const std::string& status) {

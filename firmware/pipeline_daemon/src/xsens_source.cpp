@@ -9,7 +9,9 @@ namespace {
 class XsensSource final : public SensorSource {
 public:
     explicit XsensSource(const SourceContext& c)
-        : SensorSource("xsens", static_cast<float>(c.config.xsens.rate_hz)), config_(c.config.xsens), c_(c) {}
+        : SensorSource("xsens", static_cast<float>(c.config.xsens.rate_hz)),
+          config_(c.config.xsens),
+          c_(c) {}
     ~XsensSource() override { stop(); }
 
 private:
@@ -19,10 +21,12 @@ private:
         while (!stopping() && !driver) {
             auto link = c_.links.xsens(config_);
             if (link.isOk()) {
-                driver = std::make_unique<xsens::XsensDriver>(std::move(*link), [this](const ImuSample& s) {
-                    health_.addSample(s.t_host);
-                    if (!c_.queues.imu.tryPush(s)) c_.queues.dropped.fetch_add(1, std::memory_order_relaxed);
-                });
+                driver = std::make_unique<xsens::XsensDriver>(
+                    std::move(*link), [this](const ImuSample& s) {
+                        health_.addSample(s.t_host);
+                        if (!c_.queues.imu.tryPush(s))
+                            c_.queues.dropped.fetch_add(1, std::memory_order_relaxed);
+                    });
                 break;
             }
             health_.setLost("xsens: " + link.status().message());
@@ -50,6 +54,8 @@ private:
 
 }  // namespace
 
-std::unique_ptr<SensorSource> makeXsensSource(const SourceContext& c) { return std::make_unique<XsensSource>(c); }
+std::unique_ptr<SensorSource> makeXsensSource(const SourceContext& c) {
+    return std::make_unique<XsensSource>(c);
+}
 
 }  // namespace handscan::pipeline_daemon

@@ -39,7 +39,8 @@ private:
         for (int i = 0; i < n; ++i) out_.push_back(static_cast<std::uint8_t>(v >> (8 * i)));
     }
     void patch(std::size_t pos, std::uint64_t v, int n) {
-        for (int i = 0; i < n; ++i) out_[pos + static_cast<std::size_t>(i)] = static_cast<std::uint8_t>(v >> (8 * i));
+        for (int i = 0; i < n; ++i)
+            out_[pos + static_cast<std::size_t>(i)] = static_cast<std::uint8_t>(v >> (8 * i));
     }
     std::vector<std::uint8_t>& out_;
 };
@@ -102,7 +103,8 @@ private:
     bool le(T& v) {
         if (remaining() < sizeof(T)) return false;
         std::uint64_t acc = 0;
-        for (std::size_t i = 0; i < sizeof(T); ++i) acc |= static_cast<std::uint64_t>(in_[pos_ + i]) << (8 * i);
+        for (std::size_t i = 0; i < sizeof(T); ++i)
+            acc |= static_cast<std::uint64_t>(in_[pos_ + i]) << (8 * i);
         v = static_cast<T>(acc);
         pos_ += sizeof(T);
         return true;

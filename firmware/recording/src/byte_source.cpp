@@ -9,19 +9,23 @@ namespace {
 
 class FileSource final : public ByteSource {
 public:
-    FileSource(std::FILE* f, std::string path, std::uint64_t size) : f_(f), path_(std::move(path)), size_(size) {}
+    FileSource(std::FILE* f, std::string path, std::uint64_t size)
+        : f_(f), path_(std::move(path)), size_(size) {}
     ~FileSource() override { std::fclose(f_); }
     std::uint64_t size() const override { return size_; }
     Status readAt(std::uint64_t offset, std::size_t n, std::vector<std::uint8_t>& out) override {
         if (offset > size_ || n > size_ - offset) {
-            return {StatusCode::kTruncated, path_ + ": read of " + std::to_string(n) + " bytes at offset " +
-                                                std::to_string(offset) + " is past the end of the file (" +
+            return {StatusCode::kTruncated, path_ + ": read of " + std::to_string(n) +
+                                                " bytes at offset " + std::to_string(offset) +
+                                                " is past the end of the file (" +
                                                 std::to_string(size_) + " bytes)"};
         }
         out.resize(n);
-        if (fseeko(f_, static_cast<off_t>(offset), SEEK_SET) != 0 || std::fread(out.data(), 1, n, f_) != n) {
-            return {StatusCode::kIoError, path_ + ": reading " + std::to_string(n) + " bytes at offset " +
-                                              std::to_string(offset) + " failed: " + std::strerror(errno)};
+        if (fseeko(f_, static_cast<off_t>(offset), SEEK_SET) != 0 ||
+            std::fread(out.data(), 1, n, f_) != n) {
+            return {StatusCode::kIoError, path_ + ": reading " + std::to_string(n) +
+                                              " bytes at offset " + std::to_string(offset) +
+                                              " failed: " + std::strerror(errno)};
         }
         return Status::ok();
     }
@@ -38,8 +42,10 @@ public:
     std::uint64_t size() const override { return bytes_.size(); }
     Status readAt(std::uint64_t offset, std::size_t n, std::vector<std::uint8_t>& out) override {
         if (offset > bytes_.size() || n > bytes_.size() - offset) {
-            return {StatusCode::kTruncated, "read of " + std::to_string(n) + " bytes at offset " + std::to_string(offset) +
-                                                " is past the end of the buffer (" + std::to_string(bytes_.size()) + " bytes)"};
+            return {StatusCode::kTruncated, "read of " + std::to_string(n) + " bytes at offset " +
+                                                std::to_string(offset) +
+                                                " is past the end of the buffer (" +
+                                                std::to_string(bytes_.size()) + " bytes)"};
         }
         const auto begin = bytes_.begin() + static_cast<std::ptrdiff_t>(offset);
         out.assign(begin, begin + static_cast<std::ptrdiff_t>(n));
@@ -63,7 +69,8 @@ Result<std::unique_ptr<ByteSource>> openFileSource(const std::string& path) {
         return Status{StatusCode::kIoError, path + ": cannot seek (is it a regular file?)"};
     }
     const off_t size = ftello(f);
-    return std::unique_ptr<ByteSource>(std::make_unique<FileSource>(f, path, static_cast<std::uint64_t>(size)));
+    return std::unique_ptr<ByteSource>(
+        std::make_unique<FileSource>(f, path, static_cast<std::uint64_t>(size)));
 }
 
 std::unique_ptr<ByteSource> memorySource(std::vector<std::uint8_t> bytes) {

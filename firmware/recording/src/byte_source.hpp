@@ -16,7 +16,8 @@ public:
     virtual ~ByteSource() = default;
     virtual std::uint64_t size() const = 0;
     // Replaces `out` with bytes [offset, offset + n); fails if they are not all there.
-    [[nodiscard]] virtual Status readAt(std::uint64_t offset, std::size_t n, std::vector<std::uint8_t>& out) = 0;
+    [[nodiscard]] virtual Status readAt(std::uint64_t offset, std::size_t n,
+                                        std::vector<std::uint8_t>& out) = 0;
 };
 
 [[nodiscard]] Result<std::unique_ptr<ByteSource>> openFileSource(const std::string& path);

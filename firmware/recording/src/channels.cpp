@@ -13,17 +13,19 @@ using detail::ByteReader;
 using detail::ByteWriter;
 
 constexpr std::array<ChannelSpec, 11> kAll = {
-    channels::kHokuyoRaw,    channels::kXsensRaw,     channels::kMotorCan,     channels::kCameraTrack,
-    channels::kCameraColour, channels::kGpioEvents,   channels::kImuSamples,   channels::kLaserScans,
-    channels::kEncoderAngle, channels::kPoseEstimate, channels::kGroundTruthPose};
+    channels::kHokuyoRaw,    channels::kXsensRaw,       channels::kMotorCan,
+    channels::kCameraTrack,  channels::kCameraColour,   channels::kGpioEvents,
+    channels::kImuSamples,   channels::kLaserScans,     channels::kEncoderAngle,
+    channels::kPoseEstimate, channels::kGroundTruthPose};
 
 Status malformed(std::string_view encoding, std::size_t size, std::string_view why) {
-    return {StatusCode::kProtocolError, std::string(encoding) + " message of " + std::to_string(size) +
-                                            " bytes: " + std::string(why)};
+    return {StatusCode::kProtocolError, std::string(encoding) + " message of " +
+                                            std::to_string(size) + " bytes: " + std::string(why)};
 }
 
 // The fixed-size records must match their size exactly: a different size means another layout.
-Status expectSize(std::string_view encoding, std::span<const std::uint8_t> bytes, std::size_t size) {
+Status expectSize(std::string_view encoding, std::span<const std::uint8_t> bytes,
+                  std::size_t size) {
     if (bytes.size() == size) return Status::ok();
     return malformed(encoding, bytes.size(), "expected exactly " + std::to_string(size));
 }
@@ -31,7 +33,9 @@ Status expectSize(std::string_view encoding, std::span<const std::uint8_t> bytes
 void writeVec3(ByteWriter& w, const Eigen::Vector3d& v) {
     for (int i = 0; i < 3; ++i) w.f64(v[i]);
 }
-bool readVec3(ByteReader& r, Eigen::Vector3d& v) { return r.f64(v[0]) && r.f64(v[1]) && r.f64(v[2]); }
+bool readVec3(ByteReader& r, Eigen::Vector3d& v) {
+    return r.f64(v[0]) && r.f64(v[1]) && r.f64(v[2]);
+}
 
 void writeQuat(ByteWriter& w, const Eigen::Quaterniond& q) {
     w.f64(q.x());
@@ -39,7 +43,9 @@ void writeQuat(ByteWriter& w, const Eigen::Quaterniond& q) {
     w.f64(q.z());
     w.f64(q.w());
 }
-bool readQuat(ByteReader& r, Eigen::Quaterniond& q) { return r.f64(q.x()) && r.f64(q.y()) && r.f64(q.z()) && r.f64(q.w()); }
+bool readQuat(ByteReader& r, Eigen::Quaterniond& q) {
+    return r.f64(q.x()) && r.f64(q.y()) && r.f64(q.z()) && r.f64(q.w());
+}
 
 }  // namespace
 
@@ -73,7 +79,8 @@ Result<GpioEdge> decodeGpioEdge(std::span<const std::uint8_t> bytes) {
     std::uint32_t line = 0;
     std::uint8_t edge = 0;
     (void)(r.i64(e.t_host) && r.u32(line) && r.u8(edge));
-    if (edge != 1 && edge != 2) return malformed(enc, bytes.size(), "edge " + std::to_string(edge) + " is not 1 or 2");
+    if (edge != 1 && edge != 2)
+        return malformed(enc, bytes.size(), "edge " + std::to_string(edge) + " is not 1 or 2");
     e.line = line;
     e.edge = static_cast<GpioEdgeType>(edge);
     return e;
@@ -122,20 +129,24 @@ Result<LaserScan> decodeLaserScan(std::span<const std::uint8_t> bytes) {
     ByteReader r(bytes);
     LaserScan s;
     std::uint32_t n = 0;
-    if (!(r.i64(s.t_host) && r.u32(s.t_device_ms) && r.i64(s.step_period_ns) && r.i32(s.first_step) &&
-          r.f64(s.angle_min_rad) && r.f64(s.angle_increment_rad) && r.u32(n))) {
+    if (!(r.i64(s.t_host) && r.u32(s.t_device_ms) && r.i64(s.step_period_ns) &&
+          r.i32(s.first_step) && r.f64(s.angle_min_rad) && r.f64(s.angle_increment_rad) &&
+          r.u32(n))) {
         return malformed(enc, bytes.size(), "shorter than the 44-byte header");
     }
-    if (r.remaining() / 4 < n) return malformed(enc, bytes.size(), std::to_string(n) + " ranges do not fit");
+    if (r.remaining() / 4 < n)
+        return malformed(enc, bytes.size(), std::to_string(n) + " ranges do not fit");
     s.ranges_m.resize(n);
     for (float& v : s.ranges_m) (void)r.f32(v);
     for (auto* list : {&s.intensities, &s.error_codes}) {
         std::uint32_t m = 0;
-        if (!r.u32(m) || r.remaining() / 2 < m) return malformed(enc, bytes.size(), "intensity/error list cut short");
+        if (!r.u32(m) || r.remaining() / 2 < m)
+            return malformed(enc, bytes.size(), "intensity/error list cut short");
         list->resize(m);
         for (std::uint16_t& v : *list) (void)r.u16(v);
     }
-    if (r.remaining() != 0) return malformed(enc, bytes.size(), std::to_string(r.remaining()) + " trailing bytes");
+    if (r.remaining() != 0)
+        return malformed(enc, bytes.size(), std::to_string(r.remaining()) + " trailing bytes");
     return s;
 }
 

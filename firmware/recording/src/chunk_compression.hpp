@@ -35,6 +35,7 @@ bool isSupportedCompression(std::string_view compression);
 
 // Decompresses a chunk's records into `out` (exactly `uncompressed_size` bytes or an error).
 [[nodiscard]] Status decompressChunk(std::string_view compression, std::span<const std::uint8_t> in,
-                                     std::uint64_t uncompressed_size, std::vector<std::uint8_t>& out);
+                                     std::uint64_t uncompressed_size,
+                                     std::vector<std::uint8_t>& out);
 
 }  // namespace handscan::recording::detail

@@ -40,21 +40,36 @@ std::string at(std::uint64_t offset) { return "at byte " + std::to_string(offset
 
 const char* recordName(std::uint8_t op) {
     switch (static_cast<Opcode>(op)) {
-        case Opcode::kHeader: return "Header";
-        case Opcode::kFooter: return "Footer";
-        case Opcode::kSchema: return "Schema";
-        case Opcode::kChannel: return "Channel";
-        case Opcode::kMessage: return "Message";
-        case Opcode::kChunk: return "Chunk";
-        case Opcode::kMessageIndex: return "Message Index";
-        case Opcode::kChunkIndex: return "Chunk Index";
-        case Opcode::kAttachment: return "Attachment";
-        case Opcode::kAttachmentIndex: return "Attachment Index";
-        case Opcode::kStatistics: return "Statistics";
-        case Opcode::kMetadata: return "Metadata";
-        case Opcode::kMetadataIndex: return "Metadata Index";
-        case Opcode::kSummaryOffset: return "Summary Offset";
-        case Opcode::kDataEnd: return "Data End";
+        case Opcode::kHeader:
+            return "Header";
+        case Opcode::kFooter:
+            return "Footer";
+        case Opcode::kSchema:
+            return "Schema";
+        case Opcode::kChannel:
+            return "Channel";
+        case Opcode::kMessage:
+            return "Message";
+        case Opcode::kChunk:
+            return "Chunk";
+        case Opcode::kMessageIndex:
+            return "Message Index";
+        case Opcode::kChunkIndex:
+            return "Chunk Index";
+        case Opcode::kAttachment:
+            return "Attachment";
+        case Opcode::kAttachmentIndex:
+            return "Attachment Index";
+        case Opcode::kStatistics:
+            return "Statistics";
+        case Opcode::kMetadata:
+            return "Metadata";
+        case Opcode::kMetadataIndex:
+            return "Metadata Index";
+        case Opcode::kSummaryOffset:
+            return "Summary Offset";
+        case Opcode::kDataEnd:
+            return "Data End";
     }
     return "unknown";
 }
@@ -67,10 +82,12 @@ struct RecordPrefix {
 
 // Reads the record prefix at `pos`. kTruncated (with the reason) when the file ends inside the
 // prefix or before the record's declared end; kIoError when the file cannot be read.
-Result<RecordPrefix> readPrefix(detail::ByteSource& src, std::uint64_t pos, std::vector<std::uint8_t>& buf) {
+Result<RecordPrefix> readPrefix(detail::ByteSource& src, std::uint64_t pos,
+                                std::vector<std::uint8_t>& buf) {
     const std::uint64_t size = src.size();
     if (size - pos < kRecordPrefixSize) {
-        return Status{StatusCode::kTruncated, "file ends inside a record prefix " + at(pos) + " (cut short)"};
+        return Status{StatusCode::kTruncated,
+                      "file ends inside a record prefix " + at(pos) + " (cut short)"};
     }
     if (Status s = src.readAt(pos, kRecordPrefixSize, buf); !s) return s;
     ByteReader pr(buf);
@@ -79,8 +96,9 @@ Result<RecordPrefix> readPrefix(detail::ByteSource& src, std::uint64_t pos, std:
     (void)pr.u64(p.len);
     const std::uint64_t avail = size - pos - kRecordPrefixSize;
     if (p.len > avail) {
-        return Status{StatusCode::kTruncated, std::string(recordName(p.op)) + " record " + at(pos) + " declares " +
-                                                  std::to_string(p.len) + " bytes but only " + std::to_string(avail) +
+        return Status{StatusCode::kTruncated, std::string(recordName(p.op)) + " record " + at(pos) +
+                                                  " declares " + std::to_string(p.len) +
+                                                  " bytes but only " + std::to_string(avail) +
                                                   " remain (file cut short)"};
     }
     return p;
@@ -94,17 +112,21 @@ Status decodeChunk(std::span<const std::uint8_t> content, std::uint64_t offset, 
         return {StatusCode::kProtocolError, "chunk " + at(offset) + ": malformed chunk header"};
     }
     if (header.uncompressed_size > kMaxChunkBytes) {
-        return {StatusCode::kProtocolError, "chunk " + at(offset) + ": implausible uncompressed size " +
+        return {StatusCode::kProtocolError, "chunk " + at(offset) +
+                                                ": implausible uncompressed size " +
                                                 std::to_string(header.uncompressed_size)};
     }
-    if (Status s = detail::decompressChunk(header.compression, records, header.uncompressed_size, out); !s) {
+    if (Status s =
+            detail::decompressChunk(header.compression, records, header.uncompressed_size, out);
+        !s) {
         return {s.code(), "chunk " + at(offset) + ": " + s.message()};
     }
     if (header.uncompressed_crc != 0) {
         const std::uint32_t crc = crc32(out);
         if (crc != header.uncompressed_crc) {
             char buf[96];
-            std::snprintf(buf, sizeof buf, ": CRC32 mismatch (stored 0x%08x, computed 0x%08x)", header.uncompressed_crc, crc);
+            std::snprintf(buf, sizeof buf, ": CRC32 mismatch (stored 0x%08x, computed 0x%08x)",
+                          header.uncompressed_crc, crc);
             return {StatusCode::kChecksumError, "chunk " + at(offset) + buf};
         }
     }
@@ -124,7 +146,8 @@ Result<std::optional<std::uint64_t>> findNextChunk(detail::ByteSource& src, std:
     std::vector<std::uint8_t> content;
     std::vector<std::uint8_t> records;
     for (std::uint64_t base = from; base + kRecordPrefixSize + 40 <= size; base += kWindow) {
-        const std::size_t n = static_cast<std::size_t>(std::min<std::uint64_t>(kWindow + kHead, size - base));
+        const std::size_t n =
+            static_cast<std::size_t>(std::min<std::uint64_t>(kWindow + kHead, size - base));
         if (Status s = src.readAt(base, n, win); !s) return s;
         for (std::size_t i = 0; i < std::min(kWindow, n); ++i) {
             if (win[i] != static_cast<std::uint8_t>(Opcode::kChunk) || i + kHead > n) continue;
@@ -132,15 +155,21 @@ Result<std::optional<std::uint64_t>> findNextChunk(detail::ByteSource& src, std:
             ByteReader r(std::span<const std::uint8_t>(win).subspan(i + 1));
             std::uint64_t len = 0, start = 0, end = 0, usize = 0, records_size = 0;
             std::uint32_t crc = 0, complen = 0;
-            (void)(r.u64(len) && r.u64(start) && r.u64(end) && r.u64(usize) && r.u32(crc) && r.u32(complen));
-            if (len < 40 || len > size - q - kRecordPrefixSize || start > end || usize > kMaxChunkBytes ||
-                (complen != 0 && complen != 4)) {
+            (void)(r.u64(len) && r.u64(start) && r.u64(end) && r.u64(usize) && r.u32(crc) &&
+                   r.u32(complen));
+            if (len < 40 || len > size - q - kRecordPrefixSize || start > end ||
+                usize > kMaxChunkBytes || (complen != 0 && complen != 4)) {
                 continue;
             }
             std::span<const std::uint8_t> name;
             (void)(r.bytes(complen, name) && r.u64(records_size));
-            if ((complen == 4 && !std::equal(name.begin(), name.end(), "zstd")) || len != 40 + complen + records_size) continue;
-            if (Status s = src.readAt(q + kRecordPrefixSize, static_cast<std::size_t>(len), content); !s) return s;
+            if ((complen == 4 && !std::equal(name.begin(), name.end(), "zstd")) ||
+                len != 40 + complen + records_size)
+                continue;
+            if (Status s =
+                    src.readAt(q + kRecordPrefixSize, static_cast<std::size_t>(len), content);
+                !s)
+                return s;
             ChunkHeader ch;
             if (decodeChunk(content, q, ch, records)) return std::optional<std::uint64_t>(q);
         }
@@ -166,8 +195,10 @@ Result<std::unique_ptr<McapReader>> McapReader::open(const std::string& path) {
     return r;
 }
 
-Result<std::unique_ptr<McapReader>> McapReader::fromBuffer(std::vector<std::uint8_t> bytes, std::string name) {
-    std::unique_ptr<McapReader> r(new McapReader(detail::memorySource(std::move(bytes)), std::move(name)));
+Result<std::unique_ptr<McapReader>> McapReader::fromBuffer(std::vector<std::uint8_t> bytes,
+                                                           std::string name) {
+    std::unique_ptr<McapReader> r(
+        new McapReader(detail::memorySource(std::move(bytes)), std::move(name)));
     if (Status s = r->load(); !s) return s;
     return r;
 }
@@ -223,15 +254,18 @@ Status McapReader::load() {
     const std::uint64_t size = source_->size();
     std::vector<std::uint8_t> buf;
     if (size < kMcapMagic.size()) {
-        return {StatusCode::kTruncated, name_ + ": " + std::to_string(size) + " bytes is too short for an MCAP file"};
+        return {StatusCode::kTruncated,
+                name_ + ": " + std::to_string(size) + " bytes is too short for an MCAP file"};
     }
     if (Status s = source_->readAt(0, kMcapMagic.size(), buf); !s) return s;
     if (!std::equal(kMcapMagic.begin(), kMcapMagic.end(), buf.begin())) {
-        return {StatusCode::kProtocolError, name_ + ": not an MCAP file (the first 8 bytes are not the MCAP0 magic)"};
+        return {StatusCode::kProtocolError,
+                name_ + ": not an MCAP file (the first 8 bytes are not the MCAP0 magic)"};
     }
     // Header: opcode, length, content.
     if (size < kMcapMagic.size() + kRecordPrefixSize) {
-        return {StatusCode::kTruncated, name_ + ": cut short inside the Header record; it holds no messages"};
+        return {StatusCode::kTruncated,
+                name_ + ": cut short inside the Header record; it holds no messages"};
     }
     if (Status s = source_->readAt(kMcapMagic.size(), kRecordPrefixSize, buf); !s) return s;
     ByteReader pr(buf);
@@ -240,15 +274,21 @@ Status McapReader::load() {
     (void)pr.u8(op);
     (void)pr.u64(len);
     if (op != static_cast<std::uint8_t>(Opcode::kHeader)) {
-        return {StatusCode::kProtocolError, name_ + ": the first record is " + recordName(op) + ", not a Header"};
+        return {StatusCode::kProtocolError,
+                name_ + ": the first record is " + recordName(op) + ", not a Header"};
     }
     const std::uint64_t header_end = kMcapMagic.size() + kRecordPrefixSize + len;
     if (len > size || header_end > size) {
-        return {StatusCode::kTruncated, name_ + ": cut short inside the Header record; it holds no messages"};
+        return {StatusCode::kTruncated,
+                name_ + ": cut short inside the Header record; it holds no messages"};
     }
-    if (Status s = source_->readAt(kMcapMagic.size() + kRecordPrefixSize, static_cast<std::size_t>(len), buf); !s) return s;
+    if (Status s = source_->readAt(kMcapMagic.size() + kRecordPrefixSize,
+                                   static_cast<std::size_t>(len), buf);
+        !s)
+        return s;
     if (!detail::parseHeader(buf, header_)) {
-        return {StatusCode::kProtocolError, name_ + ": malformed Header record " + at(kMcapMagic.size())};
+        return {StatusCode::kProtocolError,
+                name_ + ": malformed Header record " + at(kMcapMagic.size())};
     }
 
     // Footer and trailing magic.
@@ -261,9 +301,11 @@ Status McapReader::load() {
         ByteReader fr(buf);
         (void)fr.u8(op);
         (void)fr.u64(len);
-        footer_ok = op == static_cast<std::uint8_t>(Opcode::kFooter) && len == kFooterContentSize &&
-                    std::equal(kMcapMagic.begin(), kMcapMagic.end(), buf.end() - kMcapMagic.size()) &&
-                    detail::parseFooter(std::span<const std::uint8_t>(buf).subspan(kRecordPrefixSize), footer);
+        footer_ok =
+            op == static_cast<std::uint8_t>(Opcode::kFooter) && len == kFooterContentSize &&
+            std::equal(kMcapMagic.begin(), kMcapMagic.end(), buf.end() - kMcapMagic.size()) &&
+            detail::parseFooter(std::span<const std::uint8_t>(buf).subspan(kRecordPrefixSize),
+                                footer);
     }
     truncated_ = !footer_ok;
     if (footer_ok && footer.summary_start != 0) {
@@ -287,7 +329,8 @@ Status McapReader::load() {
 
 Status McapReader::readIndexed(const Footer& footer, std::uint64_t footer_offset) {
     if (footer.summary_start >= footer_offset || footer.summary_start < kMcapMagic.size()) {
-        return {StatusCode::kProtocolError, "footer's summary_start " + std::to_string(footer.summary_start) +
+        return {StatusCode::kProtocolError, "footer's summary_start " +
+                                                std::to_string(footer.summary_start) +
                                                 " lies outside the file"};
     }
     // The summary plus the footer's fields that the summary CRC covers.
@@ -298,20 +341,23 @@ Status McapReader::readIndexed(const Footer& footer, std::uint64_t footer_offset
     if (footer.summary_crc != 0 && crc32(buf) != footer.summary_crc) {
         return {StatusCode::kChecksumError, "summary CRC32 mismatch"};
     }
-    RecordScanner scan(std::span<const std::uint8_t>(buf).first(static_cast<std::size_t>(summary_len)));
+    RecordScanner scan(
+        std::span<const std::uint8_t>(buf).first(static_cast<std::size_t>(summary_len)));
     std::vector<ChunkIndex> indexes;
     while (auto rec = scan.next()) {
         const std::uint64_t where = footer.summary_start + rec->offset;
         switch (static_cast<Opcode>(rec->opcode)) {
             case Opcode::kSchema: {
                 Schema s;
-                if (!detail::parseSchema(rec->content, s)) return {StatusCode::kProtocolError, "malformed Schema " + at(where)};
+                if (!detail::parseSchema(rec->content, s))
+                    return {StatusCode::kProtocolError, "malformed Schema " + at(where)};
                 addSchema(s);
                 break;
             }
             case Opcode::kChannel: {
                 Channel c;
-                if (!detail::parseChannel(rec->content, c)) return {StatusCode::kProtocolError, "malformed Channel " + at(where)};
+                if (!detail::parseChannel(rec->content, c))
+                    return {StatusCode::kProtocolError, "malformed Channel " + at(where)};
                 addChannel(c);
                 break;
             }
@@ -322,7 +368,8 @@ Status McapReader::readIndexed(const Footer& footer, std::uint64_t footer_offset
                 }
                 if (ci.chunk_length < kRecordPrefixSize || ci.chunk_length > footer.summary_start ||
                     ci.chunk_start_offset > footer.summary_start - ci.chunk_length) {
-                    return {StatusCode::kProtocolError, "Chunk Index " + at(where) + " points outside the data section"};
+                    return {StatusCode::kProtocolError,
+                            "Chunk Index " + at(where) + " points outside the data section"};
                 }
                 indexes.push_back(std::move(ci));
                 break;
@@ -339,7 +386,8 @@ Status McapReader::readIndexed(const Footer& footer, std::uint64_t footer_offset
                 break;  // summary offsets, attachment and metadata indexes: not needed here
         }
     }
-    if (scan.truncated()) return {StatusCode::kProtocolError, "summary section ends inside a record"};
+    if (scan.truncated())
+        return {StatusCode::kProtocolError, "summary section ends inside a record"};
     // Messages outside chunks cannot be indexed: only trust an index that accounts for them all.
     if (indexes.empty() && !(statistics_ && statistics_->message_count == 0)) {
         return {StatusCode::kNotFound, "summary has no chunk index"};
@@ -350,7 +398,8 @@ Status McapReader::readIndexed(const Footer& footer, std::uint64_t footer_offset
         ref.length = ci.chunk_length;
         ref.start = ci.message_start_time;
         ref.end = ci.message_end_time;
-        for (const auto& [channel_id, offset] : ci.message_index_offsets) ref.channels.push_back(channel_id);
+        for (const auto& [channel_id, offset] : ci.message_index_offsets)
+            ref.channels.push_back(channel_id);
         chunks_.push_back(std::move(ref));
     }
     return Status::ok();
@@ -378,15 +427,17 @@ Status McapReader::scanLinear() {
         // system) or garbage. Either that or a length past the end: resume at the next chunk.
         if (!prefix || prefix->op == 0) {
             if (!prefix && prefix.status().code() != StatusCode::kTruncated) return prefix.status();
-            const std::string why = prefix ? "invalid record (opcode 0x00) " + at(pos) + ": zero-filled or corrupt data"
-                                           : prefix.status().message();
+            const std::string why =
+                prefix ? "invalid record (opcode 0x00) " + at(pos) + ": zero-filled or corrupt data"
+                       : prefix.status().message();
             auto next = findNextChunk(*source_, pos + 1);
             if (!next) return next.status();
             if (!*next) {
                 drop(pos, size - pos, why);
                 break;
             }
-            drop(pos, **next - pos, why + "; resumed at the chunk at byte " + std::to_string(**next));
+            drop(pos, **next - pos,
+                 why + "; resumed at the chunk at byte " + std::to_string(**next));
             pos = **next;
             continue;
         }
@@ -395,7 +446,10 @@ Status McapReader::scanLinear() {
         const std::uint64_t record_len = kRecordPrefixSize + len;
         switch (static_cast<Opcode>(op)) {
             case Opcode::kChunk: {
-                if (Status s = source_->readAt(pos + kRecordPrefixSize, static_cast<std::size_t>(len), buf); !s) return s;
+                if (Status s = source_->readAt(pos + kRecordPrefixSize,
+                                               static_cast<std::size_t>(len), buf);
+                    !s)
+                    return s;
                 ChunkHeader ch;
                 if (Status s = decodeChunk(buf, pos, ch, records); !s) {
                     drop(pos, record_len, s.message());
@@ -418,13 +472,17 @@ Status McapReader::scanLinear() {
                         Schema sc;
                         if (!(bad = !detail::parseSchema(rec->content, sc))) addSchema(sc);
                     } else if (rec->opcode == static_cast<std::uint8_t>(Opcode::kMessage)) {
-                        if (rec->content.size() < 2) bad = true;
-                        else used.insert(static_cast<std::uint16_t>(rec->content[0] | rec->content[1] << 8));
+                        if (rec->content.size() < 2)
+                            bad = true;
+                        else
+                            used.insert(
+                                static_cast<std::uint16_t>(rec->content[0] | rec->content[1] << 8));
                     }
                     if (bad) break;
                 }
                 if (bad || inner.truncated()) {
-                    drop(pos, record_len, "chunk " + at(pos) + ": CRC matches but its records are malformed");
+                    drop(pos, record_len,
+                         "chunk " + at(pos) + ": CRC matches but its records are malformed");
                     break;
                 }
                 ref.channels.assign(used.begin(), used.end());
@@ -435,7 +493,10 @@ Status McapReader::scanLinear() {
             case Opcode::kSchema:
             case Opcode::kChannel:
             case Opcode::kMessage: {
-                if (Status s = source_->readAt(pos + kRecordPrefixSize, static_cast<std::size_t>(len), buf); !s) return s;
+                if (Status s = source_->readAt(pos + kRecordPrefixSize,
+                                               static_cast<std::size_t>(len), buf);
+                    !s)
+                    return s;
                 bool ok = true;
                 if (op == static_cast<std::uint8_t>(Opcode::kSchema)) {
                     Schema sc;
@@ -449,13 +510,17 @@ Status McapReader::scanLinear() {
                     if ((ok = detail::parseMessage(buf, mh, data))) {
                         detail::ByteWriter w(loose);
                         detail::writeMessage(w, mh, data);
-                        loose_ref.start = loose_count == 0 ? mh.log_time : std::min(loose_ref.start, mh.log_time);
-                        loose_ref.end = loose_count == 0 ? mh.log_time : std::max(loose_ref.end, mh.log_time);
+                        loose_ref.start =
+                            loose_count == 0 ? mh.log_time : std::min(loose_ref.start, mh.log_time);
+                        loose_ref.end =
+                            loose_count == 0 ? mh.log_time : std::max(loose_ref.end, mh.log_time);
                         loose_channels.insert(mh.channel_id);
                         ++loose_count;
                     }
                 }
-                if (!ok) drop(pos, record_len, std::string("malformed ") + recordName(op) + " record " + at(pos));
+                if (!ok)
+                    drop(pos, record_len,
+                         std::string("malformed ") + recordName(op) + " record " + at(pos));
                 break;
             }
             case Opcode::kDataEnd:
@@ -483,7 +548,8 @@ Result<std::shared_ptr<const std::vector<std::uint8_t>>> McapReader::loadChunk(C
     if (ref.in_memory) return ref.in_memory;
     std::vector<std::uint8_t> raw;
     if (Status s = source_->readAt(ref.offset, static_cast<std::size_t>(ref.length), raw); !s) {
-        if (s.code() != StatusCode::kIoError && !ref.reported) drop(ref.offset, ref.length, s.message());
+        if (s.code() != StatusCode::kIoError && !ref.reported)
+            drop(ref.offset, ref.length, s.message());
         ref.reported = true;
         return s;
     }
@@ -491,9 +557,11 @@ Result<std::shared_ptr<const std::vector<std::uint8_t>>> McapReader::loadChunk(C
     ChunkHeader ch;
     Status s;
     if (raw[0] != static_cast<std::uint8_t>(Opcode::kChunk)) {
-        s = {StatusCode::kProtocolError, "chunk index points " + at(ref.offset) + " at a " + recordName(raw[0]) + " record"};
+        s = {StatusCode::kProtocolError,
+             "chunk index points " + at(ref.offset) + " at a " + recordName(raw[0]) + " record"};
     } else {
-        s = decodeChunk(std::span<const std::uint8_t>(raw).subspan(kRecordPrefixSize), ref.offset, ch, *out);
+        s = decodeChunk(std::span<const std::uint8_t>(raw).subspan(kRecordPrefixSize), ref.offset,
+                        ch, *out);
     }
     if (!s) {
         if (!ref.reported) drop(ref.offset, ref.length, s.message());
@@ -533,7 +601,9 @@ struct MessageIterator::Impl {
     Status status;
     std::set<std::uint16_t> unknown_reported;
 
-    bool wants(std::uint16_t channel_id) const { return all_channels || wanted.count(channel_id) != 0; }
+    bool wants(std::uint16_t channel_id) const {
+        return all_channels || wanted.count(channel_id) != 0;
+    }
 
     void loadNext() {
         const std::size_t rank = next_chunk;
@@ -551,10 +621,13 @@ struct MessageIterator::Impl {
             MessageHeader mh;
             std::span<const std::uint8_t> data;
             if (!detail::parseMessage(rec->content, mh, data)) {
-                reader->drop(ref.offset, ref.length, "chunk " + at(ref.offset) + ": malformed Message record");
+                reader->drop(ref.offset, ref.length,
+                             "chunk " + at(ref.offset) + ": malformed Message record");
                 return;
             }
-            if (!wants(mh.channel_id) || mh.log_time < options.start_time || mh.log_time > options.end_time) continue;
+            if (!wants(mh.channel_id) || mh.log_time < options.start_time ||
+                mh.log_time > options.end_time)
+                continue;
             // The merge has already handed out messages up to this chunk's stated start time, so a
             // message earlier than that (a chunk header or index that lies about its time range)
             // cannot be placed in order: report it rather than break the order promised to callers.
@@ -566,21 +639,26 @@ struct MessageIterator::Impl {
             if (ch == nullptr) {
                 if (unknown_reported.insert(mh.channel_id).second) {
                     reader->drop(ref.offset, ref.length,
-                                 "chunk " + at(ref.offset) + ": messages on channel " + std::to_string(mh.channel_id) +
+                                 "chunk " + at(ref.offset) + ": messages on channel " +
+                                     std::to_string(mh.channel_id) +
                                      " which has no Channel record; skipped");
                 }
                 continue;
             }
-            heap.push_back({mh.log_time, rank, rec->offset, RecordedMessage{ch, mh.sequence, mh.log_time, mh.publish_time, data, buf}});
+            heap.push_back(
+                {mh.log_time, rank, rec->offset,
+                 RecordedMessage{ch, mh.sequence, mh.log_time, mh.publish_time, data, buf}});
             std::push_heap(heap.begin(), heap.end(), Later{});
         }
         if (scan.truncated()) {
-            reader->drop(ref.offset, ref.length, "chunk " + at(ref.offset) + ": records end inside a record");
+            reader->drop(ref.offset, ref.length,
+                         "chunk " + at(ref.offset) + ": records end inside a record");
         }
         if (early != 0) {
             reader->drop(ref.offset, ref.length,
                          "chunk " + at(ref.offset) + ": " + std::to_string(early) +
-                             " message(s) logged before the chunk's stated start time " + std::to_string(ref.start) +
+                             " message(s) logged before the chunk's stated start time " +
+                             std::to_string(ref.start) +
                              " ns; skipped (the chunk header or index is inconsistent)");
         }
     }
@@ -597,7 +675,8 @@ bool MessageIterator::next(RecordedMessage& out) {
     Impl& d = *impl_;
     while (d.status) {
         while (d.next_chunk < d.order.size() &&
-               (d.heap.empty() || d.reader->chunks_[d.order[d.next_chunk]].start <= d.heap.front().log_time)) {
+               (d.heap.empty() ||
+                d.reader->chunks_[d.order[d.next_chunk]].start <= d.heap.front().log_time)) {
             d.loadNext();
             if (!d.status) return false;
         }
@@ -621,19 +700,22 @@ MessageIterator McapReader::messages(ReadOptions options) {
         const ChunkRef& c = chunks_[i];
         if (c.end < options.start_time || c.start > options.end_time) continue;
         if (!impl->all_channels && !c.channels.empty() &&
-            std::none_of(c.channels.begin(), c.channels.end(), [&](std::uint16_t id) { return impl->wanted.count(id) != 0; })) {
+            std::none_of(c.channels.begin(), c.channels.end(),
+                         [&](std::uint16_t id) { return impl->wanted.count(id) != 0; })) {
             continue;
         }
         impl->order.push_back(i);
     }
     std::stable_sort(impl->order.begin(), impl->order.end(), [&](std::size_t a, std::size_t b) {
-        return chunks_[a].start != chunks_[b].start ? chunks_[a].start < chunks_[b].start : chunks_[a].offset < chunks_[b].offset;
+        return chunks_[a].start != chunks_[b].start ? chunks_[a].start < chunks_[b].start
+                                                    : chunks_[a].offset < chunks_[b].offset;
     });
     impl->options = std::move(options);
     return MessageIterator(std::move(impl));
 }
 
-Status McapReader::forEachMessage(const ReadOptions& options, const std::function<void(const RecordedMessage&)>& fn) {
+Status McapReader::forEachMessage(const ReadOptions& options,
+                                  const std::function<void(const RecordedMessage&)>& fn) {
     MessageIterator it = messages(options);
     RecordedMessage m;
     while (it.next(m)) fn(m);
@@ -664,15 +746,18 @@ Status McapReader::verify() {
         const std::uint8_t op = rp->op;
         const std::uint64_t len = rp->len;
         std::vector<std::uint8_t> prefix = buf;
-        if (Status s = source_->readAt(pos + kRecordPrefixSize, static_cast<std::size_t>(len), buf); !s) return s;
+        if (Status s = source_->readAt(pos + kRecordPrefixSize, static_cast<std::size_t>(len), buf);
+            !s)
+            return s;
         if (op == static_cast<std::uint8_t>(Opcode::kDataEnd)) {
             std::uint32_t stored = 0;
             if (!detail::parseDataEnd(buf, stored)) {
                 problems.push_back("malformed Data End " + at(pos));
             } else if (stored != 0 && stored != data_crc.value()) {
                 char msg[96];
-                std::snprintf(msg, sizeof msg, "data section CRC32 mismatch (stored 0x%08x, computed 0x%08x)", stored,
-                              data_crc.value());
+                std::snprintf(msg, sizeof msg,
+                              "data section CRC32 mismatch (stored 0x%08x, computed 0x%08x)",
+                              stored, data_crc.value());
                 problems.push_back(msg);
             }
             data_end_seen = true;

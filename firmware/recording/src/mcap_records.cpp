@@ -170,7 +170,9 @@ bool parseSchema(std::span<const std::uint8_t> content, Schema& s) {
     ByteReader r(content);
     std::uint32_t n = 0;
     std::span<const std::uint8_t> data;
-    if (!r.u16(s.id) || !r.string(s.name) || !r.string(s.encoding) || !r.u32(n) || !r.bytes(n, data)) return false;
+    if (!r.u16(s.id) || !r.string(s.name) || !r.string(s.encoding) || !r.u32(n) ||
+        !r.bytes(n, data))
+        return false;
     s.data.assign(data.begin(), data.end());
     return true;
 }
@@ -179,8 +181,8 @@ bool parseChannel(std::span<const std::uint8_t> content, Channel& c) {
     ByteReader r(content);
     std::uint32_t len = 0;
     std::span<const std::uint8_t> body;
-    if (!r.u16(c.id) || !r.u16(c.schema_id) || !r.string(c.topic) || !r.string(c.message_encoding) || !r.u32(len) ||
-        !r.bytes(len, body)) {
+    if (!r.u16(c.id) || !r.u16(c.schema_id) || !r.string(c.topic) ||
+        !r.string(c.message_encoding) || !r.u32(len) || !r.bytes(len, body)) {
         return false;
     }
     ByteReader br(body);
@@ -193,19 +195,23 @@ bool parseChannel(std::span<const std::uint8_t> content, Channel& c) {
     return true;
 }
 
-bool parseMessage(std::span<const std::uint8_t> content, MessageHeader& m, std::span<const std::uint8_t>& data) {
+bool parseMessage(std::span<const std::uint8_t> content, MessageHeader& m,
+                  std::span<const std::uint8_t>& data) {
     ByteReader r(content);
-    if (!r.u16(m.channel_id) || !r.u32(m.sequence) || !readTime(r, m.log_time) || !readTime(r, m.publish_time)) {
+    if (!r.u16(m.channel_id) || !r.u32(m.sequence) || !readTime(r, m.log_time) ||
+        !readTime(r, m.publish_time)) {
         return false;
     }
     data = content.subspan(kMessageHeaderSize);
     return true;
 }
 
-bool parseChunk(std::span<const std::uint8_t> content, ChunkHeader& c, std::span<const std::uint8_t>& records) {
+bool parseChunk(std::span<const std::uint8_t> content, ChunkHeader& c,
+                std::span<const std::uint8_t>& records) {
     ByteReader r(content);
-    if (!readTime(r, c.message_start_time) || !readTime(r, c.message_end_time) || !r.u64(c.uncompressed_size) ||
-        !r.u32(c.uncompressed_crc) || !r.string(c.compression) || !r.u64(c.records_size)) {
+    if (!readTime(r, c.message_start_time) || !readTime(r, c.message_end_time) ||
+        !r.u64(c.uncompressed_size) || !r.u32(c.uncompressed_crc) || !r.string(c.compression) ||
+        !r.u64(c.records_size)) {
         return false;
     }
     return r.bytes(c.records_size, records);
@@ -224,16 +230,18 @@ bool parseMessageIndex(std::span<const std::uint8_t> content, MessageIndex& mi) 
 
 bool parseChunkIndex(std::span<const std::uint8_t> content, ChunkIndex& ci) {
     ByteReader r(content);
-    return readTime(r, ci.message_start_time) && readTime(r, ci.message_end_time) && r.u64(ci.chunk_start_offset) &&
-           r.u64(ci.chunk_length) && readU16U64Map(r, ci.message_index_offsets) && r.u64(ci.message_index_length) &&
+    return readTime(r, ci.message_start_time) && readTime(r, ci.message_end_time) &&
+           r.u64(ci.chunk_start_offset) && r.u64(ci.chunk_length) &&
+           readU16U64Map(r, ci.message_index_offsets) && r.u64(ci.message_index_length) &&
            r.string(ci.compression) && r.u64(ci.compressed_size) && r.u64(ci.uncompressed_size);
 }
 
 bool parseStatistics(std::span<const std::uint8_t> content, Statistics& s) {
     ByteReader r(content);
-    return r.u64(s.message_count) && r.u16(s.schema_count) && r.u32(s.channel_count) && r.u32(s.attachment_count) &&
-           r.u32(s.metadata_count) && r.u32(s.chunk_count) && readTime(r, s.message_start_time) &&
-           readTime(r, s.message_end_time) && readU16U64Map(r, s.channel_message_counts);
+    return r.u64(s.message_count) && r.u16(s.schema_count) && r.u32(s.channel_count) &&
+           r.u32(s.attachment_count) && r.u32(s.metadata_count) && r.u32(s.chunk_count) &&
+           readTime(r, s.message_start_time) && readTime(r, s.message_end_time) &&
+           readU16U64Map(r, s.channel_message_counts);
 }
 
 bool parseSummaryOffset(std::span<const std::uint8_t> content, SummaryOffset& so) {

@@ -30,8 +30,10 @@ bool parseHeader(std::span<const std::uint8_t> content, Header& h);
 bool parseFooter(std::span<const std::uint8_t> content, Footer& f);
 bool parseSchema(std::span<const std::uint8_t> content, Schema& s);
 bool parseChannel(std::span<const std::uint8_t> content, Channel& c);
-bool parseMessage(std::span<const std::uint8_t> content, MessageHeader& m, std::span<const std::uint8_t>& data);
-bool parseChunk(std::span<const std::uint8_t> content, ChunkHeader& c, std::span<const std::uint8_t>& records);
+bool parseMessage(std::span<const std::uint8_t> content, MessageHeader& m,
+                  std::span<const std::uint8_t>& data);
+bool parseChunk(std::span<const std::uint8_t> content, ChunkHeader& c,
+                std::span<const std::uint8_t>& records);
 bool parseMessageIndex(std::span<const std::uint8_t> content, MessageIndex& mi);
 bool parseChunkIndex(std::span<const std::uint8_t> content, ChunkIndex& ci);
 bool parseStatistics(std::span<const std::uint8_t> content, Statistics& s);

@@ -78,7 +78,7 @@ struct McapWriter::OpenChunk {
     explicit OpenChunk(const McapWriterOptions& o) : compressor(o.compression, o.zstd_level) {}
     std::vector<std::uint8_t> records;
     std::map<std::uint16_t, std::vector<MessageIndexEntry>> index;  // ordered by channel id
-    std::set<std::uint16_t> channels_written;                        // Channel records already in this chunk
+    std::set<std::uint16_t> channels_written;  // Channel records already in this chunk
     std::set<std::uint16_t> schemas_written;
     TimeNs start = 0;
     TimeNs end = 0;
@@ -89,7 +89,9 @@ struct McapWriter::OpenChunk {
 };
 
 McapWriter::McapWriter(std::unique_ptr<Sink> sink, McapWriterOptions options)
-    : options_(std::move(options)), sink_(std::move(sink)), chunk_(std::make_unique<OpenChunk>(options_)) {}
+    : options_(std::move(options)),
+      sink_(std::move(sink)),
+      chunk_(std::make_unique<OpenChunk>(options_)) {}
 
 McapWriter::~McapWriter() {
     if (!closed_) {
@@ -97,27 +99,31 @@ McapWriter::~McapWriter() {
     }
 }
 
-Result<std::unique_ptr<McapWriter>> McapWriter::create(const std::string& path, McapWriterOptions options) {
+Result<std::unique_ptr<McapWriter>> McapWriter::create(const std::string& path,
+                                                       McapWriterOptions options) {
     if (!detail::isSupportedCompression(options.compression)) {
-        return Status{StatusCode::kUnsupported,
-                      "McapWriter: compression '" + options.compression + "' is not supported (use \"\" or \"zstd\")"};
+        return Status{StatusCode::kUnsupported, "McapWriter: compression '" + options.compression +
+                                                    "' is not supported (use \"\" or \"zstd\")"};
     }
     std::FILE* f = std::fopen(path.c_str(), "wb");
     if (f == nullptr) {
         return Status{StatusCode::kIoError,
-                      path + ": cannot create the recording: " + std::strerror(errno) + " (check the directory exists and is writable)"};
+                      path + ": cannot create the recording: " + std::strerror(errno) +
+                          " (check the directory exists and is writable)"};
     }
-    std::unique_ptr<McapWriter> w(new McapWriter(std::make_unique<FileSink>(f, path), std::move(options)));
+    std::unique_ptr<McapWriter> w(
+        new McapWriter(std::make_unique<FileSink>(f, path), std::move(options)));
     if (Status s = w->start(); !s) return s;
     return w;
 }
 
 Result<std::unique_ptr<McapWriter>> McapWriter::inMemory(McapWriterOptions options) {
     if (!detail::isSupportedCompression(options.compression)) {
-        return Status{StatusCode::kUnsupported,
-                      "McapWriter: compression '" + options.compression + "' is not supported (use \"\" or \"zstd\")"};
+        return Status{StatusCode::kUnsupported, "McapWriter: compression '" + options.compression +
+                                                    "' is not supported (use \"\" or \"zstd\")"};
     }
-    std::unique_ptr<McapWriter> w(new McapWriter(std::make_unique<MemorySink>(), std::move(options)));
+    std::unique_ptr<McapWriter> w(
+        new McapWriter(std::make_unique<MemorySink>(), std::move(options)));
     if (Status s = w->start(); !s) return s;
     return w;
 }
@@ -137,8 +143,10 @@ Status McapWriter::emit(std::span<const std::uint8_t> bytes) {
     return failed_;
 }
 
-Result<std::uint16_t> McapWriter::addSchema(std::string name, std::string encoding, std::vector<std::uint8_t> data) {
-    if (schemas_.size() >= 0xFFFE) return Status{StatusCode::kInvalidArgument, "McapWriter: too many schemas"};
+Result<std::uint16_t> McapWriter::addSchema(std::string name, std::string encoding,
+                                            std::vector<std::uint8_t> data) {
+    if (schemas_.size() >= 0xFFFE)
+        return Status{StatusCode::kInvalidArgument, "McapWriter: too many schemas"};
     Schema s;
     s.id = static_cast<std::uint16_t>(schemas_.size() + 1);
     s.name = std::move(name);
@@ -148,18 +156,22 @@ Result<std::uint16_t> McapWriter::addSchema(std::string name, std::string encodi
     return schemas_.back().id;
 }
 
-Result<std::uint16_t> McapWriter::addChannel(std::string topic, std::string message_encoding, std::uint16_t schema_id,
+Result<std::uint16_t> McapWriter::addChannel(std::string topic, std::string message_encoding,
+                                             std::uint16_t schema_id,
                                              std::map<std::string, std::string> metadata) {
     if (schema_id > schemas_.size()) {
         return Status{StatusCode::kInvalidArgument,
-                      "McapWriter::addChannel(" + topic + "): schema id " + std::to_string(schema_id) + " was never added"};
+                      "McapWriter::addChannel(" + topic + "): schema id " +
+                          std::to_string(schema_id) + " was never added"};
     }
     for (const auto& c : channels_) {
         if (c.topic == topic) {
-            return Status{StatusCode::kInvalidArgument, "McapWriter::addChannel: topic " + topic + " already exists"};
+            return Status{StatusCode::kInvalidArgument,
+                          "McapWriter::addChannel: topic " + topic + " already exists"};
         }
     }
-    if (channels_.size() >= 0xFFFF) return Status{StatusCode::kInvalidArgument, "McapWriter: too many channels"};
+    if (channels_.size() >= 0xFFFF)
+        return Status{StatusCode::kInvalidArgument, "McapWriter: too many channels"};
     Channel c;
     c.id = static_cast<std::uint16_t>(channels_.size());
     c.schema_id = schema_id;
@@ -171,9 +183,11 @@ Result<std::uint16_t> McapWriter::addChannel(std::string topic, std::string mess
     return channels_.back().id;
 }
 
-Status McapWriter::write(std::uint16_t channel_id, TimeNs log_time, std::span<const std::uint8_t> data) {
+Status McapWriter::write(std::uint16_t channel_id, TimeNs log_time,
+                         std::span<const std::uint8_t> data) {
     if (channel_id >= channels_.size()) {
-        return {StatusCode::kInvalidArgument, "McapWriter::write: unknown channel id " + std::to_string(channel_id)};
+        return {StatusCode::kInvalidArgument,
+                "McapWriter::write: unknown channel id " + std::to_string(channel_id)};
     }
     return write(MessageHeader{channel_id, next_sequence_[channel_id], log_time, log_time}, data);
 }
@@ -182,11 +196,13 @@ Status McapWriter::write(const MessageHeader& header, std::span<const std::uint8
     if (closed_) return {StatusCode::kInvalidArgument, "McapWriter::write after close()"};
     if (!failed_) return failed_;
     if (header.channel_id >= channels_.size()) {
-        return {StatusCode::kInvalidArgument, "McapWriter::write: unknown channel id " + std::to_string(header.channel_id)};
+        return {StatusCode::kInvalidArgument,
+                "McapWriter::write: unknown channel id " + std::to_string(header.channel_id)};
     }
     if (header.log_time < 0) {
-        return {StatusCode::kInvalidArgument, "McapWriter::write: negative log time " + std::to_string(header.log_time) +
-                                                  " on " + channels_[header.channel_id].topic};
+        return {StatusCode::kInvalidArgument, "McapWriter::write: negative log time " +
+                                                  std::to_string(header.log_time) + " on " +
+                                                  channels_[header.channel_id].topic};
     }
     OpenChunk& c = *chunk_;
     ByteWriter w(c.records);
@@ -205,13 +221,18 @@ Status McapWriter::write(const MessageHeader& header, std::span<const std::uint8
     ++c.messages;
     next_sequence_[header.channel_id] = header.sequence + 1;
 
-    stats_.message_start_time = stats_.message_count == 0 ? header.log_time : std::min(stats_.message_start_time, header.log_time);
-    stats_.message_end_time = stats_.message_count == 0 ? header.log_time : std::max(stats_.message_end_time, header.log_time);
+    stats_.message_start_time = stats_.message_count == 0
+                                    ? header.log_time
+                                    : std::min(stats_.message_start_time, header.log_time);
+    stats_.message_end_time = stats_.message_count == 0
+                                  ? header.log_time
+                                  : std::max(stats_.message_end_time, header.log_time);
     ++stats_.message_count;
     ++stats_.channel_message_counts[header.channel_id];
 
     const bool full = c.records.size() >= options_.chunk_size_bytes;
-    const bool long_enough = options_.chunk_duration_ns > 0 && c.end - c.start >= options_.chunk_duration_ns;
+    const bool long_enough =
+        options_.chunk_duration_ns > 0 && c.end - c.start >= options_.chunk_duration_ns;
     if (full || long_enough) return closeChunk();
     return Status::ok();
 }
@@ -241,7 +262,8 @@ Status McapWriter::closeChunk() {
     // Chunk record: fixed fields, then the (compressed) records written straight from their buffer.
     c.scratch.clear();
     ByteWriter w(c.scratch);
-    const std::uint64_t content_size = 8 + 8 + 8 + 4 + 4 + ci.compression.size() + 8 + payload.size();
+    const std::uint64_t content_size =
+        8 + 8 + 8 + 4 + 4 + ci.compression.size() + 8 + payload.size();
     w.u8(static_cast<std::uint8_t>(Opcode::kChunk));
     w.u64(content_size);
     w.u64(static_cast<std::uint64_t>(c.start));
@@ -259,7 +281,9 @@ Status McapWriter::closeChunk() {
     for (auto& [channel_id, entries] : c.index) {
         // In log-time order, as readers that seek by time expect (arrivals can be out of order).
         std::stable_sort(entries.begin(), entries.end(),
-                         [](const MessageIndexEntry& a, const MessageIndexEntry& b) { return a.log_time < b.log_time; });
+                         [](const MessageIndexEntry& a, const MessageIndexEntry& b) {
+                             return a.log_time < b.log_time;
+                         });
         ci.message_index_offsets[channel_id] = offset_ + c.scratch.size();
         detail::writeMessageIndex(w, MessageIndex{channel_id, std::move(entries)});
     }
@@ -317,8 +341,8 @@ Status McapWriter::writeSummaryAndFooter() {
     const std::size_t footer_pos = buf.size();
     detail::writeFooter(w, Footer{summary_start, summary_offset_start, 0});
     const std::size_t summary_pos = static_cast<std::size_t>(summary_start - offset_);
-    const std::uint32_t summary_crc =
-        crc32(std::span<const std::uint8_t>(buf).subspan(summary_pos, footer_pos + kRecordPrefixSize + 16 - summary_pos));
+    const std::uint32_t summary_crc = crc32(std::span<const std::uint8_t>(buf).subspan(
+        summary_pos, footer_pos + kRecordPrefixSize + 16 - summary_pos));
     w.patchU32(footer_pos + kRecordPrefixSize + 16, summary_crc);
     w.bytes(kMcapMagic);
     return emit(buf);

@@ -16,7 +16,10 @@ public:
     };
 
     Tap(std::string topic, std::uint16_t channel_id, const RecorderOptions& o)
-        : topic_(std::move(topic)), channel_id_(channel_id), byte_budget_(o.queue_bytes), queue_(o.queue_messages) {}
+        : topic_(std::move(topic)),
+          channel_id_(channel_id),
+          byte_budget_(o.queue_bytes),
+          queue_(o.queue_messages) {}
 
     // Driver thread. The copy is the only allocation; nothing here waits on the writer.
     void onRaw(TimeNs t_host_rx, std::span<const std::uint8_t> bytes) override {
@@ -60,7 +63,8 @@ Recorder::~Recorder() {
     if (Status s = stop(); !s) log().error("recorder: {}", s.message());
 }
 
-Result<std::unique_ptr<Recorder>> Recorder::create(const std::string& path, RecorderOptions options) {
+Result<std::unique_ptr<Recorder>> Recorder::create(const std::string& path,
+                                                   RecorderOptions options) {
     auto w = McapWriter::create(path, options.mcap);
     if (!w) return w.status();
     return std::unique_ptr<Recorder>(new Recorder(std::move(*w), std::move(options)));
@@ -68,8 +72,9 @@ Result<std::unique_ptr<Recorder>> Recorder::create(const std::string& path, Reco
 
 Result<RawTap*> Recorder::addChannel(const ChannelSpec& spec) {
     if (started_) {
-        return Status{StatusCode::kInvalidArgument,
-                      "Recorder::addChannel(" + std::string(spec.topic) + "): add channels before start()"};
+        return Status{
+            StatusCode::kInvalidArgument,
+            "Recorder::addChannel(" + std::string(spec.topic) + "): add channels before start()"};
     }
     auto id = recording::addChannel(*writer_, spec);
     if (!id) return id.status();
@@ -97,11 +102,13 @@ bool Recorder::drainOnce() {
         while (tap->pop(p)) batch.push_back({tap.get(), std::move(p)});
     }
     if (batch.empty()) return false;
-    std::stable_sort(batch.begin(), batch.end(), [](const Item& a, const Item& b) { return a.packet.t < b.packet.t; });
+    std::stable_sort(batch.begin(), batch.end(),
+                     [](const Item& a, const Item& b) { return a.packet.t < b.packet.t; });
     for (auto& item : batch) {
         bool ok = !write_failed_.load(std::memory_order_relaxed);
         if (ok) {
-            if (Status s = writer_->write(item.tap->channel_id_, item.packet.t, item.packet.bytes); !s) {
+            if (Status s = writer_->write(item.tap->channel_id_, item.packet.t, item.packet.bytes);
+                !s) {
                 fail(s);
                 ok = false;
             }
@@ -165,7 +172,8 @@ std::vector<ChannelCounters> Recorder::counters() const {
     std::vector<ChannelCounters> out;
     for (const auto& tap : taps_) {
         out.push_back({tap->topic_, tap->written_.load(std::memory_order_relaxed),
-                       tap->bytes_written_.load(std::memory_order_relaxed), tap->dropped_.load(std::memory_order_relaxed)});
+                       tap->bytes_written_.load(std::memory_order_relaxed),
+                       tap->dropped_.load(std::memory_order_relaxed)});
     }
     return out;
 }

@@ -45,8 +45,9 @@ std::string fmt(const char* format, double v) {
 
 }  // namespace
 
-Result<RecordingSummary> summarizeRecording(McapReader& reader, const std::function<void(double)>& progress,
-                                            const std::function<void(const RecordedMessage&)>& observe) {
+Result<RecordingSummary> summarizeRecording(
+    McapReader& reader, const std::function<void(double)>& progress,
+    const std::function<void(const RecordedMessage&)>& observe) {
     RecordingSummary s;
     s.name = reader.name();
     s.file_size = reader.fileSize();
@@ -90,7 +91,8 @@ Result<RecordingSummary> summarizeRecording(McapReader& reader, const std::funct
         s.end = m.log_time;
         ++s.messages;
         if (observe) observe(m);
-        if (progress && (++n & 0x3FF) == 0 && t1 > t0) progress(toSeconds(m.log_time - t0) / toSeconds(t1 - t0));
+        if (progress && (++n & 0x3FF) == 0 && t1 > t0)
+            progress(toSeconds(m.log_time - t0) / toSeconds(t1 - t0));
     });
     if (!st) return st;
     for (std::size_t i = 0; i < s.channels.size(); ++i) finishChannel(s.channels[i], periods[i]);
@@ -107,8 +109,8 @@ Status checkRecordingCrcs(McapReader& reader, RecordingSummary& s) {
 }
 
 void printSummaryText(const RecordingSummary& s, std::ostream& out) {
-    out << s.name << ": " << s.file_size << " bytes, " << s.messages << " messages in " << s.chunks << " chunks, "
-        << fmt("%.3f", toSeconds(s.duration())) << " s";
+    out << s.name << ": " << s.file_size << " bytes, " << s.messages << " messages in " << s.chunks
+        << " chunks, " << fmt("%.3f", toSeconds(s.duration())) << " s";
     if (!s.library.empty()) out << " (written by " << s.library << ")";
     out << "\n";
     if (s.truncated) {
@@ -117,31 +119,40 @@ void printSummaryText(const RecordingSummary& s, std::ostream& out) {
     } else if (!s.indexed) {
         out << "no summary index: read by scanning\n";
     }
-    for (const auto& d : s.dropped) out << "dropped " << d.length << " bytes at " << d.offset << ": " << d.reason << "\n";
-    if (s.crc_checked) out << "CRC check: " << (s.crc_problems.empty() ? "every CRC matches" : s.crc_problems) << "\n";
-    out << "start " << fmt("%.6f", toSeconds(s.start)) << " s, end " << fmt("%.6f", toSeconds(s.end)) << " s (host clock)\n";
+    for (const auto& d : s.dropped)
+        out << "dropped " << d.length << " bytes at " << d.offset << ": " << d.reason << "\n";
+    if (s.crc_checked)
+        out << "CRC check: " << (s.crc_problems.empty() ? "every CRC matches" : s.crc_problems)
+            << "\n";
+    out << "start " << fmt("%.6f", toSeconds(s.start)) << " s, end "
+        << fmt("%.6f", toSeconds(s.end)) << " s (host clock)\n";
     char line[512];
-    std::snprintf(line, sizeof line, "%-18s %-28s %9s %9s %12s %10s %11s %6s\n", "topic", "encoding", "messages",
-                  "rate Hz", "duration s", "first s", "max gap ms", "gaps");
+    std::snprintf(line, sizeof line, "%-18s %-28s %9s %9s %12s %10s %11s %6s\n", "topic",
+                  "encoding", "messages", "rate Hz", "duration s", "first s", "max gap ms", "gaps");
     out << line;
     for (const auto& c : s.channels) {
-        std::snprintf(line, sizeof line, "%-18s %-28s %9" PRIu64 " %9.2f %12.3f %10.3f %11.2f %6" PRIu64 "\n",
-                      c.topic.c_str(), c.message_encoding.c_str(), c.messages, c.rate_hz, toSeconds(c.duration()),
-                      toSeconds(c.first - s.start), static_cast<double>(c.largest_gap_ns) * 1e-6, c.gaps);
+        std::snprintf(line, sizeof line,
+                      "%-18s %-28s %9" PRIu64 " %9.2f %12.3f %10.3f %11.2f %6" PRIu64 "\n",
+                      c.topic.c_str(), c.message_encoding.c_str(), c.messages, c.rate_hz,
+                      toSeconds(c.duration()), toSeconds(c.first - s.start),
+                      static_cast<double>(c.largest_gap_ns) * 1e-6, c.gaps);
         out << line;
     }
     if (s.devices.empty()) return;
-    out << "devices (raw channels decoded with the drivers' codecs; rate on the samples' own times):\n";
-    std::snprintf(line, sizeof line, "%-16s %-15s %9s %10s %-15s %11s %7s %7s\n", "device", "channel", "samples", "rate",
-                  "unit", "raw msgs/s", "lost", "errors");
+    out << "devices (raw channels decoded with the drivers' codecs; rate on the samples' own "
+           "times):\n";
+    std::snprintf(line, sizeof line, "%-16s %-15s %9s %10s %-15s %11s %7s %7s\n", "device",
+                  "channel", "samples", "rate", "unit", "raw msgs/s", "lost", "errors");
     out << line;
     for (const auto& d : s.devices) {
         double raw_rate = 0.0;
         for (const auto& c : s.channels) {
             if (c.topic == d.topic) raw_rate = c.rate_hz;
         }
-        std::snprintf(line, sizeof line, "%-16s %-15s %9" PRIu64 " %10.3f %-15s %11.2f %7" PRIu64 " %7" PRIu64 "\n",
-                      d.device.c_str(), d.topic.c_str(), d.samples, d.rate_hz, d.unit.c_str(), raw_rate, d.lost, d.errors);
+        std::snprintf(line, sizeof line,
+                      "%-16s %-15s %9" PRIu64 " %10.3f %-15s %11.2f %7" PRIu64 " %7" PRIu64 "\n",
+                      d.device.c_str(), d.topic.c_str(), d.samples, d.rate_hz, d.unit.c_str(),
+                      raw_rate, d.lost, d.errors);
         out << line;
         if (!d.last_error.empty()) out << "  last error: " << d.last_error << "\n";
     }
@@ -150,10 +161,13 @@ void printSummaryText(const RecordingSummary& s, std::ostream& out) {
 void printSummaryJson(const RecordingSummary& s, std::ostream& out) {
     out << "{\"file\":" << jsonString(s.name) << ",\"file_size\":" << s.file_size
         << ",\"library\":" << jsonString(s.library) << ",\"profile\":" << jsonString(s.profile)
-        << ",\"messages\":" << s.messages << ",\"chunks\":" << s.chunks << ",\"start_ns\":" << s.start
-        << ",\"end_ns\":" << s.end << ",\"duration_s\":" << fmt("%.9f", toSeconds(s.duration()))
-        << ",\"indexed\":" << (s.indexed ? "true" : "false") << ",\"truncated\":" << (s.truncated ? "true" : "false")
-        << ",\"recovered\":" << (s.truncated || !s.dropped.empty() ? "true" : "false") << ",\"dropped\":[";
+        << ",\"messages\":" << s.messages << ",\"chunks\":" << s.chunks
+        << ",\"start_ns\":" << s.start << ",\"end_ns\":" << s.end
+        << ",\"duration_s\":" << fmt("%.9f", toSeconds(s.duration()))
+        << ",\"indexed\":" << (s.indexed ? "true" : "false")
+        << ",\"truncated\":" << (s.truncated ? "true" : "false")
+        << ",\"recovered\":" << (s.truncated || !s.dropped.empty() ? "true" : "false")
+        << ",\"dropped\":[";
     for (std::size_t i = 0; i < s.dropped.size(); ++i) {
         const auto& d = s.dropped[i];
         out << (i ? "," : "") << "{\"offset\":" << d.offset << ",\"length\":" << d.length
@@ -168,17 +182,21 @@ void printSummaryJson(const RecordingSummary& s, std::ostream& out) {
     for (std::size_t i = 0; i < s.channels.size(); ++i) {
         const auto& c = s.channels[i];
         out << (i ? "," : "") << "{\"id\":" << c.id << ",\"topic\":" << jsonString(c.topic)
-            << ",\"message_encoding\":" << jsonString(c.message_encoding) << ",\"messages\":" << c.messages
-            << ",\"bytes\":" << c.bytes << ",\"rate_hz\":" << fmt("%.6f", c.rate_hz) << ",\"first_ns\":" << c.first
-            << ",\"last_ns\":" << c.last << ",\"duration_s\":" << fmt("%.9f", toSeconds(c.duration()))
-            << ",\"median_period_ns\":" << c.median_period_ns << ",\"largest_gap_ns\":" << c.largest_gap_ns
+            << ",\"message_encoding\":" << jsonString(c.message_encoding)
+            << ",\"messages\":" << c.messages << ",\"bytes\":" << c.bytes
+            << ",\"rate_hz\":" << fmt("%.6f", c.rate_hz) << ",\"first_ns\":" << c.first
+            << ",\"last_ns\":" << c.last
+            << ",\"duration_s\":" << fmt("%.9f", toSeconds(c.duration()))
+            << ",\"median_period_ns\":" << c.median_period_ns
+            << ",\"largest_gap_ns\":" << c.largest_gap_ns
             << ",\"largest_gap_after_ns\":" << c.largest_gap_after << ",\"gaps\":" << c.gaps << "}";
     }
     out << "],\"devices\":[";
     for (std::size_t i = 0; i < s.devices.size(); ++i) {
         const auto& d = s.devices[i];
-        out << (i ? "," : "") << "{\"device\":" << jsonString(d.device) << ",\"topic\":" << jsonString(d.topic)
-            << ",\"unit\":" << jsonString(d.unit) << ",\"samples\":" << d.samples << ",\"rate_hz\":" << fmt("%.6f", d.rate_hz)
+        out << (i ? "," : "") << "{\"device\":" << jsonString(d.device)
+            << ",\"topic\":" << jsonString(d.topic) << ",\"unit\":" << jsonString(d.unit)
+            << ",\"samples\":" << d.samples << ",\"rate_hz\":" << fmt("%.6f", d.rate_hz)
             << ",\"first_ns\":" << d.first << ",\"last_ns\":" << d.last << ",\"lost\":" << d.lost
             << ",\"errors\":" << d.errors << ",\"last_error\":" << jsonString(d.last_error) << "}";
     }

@@ -38,8 +38,8 @@ struct CameraStream {
     camera::SequenceTracker sequence;
 };
 
-recording::DeviceSummary summary(const char* device, const recording::ChannelSpec& spec, const char* unit,
-                                 const SampleCount& c) {
+recording::DeviceSummary summary(const char* device, const recording::ChannelSpec& spec,
+                                 const char* unit, const SampleCount& c) {
     recording::DeviceSummary d;
     d.device = device;
     d.topic = std::string(spec.topic);
@@ -47,7 +47,8 @@ recording::DeviceSummary summary(const char* device, const recording::ChannelSpe
     d.samples = c.samples;
     d.first = c.first;
     d.last = c.last;
-    if (c.samples >= 2 && c.last > c.first) d.rate_hz = static_cast<double>(c.samples - 1) / toSeconds(c.last - c.first);
+    if (c.samples >= 2 && c.last > c.first)
+        d.rate_hz = static_cast<double>(c.samples - 1) / toSeconds(c.last - c.first);
     d.lost = c.lost;
     d.errors = c.errors;
     d.last_error = c.last_error;
@@ -64,7 +65,10 @@ void takeCounters(const StreamCounters& s, SampleCount& c) {
 }  // namespace
 
 struct DeviceRateMeter::Streams {
-    explicit Streams(const DeviceConfig& device) : hokuyo(hokuyoTiming(device)), xsens(xsensTiming(device)), encoder(encoderStreamConfig(device)) {}
+    explicit Streams(const DeviceConfig& device)
+        : hokuyo(hokuyoTiming(device)),
+          xsens(xsensTiming(device)),
+          encoder(encoderStreamConfig(device)) {}
 
     HokuyoStreamDecoder hokuyo;
     XsensStreamDecoder xsens;
@@ -88,10 +92,12 @@ struct DeviceRateMeter::Streams {
     }
 };
 
-DeviceRateMeter::DeviceRateMeter(const DeviceConfig& device) : s_(std::make_unique<Streams>(device)) {}
+DeviceRateMeter::DeviceRateMeter(const DeviceConfig& device)
+    : s_(std::make_unique<Streams>(device)) {}
 DeviceRateMeter::~DeviceRateMeter() = default;
 
-void DeviceRateMeter::feed(std::string_view topic, TimeNs log_time, std::span<const std::uint8_t> data) {
+void DeviceRateMeter::feed(std::string_view topic, TimeNs log_time,
+                           std::span<const std::uint8_t> data) {
     Streams& s = *s_;
     if (topic == ch::kHokuyoRaw.topic) {
         s.scans.seen = true;
@@ -132,9 +138,12 @@ std::vector<recording::DeviceSummary> DeviceRateMeter::summaries() const {
     std::vector<recording::DeviceSummary> out;
     if (scans.seen) out.push_back(summary("Hokuyo laser", ch::kHokuyoRaw, "scans/s", scans));
     if (imu.seen) out.push_back(summary("Xsens IMU", ch::kXsensRaw, "IMU samples/s", imu));
-    if (positions.seen) out.push_back(summary("motor encoder", ch::kMotorCan, "positions/s", positions));
-    if (s.track.count.seen) out.push_back(summary("tracking camera", ch::kCameraTrack, "frames/s", s.track.count));
-    if (s.colour.count.seen) out.push_back(summary("colour camera", ch::kCameraColour, "frames/s", s.colour.count));
+    if (positions.seen)
+        out.push_back(summary("motor encoder", ch::kMotorCan, "positions/s", positions));
+    if (s.track.count.seen)
+        out.push_back(summary("tracking camera", ch::kCameraTrack, "frames/s", s.track.count));
+    if (s.colour.count.seen)
+        out.push_back(summary("colour camera", ch::kCameraColour, "frames/s", s.colour.count));
     if (s.edges.seen) out.push_back(summary("GPIO", ch::kGpioEvents, "edges/s", s.edges));
     return out;
 }

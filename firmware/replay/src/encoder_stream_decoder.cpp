@@ -24,7 +24,8 @@ ClockMapperConfig tpdoClock(TimeNs period_ns) {
 EncoderStreamDecoder::EncoderStreamDecoder(EncoderStreamConfig config)
     : cfg_(config), unwrapper_(config.unwrapper), tpdo_clock_(tpdoClock(config.tpdo_period_ns)) {}
 
-void EncoderStreamDecoder::feed(TimeNs t_rx, std::span<const std::uint8_t> line, std::vector<EncoderSample>& out) {
+void EncoderStreamDecoder::feed(TimeNs t_rx, std::span<const std::uint8_t> line,
+                                std::vector<EncoderSample>& out) {
     std::string_view text(reinterpret_cast<const char*>(line.data()), line.size());
     while (!text.empty() && (text.back() == '\n' || text.back() == '\r')) text.remove_suffix(1);
     auto record = motor::parseCandumpAnyLine(text);
@@ -34,11 +35,14 @@ void EncoderStreamDecoder::feed(TimeNs t_rx, std::span<const std::uint8_t> line,
         return;
     }
     const auto& frame = record->frame;
-    if (frame.extended || frame.remote || frame.error || frame.id != motor::cobTpdo(1, cfg_.node_id)) return;
+    if (frame.extended || frame.remote || frame.error ||
+        frame.id != motor::cobTpdo(1, cfg_.node_id))
+        return;
     auto position = motor::decodeEncoderPositionTpdo(frame);
     if (!position) {
         ++c_.errors;
-        c_.last_error = "CAN: TPDO1 of node " + std::to_string(cfg_.node_id) + ": " + position.status().message();
+        c_.last_error = "CAN: TPDO1 of node " + std::to_string(cfg_.node_id) + ": " +
+                        position.status().message();
         return;
     }
     const std::uint32_t raw = *position;
@@ -48,8 +52,9 @@ void EncoderStreamDecoder::feed(TimeNs t_rx, std::span<const std::uint8_t> line,
     // and restarts, so the error heals.
     if (last_rx_) {
         const double since = static_cast<double>(t_rx - tpdo_clock_.toHostUnwrapped(tpdo_index_));
-        const std::int64_t step =
-            std::max<std::int64_t>(1, static_cast<std::int64_t>(std::floor(since / static_cast<double>(cfg_.tpdo_period_ns))));
+        const std::int64_t step = std::max<std::int64_t>(
+            1, static_cast<std::int64_t>(
+                   std::floor(since / static_cast<double>(cfg_.tpdo_period_ns))));
         if (step > 1) c_.gaps += static_cast<std::uint64_t>(step - 1);
         tpdo_index_ += step;
     }

@@ -4,7 +4,8 @@
 
 namespace handscan::replay {
 
-void HokuyoStreamDecoder::feed(TimeNs t_rx, std::span<const std::uint8_t> bytes, std::vector<LaserScan>& out) {
+void HokuyoStreamDecoder::feed(TimeNs t_rx, std::span<const std::uint8_t> bytes,
+                               std::vector<LaserScan>& out) {
     events_.clear();
     decoder_.feed(t_rx, bytes, out, events_);
     // Replies in the recorded stream are of no use here; faults are counted.

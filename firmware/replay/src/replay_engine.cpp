@@ -11,12 +11,12 @@
 #include <thread>
 #include <unordered_set>
 
-#include "handscan/core/config.hpp"
-#include "handscan/core/log.hpp"
 #include "handscan/camera/frame_record.hpp"
 #include "handscan/camera/frame_timing.hpp"
 #include "handscan/camera/image_convert.hpp"
 #include "handscan/colour/colouriser.hpp"
+#include "handscan/core/config.hpp"
+#include "handscan/core/log.hpp"
 #include "handscan/export/voxel_filter.hpp"
 #include "handscan/journal/journal_writer.hpp"
 #include "handscan/lio/laser_inertial_odometry.hpp"
@@ -43,10 +43,13 @@ Result<Image> colourImage(std::span<const std::uint8_t> bytes) {
     auto rec = camera::decodeFrameRecord(bytes);
     if (!rec) return rec.status();
     const auto format = camera::pixelFormatFromFourcc(rec->header.fourcc);
-    if (!format) return Status(StatusCode::kProtocolError, "colour frame with an unknown pixel format");
+    if (!format)
+        return Status(StatusCode::kProtocolError, "colour frame with an unknown pixel format");
     Image img;
     const TimeNs exposure = static_cast<TimeNs>(rec->header.exposure_us) * kNsPerUs;
-    img.t_host = camera::midExposureTime(rec->header.flags, rec->header.timestamp_ns, exposure, 0, rec->header.t_host_ns).t_mid_exposure;
+    img.t_host = camera::midExposureTime(rec->header.flags, rec->header.timestamp_ns, exposure, 0,
+                                         rec->header.t_host_ns)
+                     .t_mid_exposure;
     img.sequence = rec->header.sequence;
     img.format = *format;
     img.width = static_cast<int>(rec->header.width);
@@ -59,18 +62,21 @@ Result<Image> colourImage(std::span<const std::uint8_t> bytes) {
 
 // The replay's decoder counters as the status bar's sensors (nominal rates once data flows).
 live_output::LiveSensor replaySensor(const char* name, const StreamCounters& c, float expected_hz) {
-    return {name, c.messages > 0, c.messages > 0 ? expected_hz : 0.0f, expected_hz, 0, c.last_error};
+    return {name, c.messages > 0, c.messages > 0 ? expected_hz : 0.0f, expected_hz,
+            0,    c.last_error};
 }
 
-live_output::LiveStatus replayStatus(const lio::LaserInertialOdometry& pipeline, const StreamCounters& hokuyo,
-                                     const StreamCounters& xsens, const StreamCounters& encoder,
-                                     const ReplayOutputs& outputs, bool finished) {
+live_output::LiveStatus replayStatus(const lio::LaserInertialOdometry& pipeline,
+                                     const StreamCounters& hokuyo, const StreamCounters& xsens,
+                                     const StreamCounters& encoder, const ReplayOutputs& outputs,
+                                     bool finished) {
     live_output::LiveStatus s;
     s.sensors = {replaySensor("hokuyo", hokuyo, 40.0f), replaySensor("xsens", xsens, 200.0f),
                  replaySensor("encoder", encoder, 200.0f)};
     s.scan_state = finished ? shm::ScanState::kStopped : shm::ScanState::kScanning;
     s.point_count = outputs.registeredPoints();
-    s.message = finished ? "replay finished" : (pipeline.aligned() ? "replaying" : "hold still: aligning with gravity");
+    s.message = finished ? "replay finished"
+                         : (pipeline.aligned() ? "replaying" : "hold still: aligning with gravity");
     return s;
 }
 
@@ -84,8 +90,9 @@ lio::LioConfig lioConfig(const ReplayOptions& o, const DeviceConfig& device) {
     lio::LioConfig c;
     c.laser_enabled = o.use_laser;
     c.imu_feedback = o.imu_feedback;
-    c.assembler.boundary = device.motor.sweep_boundary == "full" ? scan::SweepBoundary::kFullRevolution
-                                                                 : scan::SweepBoundary::kHalfRevolution;
+    c.assembler.boundary = device.motor.sweep_boundary == "full"
+                               ? scan::SweepBoundary::kFullRevolution
+                               : scan::SweepBoundary::kHalfRevolution;
     c.odometry.max_threads = 1;  // replay is deterministic: sweeps are matched in order
     c.reference_motion = o.reference_motion;
     c.reference_perturb_m = o.reference_perturb_m;
@@ -97,24 +104,29 @@ lio::LioConfig lioConfig(const ReplayOptions& o, const DeviceConfig& device) {
 
 Result<ReplayReport> runReplay(const ReplayOptions& o) {
     const std::string config_dir = defaultConfigDir();
-    const DeviceConfig device = loadDeviceConfig(o.device_config.empty() ? config_dir + "/device.yaml" : o.device_config);
+    const DeviceConfig device =
+        loadDeviceConfig(o.device_config.empty() ? config_dir + "/device.yaml" : o.device_config);
     const Calibration calibration =
         loadCalibration(o.calibration.empty() ? config_dir + "/calibration.yaml" : o.calibration);
 
     auto reader = recording::McapReader::open(o.recording);
     if (!reader.isOk()) return reader.status();
     recording::McapReader& rec = **reader;
-    if (rec.truncated()) log().warn("{}: recording was cut short; replaying every intact chunk", o.recording);
+    if (rec.truncated())
+        log().warn("{}: recording was cut short; replaying every intact chunk", o.recording);
     for (const char* topic : {kXsensTopic, kHokuyoTopic, kCanTopic}) {
         const bool needed = std::string(topic) == kXsensTopic || o.use_laser;
         if (needed && !rec.findTopic(topic)) {
-            return Status(StatusCode::kNotFound, o.recording + ": no " + std::string(topic) +
-                                                     " channel; the pipeline needs it (or choose --modules imu)");
+            return Status(StatusCode::kNotFound,
+                          o.recording + ": no " + std::string(topic) +
+                              " channel; the pipeline needs it (or choose --modules imu)");
         }
     }
     std::error_code ec;
     fs::create_directories(o.out_dir, ec);
-    if (ec) return Status(StatusCode::kIoError, "replay: cannot create " + o.out_dir + ": " + ec.message());
+    if (ec)
+        return Status(StatusCode::kIoError,
+                      "replay: cannot create " + o.out_dir + ": " + ec.message());
     if (!o.dump_sweeps_dir.empty()) fs::create_directories(o.dump_sweeps_dir, ec);
 
     lio::LaserInertialOdometry pipeline(lioConfig(o, device), calibration);
@@ -133,7 +145,8 @@ Result<ReplayReport> runReplay(const ReplayOptions& o) {
     if (o.write_journal) {
         const std::string path = (fs::path(o.out_dir) / "journal.hsj").string();
         fs::remove(path, ec);
-        auto j = journal::JournalWriter::create(path, "{\"source\": \"replay\", \"recording\": \"" + o.recording + "\"}");
+        auto j = journal::JournalWriter::create(
+            path, "{\"source\": \"replay\", \"recording\": \"" + o.recording + "\"}");
         if (!j.isOk()) return j.status();
         journal = std::move(*j);
     }
@@ -145,7 +158,8 @@ Result<ReplayReport> runReplay(const ReplayOptions& o) {
     }
 
     std::unique_ptr<colour::Colouriser> colouriser;
-    if (o.colourise && rec.findTopic(kColourTopic)) colouriser = std::make_unique<colour::Colouriser>(calibration);
+    if (o.colourise && rec.findTopic(kColourTopic))
+        colouriser = std::make_unique<colour::Colouriser>(calibration);
     std::uint64_t colour_errors = 0;
     CallTimer timer;
     std::vector<LaserScan> scans;
@@ -153,7 +167,10 @@ Result<ReplayReport> runReplay(const ReplayOptions& o) {
     std::vector<EncoderSample> enc;
     TimeNs t_first = 0, t_last = 0;
     const auto wall_start = std::chrono::steady_clock::now();
-    const double duration_hint = rec.statistics() ? toSeconds(rec.statistics()->message_end_time - rec.statistics()->message_start_time) : 0.0;
+    const double duration_hint =
+        rec.statistics()
+            ? toSeconds(rec.statistics()->message_end_time - rec.statistics()->message_start_time)
+            : 0.0;
 
     auto consume = [&]() -> Status {
         for (PoseEstimate& p : pipeline.takePoses()) {
@@ -166,7 +183,9 @@ Result<ReplayReport> runReplay(const ReplayOptions& o) {
             if (!o.dump_sweeps_dir.empty()) {
                 std::ostringstream name;
                 name << "sweep_" << std::setw(6) << std::setfill('0') << s.sweep.index << ".ply";
-                if (Status st = scan::writeSweepPly((fs::path(o.dump_sweeps_dir) / name.str()).string(), s.sweep); !st.isOk()) {
+                if (Status st = scan::writeSweepPly(
+                        (fs::path(o.dump_sweeps_dir) / name.str()).string(), s.sweep);
+                    !st.isOk()) {
                     return st;
                 }
             }
@@ -176,9 +195,12 @@ Result<ReplayReport> runReplay(const ReplayOptions& o) {
                     auto p = pipeline.integratedPoseAt(t);
                     return p.isOk() ? p->T_world_body : Eigen::Isometry3d::Identity();
                 };
-                colours = timer.time("colourisation", [&] { return colouriser->colourise(s.points_world, s.times, pose_at); });
+                colours = timer.time("colourisation", [&] {
+                    return colouriser->colourise(s.points_world, s.times, pose_at);
+                });
             }
-            const std::vector<journal::MapPoint> pts = live_output::sweepMapPoints(s, colours ? &*colours : nullptr);
+            const std::vector<journal::MapPoint> pts =
+                live_output::sweepMapPoints(s, colours ? &*colours : nullptr);
             if (Status st = outputs.addSweep(s, pts); !st.isOk()) return st;
             if (journal) {
                 if (Status st = journal->appendPoints(pts); !st.isOk()) return st;
@@ -203,8 +225,10 @@ Result<ReplayReport> runReplay(const ReplayOptions& o) {
         t_last = msg.log_time;
         if (!o.fast) {
             // Recorded pace on the wall clock.
-            const auto due = wall_start + std::chrono::nanoseconds(static_cast<std::int64_t>(
-                                              static_cast<double>(msg.log_time - t_first) / std::max(0.01, o.speed)));
+            const auto due =
+                wall_start +
+                std::chrono::nanoseconds(static_cast<std::int64_t>(
+                    static_cast<double>(msg.log_time - t_first) / std::max(0.01, o.speed)));
             std::this_thread::sleep_until(due);
         }
         const std::string& topic = msg.channel->topic;
@@ -217,7 +241,8 @@ Result<ReplayReport> runReplay(const ReplayOptions& o) {
         } else if (topic == kHokuyoTopic) {
             scans.clear();
             timer.time("decode_hokuyo", [&] { hokuyo.feed(msg.log_time, msg.data, scans); });
-            for (const LaserScan& s : scans) timer.time("sweep_assembly_and_matching", [&] { pipeline.addScan(s); });
+            for (const LaserScan& s : scans)
+                timer.time("sweep_assembly_and_matching", [&] { pipeline.addScan(s); });
         } else if (topic == kColourTopic && colouriser) {
             timer.time("decode_colour", [&] {
                 auto img = colourImage(msg.data);
@@ -226,11 +251,15 @@ Result<ReplayReport> runReplay(const ReplayOptions& o) {
         } else if (topic == kCanTopic) {
             enc.clear();
             timer.time("decode_can", [&] { encoder.feed(msg.log_time, msg.data, enc); });
-            for (const EncoderSample& s : enc) timer.time("sweep_assembly_and_matching", [&] { pipeline.addEncoder(s); });
+            for (const EncoderSample& s : enc)
+                timer.time("sweep_assembly_and_matching", [&] { pipeline.addEncoder(s); });
         }
         if (Status st = consume(); !st.isOk()) return st;
-        if (live && (++n % 64) == 0) live->status(pipeline, replayStatus(pipeline, hokuyo.counters(), xsens.counters(), encoder.counters(), outputs, false));
-        if (o.progress && duration_hint > 0 && (n % 256) == 0) o.progress(toSeconds(msg.log_time - t_first) / duration_hint);
+        if (live && (++n % 64) == 0)
+            live->status(pipeline, replayStatus(pipeline, hokuyo.counters(), xsens.counters(),
+                                                encoder.counters(), outputs, false));
+        if (o.progress && duration_hint > 0 && (n % 256) == 0)
+            o.progress(toSeconds(msg.log_time - t_first) / duration_hint);
     }
     if (!it.status().isOk()) return it.status();
     pipeline.finish();
@@ -238,7 +267,8 @@ Result<ReplayReport> runReplay(const ReplayOptions& o) {
     if (journal) {
         if (Status st = journal->finish(); !st.isOk()) return st;
     }
-    const double wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall_start).count();
+    const double wall_s =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - wall_start).count();
 
     ReplayReport report;
     report.recording_s = toSeconds(t_last - t_first);
@@ -250,13 +280,21 @@ Result<ReplayReport> runReplay(const ReplayOptions& o) {
     auto map_points = outputs.writeMap();
     if (!map_points.isOk()) return map_points.status();
     report.map_points = *map_points;
-    StatsInputs in{report, timer.summary(), pipeline, hokuyo.counters(), xsens.counters(), encoder.counters(),
-                   peakRssMiB(), rec.truncated(), rec.dropped().size()};
+    StatsInputs in{report,
+                   timer.summary(),
+                   pipeline,
+                   hokuyo.counters(),
+                   xsens.counters(),
+                   encoder.counters(),
+                   peakRssMiB(),
+                   rec.truncated(),
+                   rec.dropped().size()};
     auto stats_path = outputs.writeStats(in);
     if (!stats_path.isOk()) return stats_path.status();
     report.stats_json_path = *stats_path;
     if (live) {
-        live->status(pipeline, replayStatus(pipeline, hokuyo.counters(), xsens.counters(), encoder.counters(), outputs, /*finished=*/true));
+        live->status(pipeline, replayStatus(pipeline, hokuyo.counters(), xsens.counters(),
+                                            encoder.counters(), outputs, /*finished=*/true));
         while (o.hold && !(o.interrupted && o.interrupted())) {
             live->heartbeat();
             std::this_thread::sleep_for(std::chrono::milliseconds(100));

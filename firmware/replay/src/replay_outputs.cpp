@@ -17,7 +17,9 @@ namespace fs = std::filesystem;
 Status writeText(const std::string& path, const std::string& text) {
     exporter::SafeFileWriter f(path);
     if (Status s = f.open(); !s.isOk()) return s;
-    if (Status s = f.write({reinterpret_cast<const std::uint8_t*>(text.data()), text.size()}); !s.isOk()) return s;
+    if (Status s = f.write({reinterpret_cast<const std::uint8_t*>(text.data()), text.size()});
+        !s.isOk())
+        return s;
     return f.commit();
 }
 
@@ -25,8 +27,9 @@ void callsJson(std::ostringstream& os, const std::map<std::string, CallStats>& c
     os << "  \"modules\": {";
     bool first = true;
     for (const auto& [name, s] : calls) {
-        os << (first ? "\n" : ",\n") << "    \"" << name << "\": {\"calls\": " << s.calls << ", \"mean_us\": " << s.mean_us
-           << ", \"p50_us\": " << s.p50_us << ", \"p99_us\": " << s.p99_us << ", \"max_us\": " << s.max_us
+        os << (first ? "\n" : ",\n") << "    \"" << name << "\": {\"calls\": " << s.calls
+           << ", \"mean_us\": " << s.mean_us << ", \"p50_us\": " << s.p50_us
+           << ", \"p99_us\": " << s.p99_us << ", \"max_us\": " << s.max_us
            << ", \"total_ms\": " << s.total_ms << "}";
         first = false;
     }
@@ -34,17 +37,19 @@ void callsJson(std::ostringstream& os, const std::map<std::string, CallStats>& c
 }
 
 void streamJson(std::ostringstream& os, const char* name, const StreamCounters& c, bool last) {
-    os << "    \"" << name << "\": {\"messages\": " << c.messages << ", \"checksum_failures\": " << c.checksum_failures
-       << ", \"resyncs\": " << c.resyncs << ", \"gaps\": " << c.gaps << ", \"errors\": " << c.errors << "}"
-       << (last ? "\n" : ",\n");
+    os << "    \"" << name << "\": {\"messages\": " << c.messages
+       << ", \"checksum_failures\": " << c.checksum_failures << ", \"resyncs\": " << c.resyncs
+       << ", \"gaps\": " << c.gaps << ", \"errors\": " << c.errors << "}" << (last ? "\n" : ",\n");
 }
 
 }  // namespace
 
-ReplayOutputs::ReplayOutputs(std::string out_dir, TiledMapConfig map) : dir_(std::move(out_dir)), map_(std::move(map)) {}
+ReplayOutputs::ReplayOutputs(std::string out_dir, TiledMapConfig map)
+    : dir_(std::move(out_dir)), map_(std::move(map)) {}
 
 Status ReplayOutputs::open() {
-    trajectory_ = std::make_unique<exporter::SafeFileWriter>((fs::path(dir_) / "trajectory.tum").string());
+    trajectory_ =
+        std::make_unique<exporter::SafeFileWriter>((fs::path(dir_) / "trajectory.tum").string());
     return trajectory_->open();
 }
 
@@ -52,20 +57,22 @@ Status ReplayOutputs::addPose(const PoseEstimate& pose) {
     const Eigen::Vector3d t = pose.T_world_body.translation();
     const Eigen::Quaterniond q(pose.T_world_body.linear());
     char line[200];
-    std::snprintf(line, sizeof line, "%.9f %.6f %.6f %.6f %.9f %.9f %.9f %.9f\n", toSeconds(pose.t_host), t.x(), t.y(), t.z(),
-                  q.x(), q.y(), q.z(), q.w());
+    std::snprintf(line, sizeof line, "%.9f %.6f %.6f %.6f %.9f %.9f %.9f %.9f\n",
+                  toSeconds(pose.t_host), t.x(), t.y(), t.z(), q.x(), q.y(), q.z(), q.w());
     tum_ += line;
     if (poses_ > 0) distance_m_ += (t - last_position_).norm();
     last_position_ = t;
     ++poses_;
     // Handed on in 1 MiB pieces: memory stays constant however long the recording.
     if (tum_.size() < (std::size_t{1} << 20)) return Status::ok();
-    Status s = trajectory_->write({reinterpret_cast<const std::uint8_t*>(tum_.data()), tum_.size()});
+    Status s =
+        trajectory_->write({reinterpret_cast<const std::uint8_t*>(tum_.data()), tum_.size()});
     tum_.clear();
     return s;
 }
 
-Status ReplayOutputs::addSweep(const lio::RegisteredSweep& s, std::span<const journal::MapPoint> pts) {
+Status ReplayOutputs::addSweep(const lio::RegisteredSweep& s,
+                               std::span<const journal::MapPoint> pts) {
     // The sensor's position at the sweep start decides which map tiles stay in memory.
     if (Status st = map_.add(pts, s.result.pose.T_world_body.translation()); !st.isOk()) return st;
     registered_points_ += pts.size();
@@ -86,7 +93,10 @@ Status ReplayOutputs::addSweep(const lio::RegisteredSweep& s, std::span<const jo
 }
 
 Status ReplayOutputs::writeTrajectory() {
-    if (Status s = trajectory_->write({reinterpret_cast<const std::uint8_t*>(tum_.data()), tum_.size()}); !s.isOk()) return s;
+    if (Status s =
+            trajectory_->write({reinterpret_cast<const std::uint8_t*>(tum_.data()), tum_.size()});
+        !s.isOk())
+        return s;
     tum_.clear();
     return trajectory_->commit();
 }
@@ -110,17 +120,22 @@ Result<std::string> ReplayOutputs::writeStats(const StatsInputs& in) const {
     os << "{\n  \"recording_s\": " << r.recording_s << ",\n  \"wall_s\": " << r.wall_s
        << ",\n  \"realtime_factor\": " << r.realtime_factor << ",\n  \"poses\": " << r.poses
        << ",\n  \"distance_m\": " << distance_m_ << ",\n  \"sweeps\": " << sweeps_.size()
-       << ",\n  \"registered_points\": " << registered_points_ << ",\n  \"map_points\": " << r.map_points
-       << ",\n  \"peak_rss_mib\": " << in.peak_rss_mib << ",\n";
+       << ",\n  \"registered_points\": " << registered_points_
+       << ",\n  \"map_points\": " << r.map_points << ",\n  \"peak_rss_mib\": " << in.peak_rss_mib
+       << ",\n";
     const TiledMapStats& m = map_.stats();
     constexpr double kMiB = 1.0 / (1 << 20);
-    os << "  \"map\": {\"voxel_m\": " << map_.config().voxel_m << ", \"tile_m\": " << map_.config().tile_m
-       << ", \"memory_budget_mib\": " << static_cast<double>(map_.config().memory_budget_bytes) * kMiB
-       << ", \"tiles\": " << m.tiles << ", \"peak_resident_mib\": " << static_cast<double>(m.peak_resident_bytes) * kMiB
-       << ", \"fragments_flushed\": " << m.fragments_flushed << ", \"voxels_flushed\": " << m.cells_flushed
+    os << "  \"map\": {\"voxel_m\": " << map_.config().voxel_m
+       << ", \"tile_m\": " << map_.config().tile_m << ", \"memory_budget_mib\": "
+       << static_cast<double>(map_.config().memory_budget_bytes) * kMiB
+       << ", \"tiles\": " << m.tiles
+       << ", \"peak_resident_mib\": " << static_cast<double>(m.peak_resident_bytes) * kMiB
+       << ", \"fragments_flushed\": " << m.fragments_flushed
+       << ", \"voxels_flushed\": " << m.cells_flushed
        << ", \"consolidations\": " << m.consolidations << ", \"compactions\": " << m.compactions
        << ", \"peak_spill_mib\": " << static_cast<double>(m.peak_spill_bytes) * kMiB
-       << ", \"spill_written_mib\": " << static_cast<double>(m.spill_written_bytes) * kMiB << "},\n";
+       << ", \"spill_written_mib\": " << static_cast<double>(m.spill_written_bytes) * kMiB
+       << "},\n";
     callsJson(os, in.calls);
     os << "  \"streams\": {\n";
     streamJson(os, "hokuyo", in.hokuyo, false);
@@ -129,31 +144,37 @@ Result<std::string> ReplayOutputs::writeStats(const StatsInputs& in) const {
     os << "  },\n";
     const auto& a = in.pipeline.assemblerStats();
     os << "  \"sweep_assembly\": {\"scans\": " << a.scans << ", \"points\": " << a.points
-       << ", \"dropped_invalid_range\": " << a.dropped_invalid_range << ", \"dropped_no_encoder\": " << a.dropped_no_encoder
+       << ", \"dropped_invalid_range\": " << a.dropped_invalid_range
+       << ", \"dropped_no_encoder\": " << a.dropped_no_encoder
        << ", \"dropped_scans_late\": " << a.dropped_scans_late << "},\n";
     const auto& p = in.pipeline.predictor().stats();
-    os << "  \"imu\": {\"aligned\": " << (in.pipeline.aligned() ? "true" : "false") << ", \"samples\": " << p.samples
-       << ", \"rejected\": " << p.rejected_samples << ", \"gaps\": " << p.gaps << ", \"corrections\": " << p.corrections
+    os << "  \"imu\": {\"aligned\": " << (in.pipeline.aligned() ? "true" : "false")
+       << ", \"samples\": " << p.samples << ", \"rejected\": " << p.rejected_samples
+       << ", \"gaps\": " << p.gaps << ", \"corrections\": " << p.corrections
        << ", \"rejected_corrections\": " << p.rejected_corrections << "},\n";
     os << "  \"recording\": {\"truncated\": " << (in.recording_truncated ? "true" : "false")
        << ", \"dropped_regions\": " << in.recording_dropped_regions << "},\n";
     // Degenerate directions per sweep (section 8): 6 minus the DOFs the matcher solved.
     std::size_t histogram[7] = {0, 0, 0, 0, 0, 0, 0};
-    for (const SweepSummary& s : sweeps_) ++histogram[6 - std::popcount(static_cast<unsigned>(s.solved_mask & 0x3F))];
+    for (const SweepSummary& s : sweeps_)
+        ++histogram[6 - std::popcount(static_cast<unsigned>(s.solved_mask & 0x3F))];
     os << "  \"degenerate_directions_histogram\": [";
     for (int i = 0; i < 7; ++i) os << (i ? ", " : "") << histogram[i];
     os << "],\n  \"per_sweep\": [";
     for (std::size_t i = 0; i < sweeps_.size(); ++i) {
         const SweepSummary& s = sweeps_[i];
-        os << (i ? ",\n" : "\n") << "    {\"index\": " << s.index << ", \"t_start_s\": " << s.t_start_s
-           << ", \"degenerate_directions\": " << 6 - std::popcount(static_cast<unsigned>(s.solved_mask & 0x3F))
-           << ", \"solved_dof_mask\": " << static_cast<int>(s.solved_mask) << ", \"points\": " << s.points
-           << ", \"edges\": " << s.edges << ", \"planars\": " << s.planars << ", \"associations\": " << s.associations
+        os << (i ? ",\n" : "\n") << "    {\"index\": " << s.index
+           << ", \"t_start_s\": " << s.t_start_s << ", \"degenerate_directions\": "
+           << 6 - std::popcount(static_cast<unsigned>(s.solved_mask & 0x3F))
+           << ", \"solved_dof_mask\": " << static_cast<int>(s.solved_mask)
+           << ", \"points\": " << s.points << ", \"edges\": " << s.edges
+           << ", \"planars\": " << s.planars << ", \"associations\": " << s.associations
            << ", \"rms_m\": " << s.rms_m << ", \"total_ms\": " << s.total_ms;
         const Eigen::Quaterniond q(s.T_world_body.linear());
         const Eigen::Vector3d t = s.T_world_body.translation(), tp = s.T_world_prior.translation();
-        os << ", \"pose_xyz_qxyzw\": [" << t.x() << ", " << t.y() << ", " << t.z() << ", " << q.x() << ", " << q.y() << ", "
-           << q.z() << ", " << q.w() << "], \"prior_xyz\": [" << tp.x() << ", " << tp.y() << ", " << tp.z() << "]}";
+        os << ", \"pose_xyz_qxyzw\": [" << t.x() << ", " << t.y() << ", " << t.z() << ", " << q.x()
+           << ", " << q.y() << ", " << q.z() << ", " << q.w() << "], \"prior_xyz\": [" << tp.x()
+           << ", " << tp.y() << ", " << tp.z() << "]}";
     }
     os << "\n  ]\n}\n";
     const std::string path = (fs::path(dir_) / "stats.json").string();

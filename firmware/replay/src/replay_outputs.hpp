@@ -27,7 +27,7 @@ struct SweepSummary {
     double total_ms = 0.0;
     int associations = 0;
     double rms_m = 0.0;
-    Eigen::Isometry3d T_world_body = Eigen::Isometry3d::Identity();   // refined, at t_start
+    Eigen::Isometry3d T_world_body = Eigen::Isometry3d::Identity();  // refined, at t_start
     Eigen::Isometry3d T_world_prior = Eigen::Isometry3d::Identity();
 };
 
@@ -50,7 +50,8 @@ public:
     [[nodiscard]] Status addPose(const PoseEstimate& pose);
     // `points`: the sweep's registered points as journaled (coloured where the camera saw them).
     // Fails only when the map cannot flush tiles to its spill file (disk full, write error).
-    [[nodiscard]] Status addSweep(const lio::RegisteredSweep& sweep, std::span<const journal::MapPoint> points);
+    [[nodiscard]] Status addSweep(const lio::RegisteredSweep& sweep,
+                                  std::span<const journal::MapPoint> points);
 
     Status writeTrajectory();
     // Streams the map into map.ply (once: the map is consumed).

@@ -17,7 +17,8 @@ namespace handscan::replay {
 class SpillFile {
 public:
     // `what` says in errors what the file is for ("map spill file").
-    [[nodiscard]] static Result<std::unique_ptr<SpillFile>> create(const std::string& path, std::string what);
+    [[nodiscard]] static Result<std::unique_ptr<SpillFile>> create(const std::string& path,
+                                                                   std::string what);
     ~SpillFile();
     SpillFile(const SpillFile&) = delete;
     SpillFile& operator=(const SpillFile&) = delete;
@@ -31,7 +32,8 @@ public:
     const std::string& path() const { return path_; }
 
 private:
-    SpillFile(std::FILE* f, std::string path, std::string what) : f_(f), path_(std::move(path)), what_(std::move(what)) {}
+    SpillFile(std::FILE* f, std::string path, std::string what)
+        : f_(f), path_(std::move(path)), what_(std::move(what)) {}
     Status failure(const char* op, std::uint64_t offset, std::size_t bytes, int err) const;
 
     std::FILE* f_;

@@ -18,7 +18,8 @@ xsens::ImuFrameTiming xsensTiming(const DeviceConfig& device) {
 EncoderStreamConfig encoderStreamConfig(const DeviceConfig& device) {
     EncoderStreamConfig c;
     c.node_id = static_cast<std::uint8_t>(device.motor.encoder_node_id);
-    c.unwrapper.units_per_revolution = static_cast<std::uint32_t>(device.motor.encoder_counts_per_rev);
+    c.unwrapper.units_per_revolution =
+        static_cast<std::uint32_t>(device.motor.encoder_counts_per_rev);
     // Our encoder is single-turn: its position (6004h) wraps after one revolution (6002h = 6001h).
     c.unwrapper.total_range = c.unwrapper.units_per_revolution;
     c.tpdo_period_ns = device.motor.tpdo_period_ms * kNsPerMs;

@@ -15,17 +15,21 @@ namespace {
 using exporter::VoxelFilter;
 using journal::MapPoint;
 
-static_assert(std::is_trivially_copyable_v<VoxelFilter::Cell> && std::is_trivially_copyable_v<MapPoint>,
+static_assert(std::is_trivially_copyable_v<VoxelFilter::Cell> &&
+                  std::is_trivially_copyable_v<MapPoint>,
               "spilled as raw bytes");
 
 constexpr std::size_t kChunkCells = std::size_t{1} << 16;   // flush / read-back granularity
 constexpr std::size_t kOutputBatch = std::size_t{1} << 16;  // points per sink() call
-// A tile's table starts at 256 voxels (22 KiB): the far tiles a sweep touches get a few points each.
+// A tile's table starts at 256 voxels (22 KiB): the far tiles a sweep touches get a few points
+// each.
 constexpr unsigned kTileInitialBits = 8;
 // A tile flushed with this many fragments on disk is merged with them into one.
 constexpr std::size_t kMaxFragments = 4;
 
-std::int64_t floorDiv(std::int64_t a, std::int64_t b) { return a / b - ((a % b != 0) && ((a < 0) != (b < 0))); }
+std::int64_t floorDiv(std::int64_t a, std::int64_t b) {
+    return a / b - ((a % b != 0) && ((a < 0) != (b < 0)));
+}
 
 template <class T>
 std::span<const std::uint8_t> bytesOf(std::span<const T> v) {
@@ -59,18 +63,24 @@ TiledVoxelMap::Tile& TiledVoxelMap::tileOf(const MapPoint& p) {
     const std::int64_t t[3] = {floorDiv(probe_->voxelIndex(p.x), voxels_per_tile_),
                                floorDiv(probe_->voxelIndex(p.y), voxels_per_tile_),
                                floorDiv(probe_->voxelIndex(p.z), voxels_per_tile_)};
-    auto field = [](std::int64_t v) { return static_cast<std::uint64_t>(v + (1 << 20)) & 0x1FFFFF; };
+    auto field = [](std::int64_t v) {
+        return static_cast<std::uint64_t>(v + (1 << 20)) & 0x1FFFFF;
+    };
     const std::uint64_t key = field(t[0]) | (field(t[1]) << 21) | (field(t[2]) << 42);
     if (key == last_key_) return *last_tile_;
     auto [it, inserted] = tiles_.try_emplace(key);
     Tile& tile = it->second;
     if (inserted) {
         const double edge = static_cast<double>(voxels_per_tile_) * config_.voxel_m;
-        tile.centre = (Eigen::Vector3d(static_cast<double>(t[0]), static_cast<double>(t[1]), static_cast<double>(t[2])) +
-                       Eigen::Vector3d::Constant(0.5)) * edge;
+        tile.centre = (Eigen::Vector3d(static_cast<double>(t[0]), static_cast<double>(t[1]),
+                                       static_cast<double>(t[2])) +
+                       Eigen::Vector3d::Constant(0.5)) *
+                      edge;
         ++stats_.tiles;
     }
-    if (!tile.voxels) tile.voxels = std::make_unique<VoxelFilter>(config_.voxel_m, kTileInitialBits);  // a new fragment
+    if (!tile.voxels)
+        tile.voxels =
+            std::make_unique<VoxelFilter>(config_.voxel_m, kTileInitialBits);  // a new fragment
     last_key_ = key;
     last_tile_ = &tile;
     return tile;
@@ -117,7 +127,8 @@ Status TiledVoxelMap::flushFarthest(const Eigen::Vector3d& sensor_world) {
     return Status::ok();
 }
 
-Status TiledVoxelMap::spillOpen(std::unique_ptr<SpillFile>& file, const char* name, const char* what) {
+Status TiledVoxelMap::spillOpen(std::unique_ptr<SpillFile>& file, const char* name,
+                                const char* what) {
     if (file) return Status::ok();
     auto f = SpillFile::create((std::filesystem::path(config_.spill_dir) / name).string(), what);
     if (!f.isOk()) return f.status();
@@ -125,7 +136,8 @@ Status TiledVoxelMap::spillOpen(std::unique_ptr<SpillFile>& file, const char* na
     return Status::ok();
 }
 
-Status TiledVoxelMap::appendSpill(SpillFile& file, std::span<const std::uint8_t> bytes, std::uint64_t* offset) {
+Status TiledVoxelMap::appendSpill(SpillFile& file, std::span<const std::uint8_t> bytes,
+                                  std::uint64_t* offset) {
     auto r = file.append(bytes);
     if (!r.isOk()) return r.status();
     if (offset != nullptr) *offset = *r;
@@ -136,7 +148,8 @@ Status TiledVoxelMap::appendSpill(SpillFile& file, std::span<const std::uint8_t>
 }
 
 Status TiledVoxelMap::flush(Tile& tile) {
-    if (Status s = spillOpen(fragments_, ".map-fragments.spill", "map spill file"); !s.isOk()) return s;
+    if (Status s = spillOpen(fragments_, ".map-fragments.spill", "map spill file"); !s.isOk())
+        return s;
     if (tile.fragments.size() + 1 >= kMaxFragments) {
         // A tile flushed again and again (the sensor keeps seeing it): fold its fragments into
         // the table (one tile's worth of memory, briefly) so it goes back as one.
@@ -149,7 +162,8 @@ Status TiledVoxelMap::flush(Tile& tile) {
     chunk.reserve(std::min(kChunkCells, tile.voxels->size()));
     Status status = Status::ok();
     auto put = [&] {
-        status = appendSpill(*fragments_, bytesOf(std::span<const VoxelFilter::Cell>(chunk)), nullptr);
+        status =
+            appendSpill(*fragments_, bytesOf(std::span<const VoxelFilter::Cell>(chunk)), nullptr);
         fragment.cells += chunk.size();
         chunk.clear();
     };
@@ -174,14 +188,16 @@ Status TiledVoxelMap::compactFragments() {
     // Copy the live fragments into a fresh scratch file (the old one's name is free: it was
     // unlinked at creation), then drop the old one, which returns its space.
     std::unique_ptr<SpillFile> old = std::move(fragments_);
-    if (Status s = spillOpen(fragments_, ".map-fragments.spill", "map spill file"); !s.isOk()) return s;
+    if (Status s = spillOpen(fragments_, ".map-fragments.spill", "map spill file"); !s.isOk())
+        return s;
     std::vector<std::uint8_t> buffer;
     for (auto& [key, tile] : tiles_) {
         for (Fragment& f : tile.fragments) {
             const std::uint64_t bytes = f.cells * sizeof(VoxelFilter::Cell);
             std::uint64_t offset = 0;
             for (std::uint64_t done = 0; done < bytes;) {
-                buffer.resize(static_cast<std::size_t>(std::min<std::uint64_t>(kChunkCells * sizeof(VoxelFilter::Cell), bytes - done)));
+                buffer.resize(static_cast<std::size_t>(std::min<std::uint64_t>(
+                    kChunkCells * sizeof(VoxelFilter::Cell), bytes - done)));
                 if (Status s = old->read(f.offset + done, buffer); !s.isOk()) return s;
                 std::uint64_t at = 0;
                 if (Status s = appendSpill(*fragments_, buffer, &at); !s.isOk()) return s;
@@ -206,9 +222,12 @@ Status TiledVoxelMap::mergeFragments(Tile& tile, VoxelFilter& voxels) {
     std::vector<VoxelFilter::Cell> chunk;
     for (const Fragment& f : tile.fragments) {
         for (std::uint64_t done = 0; done < f.cells;) {
-            chunk.resize(static_cast<std::size_t>(std::min<std::uint64_t>(kChunkCells, f.cells - done)));
+            chunk.resize(
+                static_cast<std::size_t>(std::min<std::uint64_t>(kChunkCells, f.cells - done)));
             const std::uint64_t offset = f.offset + done * sizeof(VoxelFilter::Cell);
-            if (Status s = fragments_->read(offset, bytesOf(std::span<VoxelFilter::Cell>(chunk))); !s.isOk()) return s;
+            if (Status s = fragments_->read(offset, bytesOf(std::span<VoxelFilter::Cell>(chunk)));
+                !s.isOk())
+                return s;
             for (const VoxelFilter::Cell& c : chunk) voxels.merge(c);
             done += chunk.size();
         }
@@ -219,7 +238,8 @@ Status TiledVoxelMap::mergeFragments(Tile& tile, VoxelFilter& voxels) {
 
 Result<std::unique_ptr<VoxelFilter>> TiledVoxelMap::mergedTile(Tile& tile) {
     std::unique_ptr<VoxelFilter> voxels =
-        tile.voxels ? std::move(tile.voxels) : std::make_unique<VoxelFilter>(config_.voxel_m, kTileInitialBits);
+        tile.voxels ? std::move(tile.voxels)
+                    : std::make_unique<VoxelFilter>(config_.voxel_m, kTileInitialBits);
     if (Status s = mergeFragments(tile, *voxels); !s.isOk()) return s;
     return voxels;
 }
@@ -237,7 +257,9 @@ Result<std::uint64_t> TiledVoxelMap::drain(const BeginFn& begin, const SinkFn& s
         if (pts.empty()) continue;
         if (Status s = spillOpen(runs_, ".map-runs.spill", "map merge file"); !s.isOk()) return s;
         std::uint64_t offset = 0;
-        if (Status s = appendSpill(*runs_, bytesOf(std::span<const MapPoint>(pts)), &offset); !s.isOk()) return s;
+        if (Status s = appendSpill(*runs_, bytesOf(std::span<const MapPoint>(pts)), &offset);
+            !s.isOk())
+            return s;
         runs.push_back({offset, pts.size(), {}, 0});
         total += pts.size();
     }
@@ -248,11 +270,13 @@ Result<std::uint64_t> TiledVoxelMap::drain(const BeginFn& begin, const SinkFn& s
     // 2. k-way merge of the runs in take()'s order; read blocks share about the memory budget.
     if (Status s = begin(total); !s.isOk()) return s;
     const std::size_t block = static_cast<std::size_t>(std::clamp<std::uint64_t>(
-        config_.memory_budget_bytes / 2 / std::max<std::size_t>(1, runs.size()) / sizeof(MapPoint), 256, 1 << 15));
+        config_.memory_budget_bytes / 2 / std::max<std::size_t>(1, runs.size()) / sizeof(MapPoint),
+        256, 1 << 15));
     auto refill = [&](RunCursor& r) -> Status {
         r.block.resize(static_cast<std::size_t>(std::min<std::uint64_t>(block, r.remaining)));
         r.pos = 0;
-        if (Status s = runs_->read(r.offset, bytesOf(std::span<MapPoint>(r.block))); !s.isOk()) return s;
+        if (Status s = runs_->read(r.offset, bytesOf(std::span<MapPoint>(r.block))); !s.isOk())
+            return s;
         r.offset += r.block.size() * sizeof(MapPoint);
         r.remaining -= r.block.size();
         return Status::ok();

@@ -8,7 +8,9 @@ namespace {
 // 21 bits per axis: +-52 km at 5 cm, more than a hand-held scan covers.
 std::uint64_t voxelKey(const DisplayPoint& p, float voxel) {
     const auto q = [voxel](float v) {
-        return static_cast<std::uint64_t>(static_cast<std::int64_t>(std::floor(v / voxel)) + (1 << 20)) & 0x1FFFFF;
+        return static_cast<std::uint64_t>(static_cast<std::int64_t>(std::floor(v / voxel)) +
+                                          (1 << 20)) &
+               0x1FFFFF;
     };
     return (q(p.x_m) << 42) | (q(p.y_m) << 21) | q(p.z_m);
 }

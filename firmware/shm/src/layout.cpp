@@ -5,39 +5,55 @@ namespace handscan::shm {
 
 const char* toString(CommandType type) {
     switch (type) {
-        case CommandType::kNone: return "none";
-        case CommandType::kStartScan: return "start-scan";
-        case CommandType::kStopScan: return "stop-scan";
-        case CommandType::kNewScan: return "new-scan";
-        case CommandType::kExport: return "export";
-        case CommandType::kShutdown: return "shutdown";
+        case CommandType::kNone:
+            return "none";
+        case CommandType::kStartScan:
+            return "start-scan";
+        case CommandType::kStopScan:
+            return "stop-scan";
+        case CommandType::kNewScan:
+            return "new-scan";
+        case CommandType::kExport:
+            return "export";
+        case CommandType::kShutdown:
+            return "shutdown";
     }
     return "unknown";
 }
 
 const char* toString(CommandState state) {
     switch (state) {
-        case CommandState::kPending: return "pending";
-        case CommandState::kAccepted: return "accepted";
-        case CommandState::kInProgress: return "in progress";
-        case CommandState::kDone: return "done";
-        case CommandState::kFailed: return "failed";
-        case CommandState::kRejected: return "rejected";
+        case CommandState::kPending:
+            return "pending";
+        case CommandState::kAccepted:
+            return "accepted";
+        case CommandState::kInProgress:
+            return "in progress";
+        case CommandState::kDone:
+            return "done";
+        case CommandState::kFailed:
+            return "failed";
+        case CommandState::kRejected:
+            return "rejected";
     }
     return "unknown";
 }
 
 const char* toString(ScanState state) {
     switch (state) {
-        case ScanState::kIdle: return "idle";
-        case ScanState::kScanning: return "scanning";
-        case ScanState::kStopped: return "stopped";
+        case ScanState::kIdle:
+            return "idle";
+        case ScanState::kScanning:
+            return "scanning";
+        case ScanState::kStopped:
+            return "stopped";
     }
     return "unknown";
 }
 
 bool isFinal(CommandState state) {
-    return state == CommandState::kDone || state == CommandState::kFailed || state == CommandState::kRejected;
+    return state == CommandState::kDone || state == CommandState::kFailed ||
+           state == CommandState::kRejected;
 }
 
 }  // namespace handscan::shm

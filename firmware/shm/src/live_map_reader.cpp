@@ -11,11 +11,16 @@ namespace handscan::shm {
 
 const char* toString(Connection c) {
     switch (c) {
-        case Connection::kWaiting: return "waiting for pipeline";
-        case Connection::kIncompatible: return "incompatible pipeline";
-        case Connection::kConnected: return "connected";
-        case Connection::kStale: return "pipeline not responding";
-        case Connection::kClosed: return "pipeline stopped";
+        case Connection::kWaiting:
+            return "waiting for pipeline";
+        case Connection::kIncompatible:
+            return "incompatible pipeline";
+        case Connection::kConnected:
+            return "connected";
+        case Connection::kStale:
+            return "pipeline not responding";
+        case Connection::kClosed:
+            return "pipeline stopped";
     }
     return "unknown";
 }
@@ -39,9 +44,11 @@ RegionHeader* LiveMapReader::header() const {
 }
 
 Status LiveMapReader::validate(const SharedRegion& region) const {
-    const std::string where = region.name().empty() ? std::string("live-map region") : "shared memory " + region.name();
+    const std::string where =
+        region.name().empty() ? std::string("live-map region") : "shared memory " + region.name();
     if (region.size() < sizeof(RegionHeader)) {
-        return {StatusCode::kTruncated, where + ": " + std::to_string(region.size()) + " bytes, smaller than a header"};
+        return {StatusCode::kTruncated,
+                where + ": " + std::to_string(region.size()) + " bytes, smaller than a header"};
     }
     auto& h = *reinterpret_cast<RegionHeader*>(region.data());
     if (atomicWord(h.magic).load(std::memory_order_acquire) != kMagic) {
@@ -49,14 +56,16 @@ Status LiveMapReader::validate(const SharedRegion& region) const {
     }
     if (h.version != kLayoutVersion || h.header_bytes != sizeof(RegionHeader)) {
         return {StatusCode::kUnsupported, where + ": layout version " + std::to_string(h.version) +
-                                              ", this program understands " + std::to_string(kLayoutVersion) +
+                                              ", this program understands " +
+                                              std::to_string(kLayoutVersion) +
                                               ": install matching handscan and handscan-ui"};
     }
     const std::uint64_t cap = atomicWord(h.map_capacity_points).load(std::memory_order_relaxed);
     if (atomicWord(h.points_offset).load(std::memory_order_relaxed) != sizeof(RegionHeader) ||
         regionBytes(cap) > region.size()) {
-        return {StatusCode::kTruncated, where + ": " + std::to_string(region.size()) + " bytes cannot hold " +
-                                            std::to_string(cap) + " points (corrupt header?)"};
+        return {StatusCode::kTruncated, where + ": " + std::to_string(region.size()) +
+                                            " bytes cannot hold " + std::to_string(cap) +
+                                            " points (corrupt header?)"};
     }
     return Status::ok();
 }
@@ -71,8 +80,11 @@ void LiveMapReader::connect() {
     }
     if (Status s = validate(**opened); !s) {
         region_.reset();
-        connection_ = s.code() == StatusCode::kUnsupported ? Connection::kIncompatible : Connection::kWaiting;
-        message_ = s.code() == StatusCode::kUnsupported ? s.message() : "waiting for pipeline (" + s.message() + ")";
+        connection_ =
+            s.code() == StatusCode::kUnsupported ? Connection::kIncompatible : Connection::kWaiting;
+        message_ = s.code() == StatusCode::kUnsupported
+                       ? s.message()
+                       : "waiting for pipeline (" + s.message() + ")";
         return;
     }
     region_ = std::move(*opened);
@@ -94,15 +106,17 @@ Connection LiveMapReader::poll() {
     }
     RegionHeader* h = header();
     if (!h) return connection_;
-    const auto state = static_cast<WriterState>(atomicWord(h->writer_state).load(std::memory_order_acquire));
+    const auto state =
+        static_cast<WriterState>(atomicWord(h->writer_state).load(std::memory_order_acquire));
     const double age = heartbeatAgeSeconds();
     if (state == WriterState::kClosed) {
         connection_ = Connection::kClosed;
-        message_ = "pipeline stopped (pid " + std::to_string(writerPid()) + "); waiting for it to restart";
+        message_ =
+            "pipeline stopped (pid " + std::to_string(writerPid()) + "); waiting for it to restart";
     } else if (age * 1e9 > static_cast<double>(options_.stale_after_ns)) {
         connection_ = Connection::kStale;
-        message_ = "pipeline not responding for " + std::to_string(static_cast<int>(age)) + " s (pid " +
-                   std::to_string(writerPid()) + ")";
+        message_ = "pipeline not responding for " + std::to_string(static_cast<int>(age)) +
+                   " s (pid " + std::to_string(writerPid()) + ")";
     } else {
         connection_ = Connection::kConnected;
         message_.clear();
@@ -151,14 +165,16 @@ constexpr TimeNs kUnansweredRequestKeepNs = 10 * kNsPerSec;
 
 // True while `held` (the request in `slot`, read with the slot claimed) must not be overwritten.
 bool slotInUse(CommandSlot& slot, const CommandRequest& held, TimeNs writer_started, TimeNs now) {
-    if (held.seq == 0) return false;                                  // never used
-    if (held.sent_ns < writer_started) return false;                  // sent to a previous pipeline
+    if (held.seq == 0) return false;                  // never used
+    if (held.sent_ns < writer_started) return false;  // sent to a previous pipeline
     if (atomicWord(slot.collected_seq).load(std::memory_order_acquire) == held.seq) return false;
     CommandAck ack;
     if (!seqlockRead(slot.ack_lock, slot.ack, ack, 16)) return true;  // being answered right now
     if (ack.seq != held.seq) return now - held.sent_ns < kUnansweredRequestKeepNs;
-    if (!isFinal(static_cast<CommandState>(ack.state))) return now - ack.t_ns < kUnansweredRequestKeepNs;
-    if (!SharedRegion::processExists(held.sender_pid)) return false;  // its UI died: nobody will read it
+    if (!isFinal(static_cast<CommandState>(ack.state)))
+        return now - ack.t_ns < kUnansweredRequestKeepNs;
+    if (!SharedRegion::processExists(held.sender_pid))
+        return false;  // its UI died: nobody will read it
     return now - ack.t_ns < kUnreadAnswerKeepNs;
 }
 
@@ -221,9 +237,10 @@ bool LiveMapReader::readMap(MapCursor& cursor, MapDelta& delta, std::size_t max_
         delta.reset = true;
     }
     const std::uint64_t cap = atomicWord(h->map_capacity_points).load(std::memory_order_relaxed);
-    const std::uint64_t np = std::min(atomicWord(h->map_points).load(std::memory_order_acquire), cap);
-    const std::uint64_t nt = std::min<std::uint64_t>(atomicWord(h->track_points).load(std::memory_order_acquire),
-                                                     kTrackCapacity);
+    const std::uint64_t np =
+        std::min(atomicWord(h->map_points).load(std::memory_order_acquire), cap);
+    const std::uint64_t nt = std::min<std::uint64_t>(
+        atomicWord(h->track_points).load(std::memory_order_acquire), kTrackCapacity);
     const std::uint64_t from = std::min(c.points, np);
     const std::uint64_t to = from + std::min<std::uint64_t>(np - from, max_points);
     const auto* pts = reinterpret_cast<const DisplayPoint*>(region_->data() + sizeof(RegionHeader));
@@ -249,7 +266,8 @@ bool LiveMapReader::readMap(MapCursor& cursor, MapDelta& delta, std::size_t max_
 Result<std::uint64_t> LiveMapReader::sendCommand(CommandType type, std::string_view argument) {
     RegionHeader* h = header();
     if (!h || connection_ == Connection::kClosed) {
-        return Status{StatusCode::kDisconnected, std::string("cannot send ") + toString(type) + ": " +
+        return Status{StatusCode::kDisconnected, std::string("cannot send ") + toString(type) +
+                                                     ": " +
                                                      (message_.empty() ? "no pipeline" : message_)};
     }
     CommandRequest req;
@@ -263,11 +281,13 @@ Result<std::uint64_t> LiveMapReader::sendCommand(CommandType type, std::string_v
     // command (the check runs with the slot claimed, so two UIs cannot both take it).
     const TimeNs writer_started = atomicWord(h->writer_started_ns).load(std::memory_order_relaxed);
     for (std::size_t attempt = 0; attempt < 2 * kCommandSlots; ++attempt) {
-        const std::uint64_t seq = atomicWord(h->next_command_seq).fetch_add(1, std::memory_order_relaxed) + 1;
+        const std::uint64_t seq =
+            atomicWord(h->next_command_seq).fetch_add(1, std::memory_order_relaxed) + 1;
         CommandSlot& slot = h->commands[seq % kCommandSlots];
         auto lock = atomicWord(slot.request_lock);
         std::uint64_t s = lock.load(std::memory_order_relaxed);
-        if ((s & 1u) || !lock.compare_exchange_strong(s, s + 1, std::memory_order_acquire, std::memory_order_relaxed)) {
+        if ((s & 1u) || !lock.compare_exchange_strong(s, s + 1, std::memory_order_acquire,
+                                                      std::memory_order_relaxed)) {
             continue;
         }
         CommandRequest held;
@@ -283,24 +303,28 @@ Result<std::uint64_t> LiveMapReader::sendCommand(CommandType type, std::string_v
         sent_nonce_ = writerNonce();
         return seq;
     }
-    return Status{StatusCode::kTimeout, std::string("cannot send ") + toString(type) +
-                                            ": every command slot is busy (pipeline not taking commands?)"};
+    return Status{StatusCode::kTimeout,
+                  std::string("cannot send ") + toString(type) +
+                      ": every command slot is busy (pipeline not taking commands?)"};
 }
 
 Result<CommandAck> LiveMapReader::commandResult(std::uint64_t seq) const {
     RegionHeader* h = header();
     if (!h) return Status{StatusCode::kDisconnected, "no pipeline: " + message_};
     if (writerNonce() != sent_nonce_) {
-        return Status{StatusCode::kNotFound, "command " + std::to_string(seq) + " was lost: the pipeline restarted"};
+        return Status{StatusCode::kNotFound,
+                      "command " + std::to_string(seq) + " was lost: the pipeline restarted"};
     }
     CommandSlot& slot = h->commands[seq % kCommandSlots];
     CommandRequest req;
     CommandAck ack;
-    if (!seqlockRead(slot.request_lock, slot.request, req) || !seqlockRead(slot.ack_lock, slot.ack, ack)) {
+    if (!seqlockRead(slot.request_lock, slot.request, req) ||
+        !seqlockRead(slot.ack_lock, slot.ack, ack)) {
         return Status{StatusCode::kTimeout, "command slot busy, try again"};
     }
     if (req.seq != seq) {
-        return Status{StatusCode::kNotFound, "command " + std::to_string(seq) + " no longer tracked (slot reused)"};
+        return Status{StatusCode::kNotFound,
+                      "command " + std::to_string(seq) + " no longer tracked (slot reused)"};
     }
     if (ack.seq != seq) {
         CommandAck pending;
@@ -309,7 +333,8 @@ Result<CommandAck> LiveMapReader::commandResult(std::uint64_t seq) const {
         return pending;
     }
     if (isFinal(static_cast<CommandState>(ack.state))) {
-        atomicWord(slot.collected_seq).store(seq, std::memory_order_release);  // the slot may be reused
+        atomicWord(slot.collected_seq)
+            .store(seq, std::memory_order_release);  // the slot may be reused
     }
     return ack;
 }

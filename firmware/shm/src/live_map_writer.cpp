@@ -17,14 +17,15 @@ namespace {
 std::uint64_t freshNonce() {
     std::random_device rd;
     const std::uint64_t r = (static_cast<std::uint64_t>(rd()) << 32) ^ rd();
-    const std::uint64_t n = r ^ static_cast<std::uint64_t>(monotonicNow()) ^
-                            (SharedRegion::currentProcessId() << 48);
+    const std::uint64_t n =
+        r ^ static_cast<std::uint64_t>(monotonicNow()) ^ (SharedRegion::currentProcessId() << 48);
     return n == 0 ? 1 : n;  // 0 means "no writer seen yet" to readers
 }
 
 }  // namespace
 
-PoseRecord toPoseRecord(const PoseEstimate& pose, std::uint8_t vio_dof_mask, std::uint8_t scan_dof_mask) {
+PoseRecord toPoseRecord(const PoseEstimate& pose, std::uint8_t vio_dof_mask,
+                        std::uint8_t scan_dof_mask) {
     PoseRecord r;
     r.t_ns = pose.t_host;
     const Eigen::Vector3d p = pose.T_world_body.translation();
@@ -43,10 +44,13 @@ PoseRecord toPoseRecord(const PoseEstimate& pose, std::uint8_t vio_dof_mask, std
 
 PoseRecord toPoseRecord(const PoseEstimate& pose) {
     switch (pose.source) {
-        case PoseSource::kVisualOdometry: return toPoseRecord(pose, pose.solved_dof_mask, 0);
+        case PoseSource::kVisualOdometry:
+            return toPoseRecord(pose, pose.solved_dof_mask, 0);
         case PoseSource::kScanMatching:
-        case PoseSource::kIntegrated: return toPoseRecord(pose, 0, pose.solved_dof_mask);
-        case PoseSource::kImuPrediction: break;
+        case PoseSource::kIntegrated:
+            return toPoseRecord(pose, 0, pose.solved_dof_mask);
+        case PoseSource::kImuPrediction:
+            break;
     }
     return toPoseRecord(pose, 0, 0);
 }
@@ -61,14 +65,18 @@ Result<std::unique_ptr<LiveMapWriter>> LiveMapWriter::attach(std::shared_ptr<Sha
                                                              const WriterOptions& options) {
     if (!region || region->size() < regionBytes(options.map_capacity_points)) {
         return Status{StatusCode::kInvalidArgument,
-                      "live-map region too small for " + std::to_string(options.map_capacity_points) +
-                          " points: need " + std::to_string(regionBytes(options.map_capacity_points)) + " bytes"};
+                      "live-map region too small for " +
+                          std::to_string(options.map_capacity_points) + " points: need " +
+                          std::to_string(regionBytes(options.map_capacity_points)) + " bytes"};
     }
     return std::unique_ptr<LiveMapWriter>(new LiveMapWriter(std::move(region), options));
 }
 
 LiveMapWriter::LiveMapWriter(std::shared_ptr<SharedRegion> region, const WriterOptions& options)
-    : region_(std::move(region)), options_(options), capacity_(options.map_capacity_points), nonce_(freshNonce()) {
+    : region_(std::move(region)),
+      options_(options),
+      capacity_(options.map_capacity_points),
+      nonce_(freshNonce()) {
     RegionHeader& h = header();
     // Readers accept the region only once the magic is there (stored last, with release), so
     // they never see a half-initialised header.
@@ -83,7 +91,8 @@ LiveMapWriter::LiveMapWriter(std::shared_ptr<SharedRegion> region, const WriterO
     atomicWord(h.writer_pid).store(SharedRegion::currentProcessId(), std::memory_order_relaxed);
     atomicWord(h.writer_started_ns).store(monotonicNow(), std::memory_order_relaxed);
     atomicWord(h.heartbeat_ns).store(monotonicNow(), std::memory_order_relaxed);
-    atomicWord(h.writer_state).store(static_cast<std::uint64_t>(WriterState::kRunning), std::memory_order_relaxed);
+    atomicWord(h.writer_state)
+        .store(static_cast<std::uint64_t>(WriterState::kRunning), std::memory_order_relaxed);
     // A re-used region (tests) starts a new epoch so readers drop the previous writer's map.
     auto lock = atomicWord(h.map_lock);
     const std::uint64_t s = lock.load(std::memory_order_relaxed);
@@ -93,13 +102,15 @@ LiveMapWriter::LiveMapWriter(std::shared_ptr<SharedRegion> region, const WriterO
     // Re-attaching to a used region continues its counters so readers see changes, not repeats.
     for (std::size_t i = 0; i < kCommandSlots; ++i) {
         CommandRequest req;
-        if (seqlockRead(h.commands[i].request_lock, h.commands[i].request, req)) processed_[i] = req.seq;
+        if (seqlockRead(h.commands[i].request_lock, h.commands[i].request, req))
+            processed_[i] = req.seq;
     }
     atomicWord(h.magic).store(kMagic, std::memory_order_release);
 }
 
 LiveMapWriter::~LiveMapWriter() {
-    atomicWord(header().writer_state).store(static_cast<std::uint64_t>(WriterState::kClosed), std::memory_order_release);
+    atomicWord(header().writer_state)
+        .store(static_cast<std::uint64_t>(WriterState::kClosed), std::memory_order_release);
     if (options_.unlink_on_close && !region_->name().empty()) {
         // Only remove the name if it is still ours (a newer writer may have replaced it).
         auto id = SharedRegion::identityOf(region_->name());
@@ -136,13 +147,15 @@ void LiveMapWriter::appendTrack(const PoseRecord& pose) {
         const double dy = pose.position_m[1] - last_track_->position_m[1];
         const double dz = pose.position_m[2] - last_track_->position_m[2];
         const bool moved = std::sqrt(dx * dx + dy * dy + dz * dz) >= options_.track_min_step_m;
-        const bool waited = toSeconds(pose.t_ns - last_track_->t_ns) >= options_.track_max_interval_s;
+        const bool waited =
+            toSeconds(pose.t_ns - last_track_->t_ns) >= options_.track_max_interval_s;
         if (!moved && !waited) return;
     }
     RegionHeader& h = header();
     auto committed = atomicWord(h.track_points);
     const std::uint64_t n = committed.load(std::memory_order_relaxed);
-    if (n >= kTrackCapacity) return;  // the pose ring still has the latest; the drawn path stops growing
+    if (n >= kTrackCapacity)
+        return;  // the pose ring still has the latest; the drawn path stops growing
     TrackPoint tp;
     tp.t_ns = pose.t_ns;
     tp.x_m = static_cast<float>(pose.position_m[0]);
@@ -165,10 +178,11 @@ Status LiveMapWriter::appendPoints(std::span<const DisplayPoint> new_points) {
     committed.store(n + take, std::memory_order_release);
     heartbeat();
     if (take < new_points.size()) {
-        return {StatusCode::kNoSpace, "live map display capacity of " + std::to_string(capacity_) +
-                                          " points reached: " + std::to_string(new_points.size() - take) +
-                                          " points not shown (the recorded map is complete; raise "
-                                          "map_capacity_points or use a coarser display voxel)"};
+        return {StatusCode::kNoSpace,
+                "live map display capacity of " + std::to_string(capacity_) +
+                    " points reached: " + std::to_string(new_points.size() - take) +
+                    " points not shown (the recorded map is complete; raise "
+                    "map_capacity_points or use a coarser display voxel)"};
     }
     return Status::ok();
 }
@@ -192,7 +206,9 @@ void LiveMapWriter::newScan() {
     heartbeat();
 }
 
-std::uint64_t LiveMapWriter::epoch() const { return atomicWord(header().map_lock).load(std::memory_order_relaxed) / 2; }
+std::uint64_t LiveMapWriter::epoch() const {
+    return atomicWord(header().map_lock).load(std::memory_order_relaxed) / 2;
+}
 std::uint64_t LiveMapWriter::mapPoints() const {
     return atomicWord(header().map_points).load(std::memory_order_relaxed);
 }
@@ -205,7 +221,8 @@ std::optional<Command> LiveMapWriter::pollCommand() {
     CommandRequest best_req;
     for (std::size_t i = 0; i < kCommandSlots; ++i) {
         CommandRequest req;
-        if (!seqlockRead(h.commands[i].request_lock, h.commands[i].request, req, 16)) continue;  // being written
+        if (!seqlockRead(h.commands[i].request_lock, h.commands[i].request, req, 16))
+            continue;  // being written
         if (req.seq == 0 || req.seq == processed_[i]) continue;
         if (!best || req.seq < best_req.seq) {
             best = i;
@@ -222,7 +239,8 @@ std::optional<Command> LiveMapWriter::pollCommand() {
     return cmd;
 }
 
-void LiveMapWriter::ack(std::uint64_t seq, CommandState state, std::string_view message, float progress) {
+void LiveMapWriter::ack(std::uint64_t seq, CommandState state, std::string_view message,
+                        float progress) {
     CommandSlot& slot = header().commands[seq % kCommandSlots];
     CommandRequest req;
     // A slot reused by a newer request (16 commands in flight) keeps that request's answer.

@@ -18,7 +18,9 @@ std::string errnoText(int err) { return std::strerror(err); }
 class FdCloser {
 public:
     explicit FdCloser(int fd) : fd_(fd) {}
-    ~FdCloser() { if (fd_ >= 0) ::close(fd_); }
+    ~FdCloser() {
+        if (fd_ >= 0) ::close(fd_);
+    }
     FdCloser(const FdCloser&) = delete;
     FdCloser& operator=(const FdCloser&) = delete;
 
@@ -29,20 +31,24 @@ private:
 }  // namespace
 
 Status validateRegionName(const std::string& name) {
-    if (name.size() < 2 || name.size() > 250 || name[0] != '/' || name.find('/', 1) != std::string::npos) {
+    if (name.size() < 2 || name.size() > 250 || name[0] != '/' ||
+        name.find('/', 1) != std::string::npos) {
         return {StatusCode::kInvalidArgument,
-                "shared-memory name '" + name + "': expected '/' followed by 1..249 characters without '/'"};
+                "shared-memory name '" + name +
+                    "': expected '/' followed by 1..249 characters without '/'"};
     }
     return Status::ok();
 }
 
-Result<std::shared_ptr<SharedRegion>> SharedRegion::create(const std::string& name, std::size_t bytes) {
+Result<std::shared_ptr<SharedRegion>> SharedRegion::create(const std::string& name,
+                                                           std::size_t bytes) {
     if (Status s = validateRegionName(name); !s) return s;
     // A fresh object every time: old readers keep their (now nameless) mapping valid and notice
     // the new identity; nobody ever sees the region resized under them.
     if (::shm_unlink(name.c_str()) != 0 && errno != ENOENT) {
         return Status{StatusCode::kIoError, "shm_unlink(" + name + "): " + errnoText(errno) +
-                                                " (remove /dev/shm" + name + " or pick another --shm-name)"};
+                                                " (remove /dev/shm" + name +
+                                                " or pick another --shm-name)"};
     }
     const int fd = ::shm_open(name.c_str(), O_RDWR | O_CREAT | O_EXCL, 0660);
     if (fd < 0) {
@@ -53,7 +59,8 @@ Result<std::shared_ptr<SharedRegion>> SharedRegion::create(const std::string& na
         const int err = errno;
         ::shm_unlink(name.c_str());
         return Status{StatusCode::kNoSpace, "ftruncate(" + name + ", " + std::to_string(bytes) +
-                                                " bytes): " + errnoText(err) + " (is /dev/shm full?)"};
+                                                " bytes): " + errnoText(err) +
+                                                " (is /dev/shm full?)"};
     }
     struct stat st {};
     ::fstat(fd, &st);
@@ -78,11 +85,15 @@ Result<std::shared_ptr<SharedRegion>> SharedRegion::open(const std::string& name
     }
     FdCloser closer(fd);
     struct stat st {};
-    if (::fstat(fd, &st) != 0) return Status{StatusCode::kIoError, "fstat(" + name + "): " + errnoText(errno)};
-    if (st.st_size <= 0) return Status{StatusCode::kTruncated, "shared memory " + name + " is empty (writer starting?)"};
+    if (::fstat(fd, &st) != 0)
+        return Status{StatusCode::kIoError, "fstat(" + name + "): " + errnoText(errno)};
+    if (st.st_size <= 0)
+        return Status{StatusCode::kTruncated,
+                      "shared memory " + name + " is empty (writer starting?)"};
     const auto bytes = static_cast<std::size_t>(st.st_size);
     void* p = ::mmap(nullptr, bytes, PROT_READ | PROT_WRITE, MAP_SHARED, fd, 0);
-    if (p == MAP_FAILED) return Status{StatusCode::kIoError, "mmap(" + name + "): " + errnoText(errno)};
+    if (p == MAP_FAILED)
+        return Status{StatusCode::kIoError, "mmap(" + name + "): " + errnoText(errno)};
     return std::shared_ptr<SharedRegion>(new SharedRegion(
         static_cast<std::byte*>(p), bytes, name,
         Identity{static_cast<std::uint64_t>(st.st_dev), static_cast<std::uint64_t>(st.st_ino)}));
@@ -97,7 +108,8 @@ Result<SharedRegion::Identity> SharedRegion::identityOf(const std::string& name)
     }
     FdCloser closer(fd);
     struct stat st {};
-    if (::fstat(fd, &st) != 0) return Status{StatusCode::kIoError, "fstat(" + name + "): " + errnoText(errno)};
+    if (::fstat(fd, &st) != 0)
+        return Status{StatusCode::kIoError, "fstat(" + name + "): " + errnoText(errno)};
     return Identity{static_cast<std::uint64_t>(st.st_dev), static_cast<std::uint64_t>(st.st_ino)};
 }
 
@@ -112,8 +124,11 @@ bool SharedRegion::processExists(std::uint64_t pid) {
 
 Result<std::shared_ptr<SharedRegion>> SharedRegion::anonymous(std::size_t bytes) {
     void* p = ::mmap(nullptr, bytes, PROT_READ | PROT_WRITE, MAP_SHARED | MAP_ANONYMOUS, -1, 0);
-    if (p == MAP_FAILED) return Status{StatusCode::kIoError, "mmap(anonymous, " + std::to_string(bytes) + "): " + errnoText(errno)};
-    return std::shared_ptr<SharedRegion>(new SharedRegion(static_cast<std::byte*>(p), bytes, "", Identity{}));
+    if (p == MAP_FAILED)
+        return Status{StatusCode::kIoError,
+                      "mmap(anonymous, " + std::to_string(bytes) + "): " + errnoText(errno)};
+    return std::shared_ptr<SharedRegion>(
+        new SharedRegion(static_cast<std::byte*>(p), bytes, "", Identity{}));
 }
 
 SharedRegion::~SharedRegion() { ::munmap(data_, size_); }

@@ -20,7 +20,8 @@ struct SensorSpec {
     float rate_hz;
 };
 constexpr SensorSpec kSensors[] = {
-    {"hokuyo", 40.0f}, {"xsens", 200.0f}, {"encoder", 100.0f}, {"tracking-cam", 50.0f}, {"colour-cam", 10.0f},
+    {"hokuyo", 40.0f},       {"xsens", 200.0f},     {"encoder", 100.0f},
+    {"tracking-cam", 50.0f}, {"colour-cam", 10.0f},
 };
 
 }  // namespace
@@ -42,7 +43,8 @@ void DemoPipeline::startScan(TimeNs now) {
 void DemoPipeline::step(TimeNs now) {
     while (auto cmd = writer_.pollCommand()) handle(*cmd, now);
     if (state_ == ScanState::kScanning) {
-        const double dt = std::min(toSeconds(now - last_step_), 0.5);  // a stalled caller does not teleport
+        const double dt =
+            std::min(toSeconds(now - last_step_), 0.5);  // a stalled caller does not teleport
         // Poses at 200 Hz over the elapsed interval.
         const int n = std::max(1, static_cast<int>(std::lround(dt * 200.0)));
         for (int i = 1; i <= n; ++i) {
@@ -89,7 +91,8 @@ void DemoPipeline::handle(const shm::Command& cmd, TimeNs now) {
                 return;
             }
             state_ = ScanState::kStopped;
-            writer_.ack(cmd.seq, CommandState::kDone, "scan stopped: " + std::to_string(points_) + " points");
+            writer_.ack(cmd.seq, CommandState::kDone,
+                        "scan stopped: " + std::to_string(points_) + " points");
             break;
         case CommandType::kNewScan:
             if (state_ == ScanState::kScanning) {
@@ -116,7 +119,9 @@ void DemoPipeline::handle(const shm::Command& cmd, TimeNs now) {
             shutdown_ = true;
             writer_.ack(cmd.seq, CommandState::kDone, "shutting down");
             break;
-        case CommandType::kNone: writer_.ack(cmd.seq, CommandState::kRejected, "unknown command"); break;
+        case CommandType::kNone:
+            writer_.ack(cmd.seq, CommandState::kRejected, "unknown command");
+            break;
     }
     publishStatus(now);
 }
@@ -134,20 +139,26 @@ void DemoPipeline::exportMap(const shm::Command& cmd) {
     };
     std::error_code ec;
     fs::create_directories(dir, ec);
-    if (ec) return fail(dir.string() + ": cannot create: " + ec.message() + " (is the USB stick mounted writable?)");
+    if (ec)
+        return fail(dir.string() + ": cannot create: " + ec.message() +
+                    " (is the USB stick mounted writable?)");
     export_ = {};
     export_.state = static_cast<std::uint8_t>(shm::ExportState::kRunning);
     shm::setText(export_.target, file.string());
     std::ofstream out(file, std::ios::binary | std::ios::trunc);
     if (!out) return fail(file.string() + ": cannot open for writing");
-    out << "ply\nformat binary_little_endian 1.0\ncomment handscan live-map export (display resolution)\n"
-        << "element vertex " << map_.size() << "\nproperty float x\nproperty float y\nproperty float z\n"
-        << "property uchar red\nproperty uchar green\nproperty uchar blue\nproperty uchar intensity\nend_header\n";
+    out << "ply\nformat binary_little_endian 1.0\ncomment handscan live-map export (display "
+           "resolution)\n"
+        << "element vertex " << map_.size()
+        << "\nproperty float x\nproperty float y\nproperty float z\n"
+        << "property uchar red\nproperty uchar green\nproperty uchar blue\nproperty uchar "
+           "intensity\nend_header\n";
     // Write in slices and report progress after each, as a real export to a slow stick does.
     const std::size_t slice = std::max<std::size_t>(1, map_.size() / 20);
     for (std::size_t i = 0; i < map_.size(); i += slice) {
         const std::size_t n = std::min(slice, map_.size() - i);
-        out.write(reinterpret_cast<const char*>(map_.data() + i), static_cast<std::streamsize>(n * sizeof(shm::DisplayPoint)));
+        out.write(reinterpret_cast<const char*>(map_.data() + i),
+                  static_cast<std::streamsize>(n * sizeof(shm::DisplayPoint)));
         const float progress = static_cast<float>(i + n) / static_cast<float>(map_.size()) * 0.9f;
         export_.progress = progress;
         export_.bytes_written = static_cast<std::uint64_t>(out.tellp());
@@ -159,12 +170,14 @@ void DemoPipeline::exportMap(const shm::Command& cmd) {
     if (!out) return fail(file.string() + ": write failed (stick full or removed?)");
     // Verify: the file must have exactly the header plus every point.
     const auto size = fs::file_size(file, ec);
-    if (ec || size < map_.size() * sizeof(shm::DisplayPoint)) return fail(file.string() + ": verification failed");
+    if (ec || size < map_.size() * sizeof(shm::DisplayPoint))
+        return fail(file.string() + ": verification failed");
     export_.state = static_cast<std::uint8_t>(shm::ExportState::kDone);
     export_.progress = 1.0f;
     export_.safe_to_remove = 1;
     export_.bytes_written = size;
-    shm::setText(export_.message, "exported " + std::to_string(map_.size()) + " points: safe to remove");
+    shm::setText(export_.message,
+                 "exported " + std::to_string(map_.size()) + " points: safe to remove");
     writer_.ack(cmd.seq, CommandState::kDone, "safe to remove: " + file.string(), 1.0f);
     publishStatus(monotonicNow());
 }
@@ -185,10 +198,12 @@ void DemoPipeline::publishStatus(TimeNs now) {
         if (o_.faults.sensor_lost && std::strcmp(spec.name, "colour-cam") == 0) {
             st.connected = 0;
             st.rate_hz = 0;
-            shm::setText(st.last_error, "/dev/video2: VIDIOC_DQBUF: No such device (check the camera cable)");
+            shm::setText(st.last_error,
+                         "/dev/video2: VIDIOC_DQBUF: No such device (check the camera cable)");
         }
     }
-    const auto module = [&s](const char* name, shm::ModuleState state, std::uint8_t degenerate, float rate) {
+    const auto module = [&s](const char* name, shm::ModuleState state, std::uint8_t degenerate,
+                             float rate) {
         shm::ModuleStatus& m = s.modules[s.module_count++];
         shm::setText(m.name, name);
         m.state = static_cast<std::uint8_t>(state);

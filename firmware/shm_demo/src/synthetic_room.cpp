@@ -20,9 +20,11 @@ PoseEstimate SyntheticRoom::poseAt(double t_s) const {
     const double phi = 2 * kPi * t_s * o_.walk_speed_mps / circumference;
     PoseEstimate p;
     p.t_host = static_cast<TimeNs>(t_s * 1e9);
-    p.T_world_body.translation() = Eigen::Vector3d(a * std::cos(phi), b * std::sin(phi), 1.4 + 0.03 * std::sin(5 * phi));
+    p.T_world_body.translation() =
+        Eigen::Vector3d(a * std::cos(phi), b * std::sin(phi), 1.4 + 0.03 * std::sin(5 * phi));
     const double heading = std::atan2(b * std::cos(phi), -a * std::sin(phi));
-    p.T_world_body.linear() = Eigen::AngleAxisd(heading, Eigen::Vector3d::UnitZ()).toRotationMatrix();
+    p.T_world_body.linear() =
+        Eigen::AngleAxisd(heading, Eigen::Vector3d::UnitZ()).toRotationMatrix();
     p.source = PoseSource::kIntegrated;
     p.solved_dof_mask = 0x3F;
     return p;
@@ -39,15 +41,54 @@ std::vector<shm::DisplayPoint> SyntheticRoom::observe(const PoseEstimate& pose, 
         double x = 0, y = 0, z = 0;
         std::uint8_t r = 0, g = 0, b = 0;
         switch (s) {
-            case 0: x = -w; y = (u(rng_) * 2 - 1) * d; z = u(rng_) * h; r = 200; g = 90; b = 70; break;   // west wall: brick red
-            case 1: x = w; y = (u(rng_) * 2 - 1) * d; z = u(rng_) * h; r = 80; g = 140; b = 200; break;   // east wall: blue
-            case 2: y = -d; x = (u(rng_) * 2 - 1) * w; z = u(rng_) * h; r = 220; g = 210; b = 120; break; // south: yellow
-            case 3: y = d; x = (u(rng_) * 2 - 1) * w; z = u(rng_) * h; r = 110; g = 190; b = 110; break;  // north: green
-            case 4: z = 0; x = (u(rng_) * 2 - 1) * w; y = (u(rng_) * 2 - 1) * d; {                     // floor: tiles
-                const bool dark = (static_cast<int>(std::floor(x)) + static_cast<int>(std::floor(y))) & 1;
-                r = g = b = dark ? 90 : 170;
-            } break;
-            default: z = h; x = (u(rng_) * 2 - 1) * w; y = (u(rng_) * 2 - 1) * d; r = g = b = 235; break;  // ceiling
+            case 0:
+                x = -w;
+                y = (u(rng_) * 2 - 1) * d;
+                z = u(rng_) * h;
+                r = 200;
+                g = 90;
+                b = 70;
+                break;  // west wall: brick red
+            case 1:
+                x = w;
+                y = (u(rng_) * 2 - 1) * d;
+                z = u(rng_) * h;
+                r = 80;
+                g = 140;
+                b = 200;
+                break;  // east wall: blue
+            case 2:
+                y = -d;
+                x = (u(rng_) * 2 - 1) * w;
+                z = u(rng_) * h;
+                r = 220;
+                g = 210;
+                b = 120;
+                break;  // south: yellow
+            case 3:
+                y = d;
+                x = (u(rng_) * 2 - 1) * w;
+                z = u(rng_) * h;
+                r = 110;
+                g = 190;
+                b = 110;
+                break;  // north: green
+            case 4:
+                z = 0;
+                x = (u(rng_) * 2 - 1) * w;
+                y = (u(rng_) * 2 - 1) * d;
+                {  // floor: tiles
+                    const bool dark =
+                        (static_cast<int>(std::floor(x)) + static_cast<int>(std::floor(y))) & 1;
+                    r = g = b = dark ? 90 : 170;
+                }
+                break;
+            default:
+                z = h;
+                x = (u(rng_) * 2 - 1) * w;
+                y = (u(rng_) * 2 - 1) * d;
+                r = g = b = 235;
+                break;  // ceiling
         }
         const Eigen::Vector3d pt(x, y, z);
         if ((pt - c).norm() > o_.range_m) continue;
@@ -60,7 +101,8 @@ std::vector<shm::DisplayPoint> SyntheticRoom::observe(const PoseEstimate& pose, 
         p.g = g;
         p.b = b;
         // Intensity falls with range and incidence, as a real return does.
-        p.intensity = static_cast<std::uint8_t>(std::clamp(255.0 - 30.0 * (pt - c).norm(), 20.0, 255.0));
+        p.intensity =
+            static_cast<std::uint8_t>(std::clamp(255.0 - 30.0 * (pt - c).norm(), 20.0, 255.0));
         out.push_back(p);
     }
     return out;

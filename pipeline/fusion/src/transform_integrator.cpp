@@ -30,7 +30,8 @@ std::optional<Eigen::Isometry3d> TransformIntegrator::visualPoseAt(TimeNs t) con
                                      [](const PoseEstimate& p, TimeNs v) { return p.t_host < v; });
     if (it->t_host == t) return it->T_world_body;
     const auto prev = it - 1;
-    const double s = static_cast<double>(t - prev->t_host) / static_cast<double>(it->t_host - prev->t_host);
+    const double s =
+        static_cast<double>(t - prev->t_host) / static_cast<double>(it->t_host - prev->t_host);
     return interpolate(prev->T_world_body, it->T_world_body, s);
 }
 

@@ -1,12 +1,12 @@
 #include "handscan/imu/bias_estimator.hpp"
 
-#include "handscan/imu/dof_projector.hpp"
-
 #include <Eigen/Dense>
 #include <algorithm>
 #include <cmath>
 #include <string>
 #include <vector>
+
+#include "handscan/imu/dof_projector.hpp"
 
 namespace handscan::imu {
 
@@ -27,8 +27,8 @@ Result<BiasUpdate> BiasEstimator::add(const FeedbackPose& f, const ImuHistory& h
     } else {
         window_.push_back(f);
     }
-    while (!window_.empty() &&
-           (toSeconds(f.t - window_.front().t) > config_.window_s || window_.front().t < history.front())) {
+    while (!window_.empty() && (toSeconds(f.t - window_.front().t) > config_.window_s ||
+                                window_.front().t < history.front())) {
         window_.pop_front();
     }
     const int n = static_cast<int>(window_.size()) - 1;  // intervals
@@ -63,7 +63,8 @@ Result<BiasUpdate> BiasEstimator::add(const FeedbackPose& f, const ImuHistory& h
         const FeedbackPose& a = window_[i];
         const FeedbackPose& b = window_[i + 1];
         const Eigen::Matrix3d Q = a.solved.topLeftCorner<3, 3>() * b.solved.topLeftCorner<3, 3>();
-        const Eigen::Vector3d r = logSO3(pre[i].dR.transpose() * a.R_world_imu.transpose() * b.R_world_imu);
+        const Eigen::Vector3d r =
+            logSO3(pre[i].dR.transpose() * a.R_world_imu.transpose() * b.R_world_imu);
         Ar[i] = Q * b.R_world_imu * pre[i].dR_dbg / sr;  // world-frame rows
         rr[i] = Q * b.R_world_imu * r / sr;
     }
@@ -101,7 +102,8 @@ Result<BiasUpdate> BiasEstimator::add(const FeedbackPose& f, const ImuHistory& h
         const FeedbackPose& a = window_[i];
         const FeedbackPose& b = window_[i + 1];
         const double dt = pre[i].dt_s;
-        const Eigen::Matrix3d Q = a.solved.bottomRightCorner<3, 3>() * b.solved.bottomRightCorner<3, 3>();
+        const Eigen::Matrix3d Q =
+            a.solved.bottomRightCorner<3, 3>() * b.solved.bottomRightCorner<3, 3>();
         // Position: p_j - p_i - g dt^2/2 - R_i dp(b1) = v_i dt + R_i dp_dba dba
         Ap[i] = Eigen::MatrixXd::Zero(3, nx);
         Ap[i].block<3, 3>(0, 3 * i) = Q * dt / sp;
@@ -109,7 +111,10 @@ Result<BiasUpdate> BiasEstimator::add(const FeedbackPose& f, const ImuHistory& h
             Ap[i].block<3, 3>(0, nv) = Q * a.R_world_imu * pre[i].dp_dba / sp;
             Ap[i].block<3, 2>(0, ng) = Q * E * (0.5 * dt * dt / sp);
         }
-        rp[i] = Q * (b.p_world_imu - a.p_world_imu - 0.5 * gravity * dt * dt - a.R_world_imu * pre[i].position(b1)) / sp;
+        rp[i] = Q *
+                (b.p_world_imu - a.p_world_imu - 0.5 * gravity * dt * dt -
+                 a.R_world_imu * pre[i].position(b1)) /
+                sp;
         // Velocity continuity: v_j - v_i - R_i dv_dba dba = g dt + R_i dv(b1)
         const double sv = config_.velocity_sigma_mps + config_.velocity_sigma_mps2 * dt;
         Av[i] = Eigen::MatrixXd::Zero(3, nx);
@@ -150,7 +155,8 @@ Result<BiasUpdate> BiasEstimator::add(const FeedbackPose& f, const ImuHistory& h
         x = Hx.ldlt().solve(gx);
     }
     if (!x.allFinite()) {
-        return Status(StatusCode::kInvalidArgument, "IMU bias feedback: singular velocity/bias system; ignored");
+        return Status(StatusCode::kInvalidArgument,
+                      "IMU bias feedback: singular velocity/bias system; ignored");
     }
     ImuBiases b2 = b1;
     Eigen::Vector3d g2 = gravity;
@@ -159,7 +165,8 @@ Result<BiasUpdate> BiasEstimator::add(const FeedbackPose& f, const ImuHistory& h
         // accel bias and of gravity are kept only where they act along directions the newest
         // feedback solved. Along an unsolved axis they were set by the weak velocity priors
         // alone, i.e. by the IMU's own runaway velocity.
-        const Eigen::Matrix3d keep = Eigen::Matrix3d::Identity() - unsolvedTranslation(window_.back().solved);
+        const Eigen::Matrix3d keep =
+            Eigen::Matrix3d::Identity() - unsolvedTranslation(window_.back().solved);
         const Eigen::Matrix3d& Rn = window_.back().R_world_imu;
         b2.accel_mps2 += Rn.transpose() * keep * Rn * x.segment<3>(nv);
         // The correction turns gravity; its magnitude stays (the vertical is the accel bias's).
@@ -170,11 +177,11 @@ Result<BiasUpdate> BiasEstimator::add(const FeedbackPose& f, const ImuHistory& h
     if (b2.gyro_radps.norm() > config_.max_gyro_bias_radps ||
         b2.accel_mps2.norm() > config_.max_accel_bias_mps2 || tilt > config_.max_gravity_tilt_rad) {
         window_.clear();  // the window holds an inconsistent pose; start over from the next one
-        return Status(StatusCode::kInvalidArgument,
-                      "IMU bias feedback: implausible biases (gyro " + std::to_string(b2.gyro_radps.norm()) +
-                          " rad/s, accel " + std::to_string(b2.accel_mps2.norm()) +
-                          " m/s^2, gravity tilt " + std::to_string(tilt) +
-                          " rad) from the feedback window; kept the previous biases");
+        return Status(
+            StatusCode::kInvalidArgument,
+            "IMU bias feedback: implausible biases (gyro " + std::to_string(b2.gyro_radps.norm()) +
+                " rad/s, accel " + std::to_string(b2.accel_mps2.norm()) + " m/s^2, gravity tilt " +
+                std::to_string(tilt) + " rad) from the feedback window; kept the previous biases");
     }
     out.biases = b2;
     out.gravity_world = g2;

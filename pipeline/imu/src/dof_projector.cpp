@@ -32,7 +32,8 @@ Eigen::Matrix3d unsolvedTranslation(const Matrix6d& P) {
     const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> es(0.5 * (S + S.transpose()));
     Eigen::Matrix3d U = Eigen::Matrix3d::Zero();
     for (int i = 0; i < 3; ++i) {
-        if (es.eigenvalues()(i) < 0.5) U += es.eigenvectors().col(i) * es.eigenvectors().col(i).transpose();
+        if (es.eigenvalues()(i) < 0.5)
+            U += es.eigenvectors().col(i) * es.eigenvectors().col(i).transpose();
     }
     return U;
 }

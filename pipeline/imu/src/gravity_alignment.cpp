@@ -41,7 +41,8 @@ bool StaticStartAligner::blockIsStatic() const {
     const Eigen::Vector3d mg = block_.gyro / n, ma = block_.accel / n;
     const double gyro_std = std::sqrt(std::max(0.0, (block_.gyro_sq / n - mg.cwiseAbs2()).sum()));
     const double accel_std = std::sqrt(std::max(0.0, (block_.accel_sq / n - ma.cwiseAbs2()).sum()));
-    if (gyro_std > config_.max_gyro_std_radps || accel_std > config_.max_accel_std_mps2) return false;
+    if (gyro_std > config_.max_gyro_std_radps || accel_std > config_.max_accel_std_mps2)
+        return false;
     if (run_.n == 0) return true;
     const double rn = static_cast<double>(run_.n);
     return (mg - run_.gyro / rn).norm() <= config_.max_gyro_dev_radps &&
@@ -58,7 +59,8 @@ std::optional<GravityAlignment> StaticStartAligner::add(const ImuSample& s) {
         run_ = {};  // motion: the static run starts again after this block
     }
     block_ = {};
-    if (run_.n == 0 || toSeconds(run_.t_last - run_.t_first) < config_.min_static_s) return std::nullopt;
+    if (run_.n == 0 || toSeconds(run_.t_last - run_.t_first) < config_.min_static_s)
+        return std::nullopt;
     const GravityAlignment a = estimate();
     if (std::abs(a.accel_norm_error_mps2) > config_.max_norm_error_mps2) {
         // A constant acceleration (e.g. a lift) passes the stillness test but not this one.

@@ -10,8 +10,9 @@ void ImuHistory::trimBefore(TimeNs t) {
 }
 
 std::size_t ImuHistory::indexAtOrBefore(TimeNs t) const {
-    const auto it = std::upper_bound(entries_.begin(), entries_.end(), t,
-                                     [](TimeNs v, const ImuHistoryEntry& e) { return v < e.sample.t_host; });
+    const auto it =
+        std::upper_bound(entries_.begin(), entries_.end(), t,
+                         [](TimeNs v, const ImuHistoryEntry& e) { return v < e.sample.t_host; });
     return static_cast<std::size_t>(std::max<std::ptrdiff_t>(0, (it - entries_.begin()) - 1));
 }
 
@@ -20,12 +21,15 @@ std::size_t ImuHistory::nodeAt(TimeNs t, const Eigen::Vector3d& gravity) {
     if (entries_[k].sample.t_host == t || k + 1 >= entries_.size()) return k;
     const ImuHistoryEntry& a = entries_[k];
     const ImuHistoryEntry& b = entries_[k + 1];
-    const double s = static_cast<double>(t - a.sample.t_host) / static_cast<double>(b.sample.t_host - a.sample.t_host);
+    const double s = static_cast<double>(t - a.sample.t_host) /
+                     static_cast<double>(b.sample.t_host - a.sample.t_host);
     ImuHistoryEntry n;
     n.sample = a.sample;
     n.sample.t_host = t;
-    n.sample.gyro_radps_imu = a.sample.gyro_radps_imu + s * (b.sample.gyro_radps_imu - a.sample.gyro_radps_imu);
-    n.sample.accel_mps2_imu = a.sample.accel_mps2_imu + s * (b.sample.accel_mps2_imu - a.sample.accel_mps2_imu);
+    n.sample.gyro_radps_imu =
+        a.sample.gyro_radps_imu + s * (b.sample.gyro_radps_imu - a.sample.gyro_radps_imu);
+    n.sample.accel_mps2_imu =
+        a.sample.accel_mps2_imu + s * (b.sample.accel_mps2_imu - a.sample.accel_mps2_imu);
     n.reading = lerp(a.reading, b.reading, s);
     n.state = integrateStep(a.state, a.reading, n.reading, toSeconds(t - a.sample.t_host), gravity);
     n.state.t = t;
@@ -36,12 +40,14 @@ std::size_t ImuHistory::nodeAt(TimeNs t, const Eigen::Vector3d& gravity) {
 Result<NavState> ImuHistory::stateAt(TimeNs t, TimeNs max_extrapolation,
                                      const Eigen::Vector3d& gravity) const {
     if (entries_.empty()) {
-        return Status(StatusCode::kNotFound, "IMU prediction: no state yet (not aligned or no samples)");
+        return Status(StatusCode::kNotFound,
+                      "IMU prediction: no state yet (not aligned or no samples)");
     }
     if (t < front() || t > back() + max_extrapolation) {
         return Status(StatusCode::kNotFound,
-                      "IMU prediction: t=" + std::to_string(t) + " ns is outside the IMU history [" +
-                          std::to_string(front()) + ", " + std::to_string(back()) +
+                      "IMU prediction: t=" + std::to_string(t) +
+                          " ns is outside the IMU history [" + std::to_string(front()) + ", " +
+                          std::to_string(back()) +
                           "] ns; widen imu horizon_s or query closer to the newest sample");
     }
     const std::size_t k = indexAtOrBefore(t);
@@ -71,8 +77,9 @@ ImuReading ImuHistory::readingAt(TimeNs t, const ImuBiases& b) const {
 
 Result<Preintegrated> ImuHistory::preintegrate(TimeNs t0, TimeNs t1, const ImuBiases& b) const {
     if (entries_.empty() || t0 < front() || t1 > back() || t1 < t0) {
-        return Status(StatusCode::kNotFound, "IMU preintegration: interval [" + std::to_string(t0) + ", " +
-                                                 std::to_string(t1) + "] ns is not inside the IMU history");
+        return Status(StatusCode::kNotFound, "IMU preintegration: interval [" + std::to_string(t0) +
+                                                 ", " + std::to_string(t1) +
+                                                 "] ns is not inside the IMU history");
     }
     Preintegrator pre(b);
     TimeNs t = t0;

@@ -49,8 +49,9 @@ Status ImuPredictor::addImu(const ImuSample& s) {
     if (have_sample_ && s.t_host <= last_sample_t_) {
         ++stats_.rejected_samples;
         return Status(StatusCode::kInvalidArgument,
-                      "IMU prediction: sample at t=" + std::to_string(s.t_host) + " ns is not newer than " +
-                          std::to_string(last_sample_t_) + " ns; dropped (check the IMU clock mapping)");
+                      "IMU prediction: sample at t=" + std::to_string(s.t_host) +
+                          " ns is not newer than " + std::to_string(last_sample_t_) +
+                          " ns; dropped (check the IMU clock mapping)");
     }
     if (have_sample_ && toSeconds(s.t_host - last_sample_t_) > config_.max_gap_s) ++stats_.gaps;
     have_sample_ = true;
@@ -80,8 +81,8 @@ Status ImuPredictor::addImu(const ImuSample& s) {
     ImuHistoryEntry e;
     e.sample = s;
     e.reading = correctBiases(s, biases_);
-    e.state = integrateStep(prev.state, prev.reading, e.reading, toSeconds(s.t_host - prev.sample.t_host),
-                            gravity());
+    e.state = integrateStep(prev.state, prev.reading, e.reading,
+                            toSeconds(s.t_host - prev.sample.t_host), gravity());
     e.state.t = s.t_host;
     history_.push(e);
     history_.trimBefore(s.t_host - fromSeconds(config_.horizon_s));
@@ -109,17 +110,20 @@ Result<PoseEstimate> ImuPredictor::predict(TimeNs t) const {
     return p;
 }
 
-Status ImuPredictor::correct(TimeNs t, const Eigen::Isometry3d& T_world_body, std::uint8_t solved_dof_mask) {
+Status ImuPredictor::correct(TimeNs t, const Eigen::Isometry3d& T_world_body,
+                             std::uint8_t solved_dof_mask) {
     return correct(t, T_world_body, projectorFromMask(solved_dof_mask));
 }
 
-Status ImuPredictor::correct(TimeNs t, const Eigen::Isometry3d& T_world_body, const Matrix6d& solved) {
+Status ImuPredictor::correct(TimeNs t, const Eigen::Isometry3d& T_world_body,
+                             const Matrix6d& solved) {
     if (!initialized_ || history_.empty() || t < history_.front() || t > history_.back()) {
         ++stats_.rejected_corrections;
-        return Status(StatusCode::kNotFound,
-                      "IMU prediction: feedback pose at t=" + std::to_string(t) +
-                          " ns is outside the IMU history; it must lie between the oldest and newest sample "
-                          "(raise imu horizon_s if the matcher lags more)");
+        return Status(
+            StatusCode::kNotFound,
+            "IMU prediction: feedback pose at t=" + std::to_string(t) +
+                " ns is outside the IMU history; it must lie between the oldest and newest sample "
+                "(raise imu horizon_s if the matcher lags more)");
     }
     auto predicted = stateAt(t);
     if (!predicted) return predicted.status();
@@ -159,7 +163,8 @@ Status ImuPredictor::correct(TimeNs t, const Eigen::Isometry3d& T_world_body, co
     // IMU's double integral (unsolved_motion_prior.hpp).
     x.v_world_imu = motion_prior_.apply(t, x.v_world_imu, unsolvedTranslation(solved));
     if (!motion_prior_.gravityStep().isZero()) {
-        gravity_world_ = (gravity_world_ + motion_prior_.gravityStep()).normalized() * gravity_world_.norm();
+        gravity_world_ =
+            (gravity_world_ + motion_prior_.gravityStep()).normalized() * gravity_world_.norm();
     }
     ++stats_.corrections;
     repropagateFrom(x);

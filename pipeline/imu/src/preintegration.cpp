@@ -15,11 +15,13 @@ Eigen::Matrix3d Preintegrated::rotation(const ImuBiases& b) const {
 }
 
 Eigen::Vector3d Preintegrated::velocity(const ImuBiases& b) const {
-    return dv + dv_dbg * (b.gyro_radps - biases.gyro_radps) + dv_dba * (b.accel_mps2 - biases.accel_mps2);
+    return dv + dv_dbg * (b.gyro_radps - biases.gyro_radps) +
+           dv_dba * (b.accel_mps2 - biases.accel_mps2);
 }
 
 Eigen::Vector3d Preintegrated::position(const ImuBiases& b) const {
-    return dp + dp_dbg * (b.gyro_radps - biases.gyro_radps) + dp_dba * (b.accel_mps2 - biases.accel_mps2);
+    return dp + dp_dbg * (b.gyro_radps - biases.gyro_radps) +
+           dp_dba * (b.accel_mps2 - biases.accel_mps2);
 }
 
 void Preintegrator::add(const ImuReading& r0, const ImuReading& r1, double dt_s) {

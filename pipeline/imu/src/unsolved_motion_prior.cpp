@@ -9,7 +9,8 @@ namespace {
 double decay(double dt_s, double tau_s) { return tau_s > 0.0 ? std::exp(-dt_s / tau_s) : 0.0; }
 }  // namespace
 
-Eigen::Vector3d UnsolvedMotionPrior::apply(TimeNs t, const Eigen::Vector3d& v, const Eigen::Matrix3d& unsolved) {
+Eigen::Vector3d UnsolvedMotionPrior::apply(TimeNs t, const Eigen::Vector3d& v,
+                                           const Eigen::Matrix3d& unsolved) {
     const double dt = have_last_ && t > last_t_ ? toSeconds(t - last_t_) : 0.0;
     // How far the prior replaces the IMU: not at all while the biases learnt when every
     // direction was solved still hold, fully along a direction not solved for long. Trust is
@@ -41,7 +42,8 @@ Eigen::Vector3d UnsolvedMotionPrior::apply(TimeNs t, const Eigen::Vector3d& v, c
         // Its persistent small part is tilt / bias: tracked robustly, removed, and handed on.
         const Eigen::Vector3d a = dv / dt;
         const double r = a.norm() / config_.tilt_robust_mps2;
-        Eigen::Vector3d step = strength * (1.0 - decay(dt, config_.tilt_time_constant_s)) / (1.0 + r * r) * a;
+        Eigen::Vector3d step =
+            strength * (1.0 - decay(dt, config_.tilt_time_constant_s)) / (1.0 + r * r) * a;
         const Eigen::Vector3d total = accel_error_ + step;
         if (total.norm() > config_.max_accel_error_mps2) {
             step = total.normalized() * config_.max_accel_error_mps2 - accel_error_;
@@ -50,7 +52,8 @@ Eigen::Vector3d UnsolvedMotionPrior::apply(TimeNs t, const Eigen::Vector3d& v, c
         gravity_step_ = -step;
         dv -= step * dt;
     }
-    const Eigen::Vector3d held_u = unsolved * held_ * decay(strength * dt, config_.held_velocity_decay_s);
+    const Eigen::Vector3d held_u =
+        unsolved * held_ * decay(strength * dt, config_.held_velocity_decay_s);
     held_ = solved * v + held_u + dv;
     return held_;
 }

@@ -7,7 +7,8 @@
 
 namespace handscan::lio {
 
-LaserInertialOdometry::LaserInertialOdometry(const LioConfig& config, const Calibration& calibration)
+LaserInertialOdometry::LaserInertialOdometry(const LioConfig& config,
+                                             const Calibration& calibration)
     : config_(config), predictor_(config.imu, calibration.T_camera_imu()), integrator_(predictor_) {
     // Points are placed with the predicted body motion at each step's own time (no rigid sweep).
     // A time the predictor cannot answer (before gravity alignment, beyond its history) is
@@ -19,8 +20,8 @@ LaserInertialOdometry::LaserInertialOdometry(const LioConfig& config, const Cali
         last_unknown_pose_t_ = std::max(last_unknown_pose_t_, t);
         return Eigen::Isometry3d::Identity();
     };
-    assembler_ = std::make_unique<scan::SweepAssembler>(scan::SpinGeometry::fromCalibration(calibration),
-                                                        config.assembler, pose_at);
+    assembler_ = std::make_unique<scan::SweepAssembler>(
+        scan::SpinGeometry::fromCalibration(calibration), config.assembler, pose_at);
     odometry_ = std::make_unique<scan::LaserOdometry>(config.odometry);
 }
 
@@ -85,7 +86,8 @@ void LaserInertialOdometry::processSweeps() {
 void LaserInertialOdometry::matchSweep(scan::Sweep sweep) {
     // Without a motion estimate for every step (before gravity alignment) the sweep cannot be
     // placed: matching it would put a wrongly oriented copy of the scene into the map.
-    if (!predictor_.initialized() || sweep.points.size() < 100 || sweep.t_start <= last_unknown_pose_t_) {
+    if (!predictor_.initialized() || sweep.points.size() < 100 ||
+        sweep.t_start <= last_unknown_pose_t_) {
         ++stats_.unplaced_sweeps;
         return;
     }
@@ -121,13 +123,16 @@ void LaserInertialOdometry::matchSweep(scan::Sweep sweep) {
         // the eq. (21) subspace itself, in the predictor's world-axis coordinates, not the
         // per-axis mask (a degenerate corridor axis at 45 degrees to the world axes would
         // otherwise cost both horizontal axes, or leak into one of them).
-        if (!predictor_.correct(sweep.t_start, r.pose.T_world_body, r.solved_projector_world).isOk()) ++stats_.rejected;
+        if (!predictor_.correct(sweep.t_start, r.pose.T_world_body, r.solved_projector_world)
+                 .isOk())
+            ++stats_.rejected;
         last_solved_world_ = r.solved_projector_world;
     } else if (config_.imu_feedback && !reference && !r.first_sweep) {
         // A sweep that solved nothing (too few matches: an open field, a fog of noise) is still
         // feedback: every direction is unsolved, so the pose stays the prediction's and the
         // velocity gets the motion prior instead of running on with the IMU alone.
-        if (!predictor_.correct(sweep.t_start, r.pose.T_world_body, Matrix6d::Zero()).isOk()) ++stats_.rejected;
+        if (!predictor_.correct(sweep.t_start, r.pose.T_world_body, Matrix6d::Zero()).isOk())
+            ++stats_.rejected;
         last_solved_world_.setZero();
     }
     PoseEstimate scan_pose = r.pose;
@@ -170,19 +175,26 @@ Matrix6d LaserInertialOdometry::predictionInformation(const Eigen::Matrix3d& R_w
 std::vector<scan::PosePrior> LaserInertialOdometry::referencePrior(const scan::Sweep& sweep) const {
     // A different error direction for every sweep, the same on every run (deterministic replay).
     const auto k = static_cast<double>(sweep.index);
-    const Eigen::Vector3d axis = Eigen::Vector3d(std::sin(1.3 * k + 0.4), std::cos(2.1 * k), std::sin(0.7 * k + 1.9)).normalized();
-    const Eigen::Vector3d dir = Eigen::Vector3d(std::cos(1.7 * k + 0.2), std::sin(0.9 * k + 1.1), std::cos(2.9 * k)).normalized();
+    const Eigen::Vector3d axis =
+        Eigen::Vector3d(std::sin(1.3 * k + 0.4), std::cos(2.1 * k), std::sin(0.7 * k + 1.9))
+            .normalized();
+    const Eigen::Vector3d dir =
+        Eigen::Vector3d(std::cos(1.7 * k + 0.2), std::sin(0.9 * k + 1.1), std::cos(2.9 * k))
+            .normalized();
     Eigen::Isometry3d perturb = Eigen::Isometry3d::Identity();
     // The first sweep founds the map (nothing to match against): placed at the reference itself.
     const double s = stats_.sweeps == 0 ? 0.0 : 1.0;
-    perturb.linear() = Eigen::AngleAxisd(s * config_.reference_perturb_rad, axis).toRotationMatrix();
+    perturb.linear() =
+        Eigen::AngleAxisd(s * config_.reference_perturb_rad, axis).toRotationMatrix();
     perturb.translation() = s * config_.reference_perturb_m * dir;
     scan::PosePrior p;
     p.T_world_body = sweep.T_world_start_odom * perturb;
     const auto& oc = config_.odometry;
     p.information.setZero();
-    p.information.diagonal().head<3>().setConstant(1.0 / (oc.prior_sigma_rot_rad * oc.prior_sigma_rot_rad));
-    p.information.diagonal().tail<3>().setConstant(1.0 / (oc.prior_sigma_trans_m * oc.prior_sigma_trans_m));
+    p.information.diagonal().head<3>().setConstant(
+        1.0 / (oc.prior_sigma_rot_rad * oc.prior_sigma_rot_rad));
+    p.information.diagonal().tail<3>().setConstant(
+        1.0 / (oc.prior_sigma_trans_m * oc.prior_sigma_trans_m));
     return {p};
 }
 

@@ -20,7 +20,8 @@ bool contiguous(const Sweep& s, std::size_t a, std::size_t b) {
 
 std::uint64_t leafKey(const Eigen::Vector3d& p, double leaf) {
     const auto q = [leaf](double v) {
-        return static_cast<std::uint64_t>(static_cast<std::int64_t>(std::floor(v / leaf)) + (1 << 20)) &
+        return static_cast<std::uint64_t>(static_cast<std::int64_t>(std::floor(v / leaf)) +
+                                          (1 << 20)) &
                0x1FFFFF;
     };
     return (q(p.x()) << 42) | (q(p.y()) << 21) | q(p.z());
@@ -120,7 +121,9 @@ FeatureCloud extractFeatures(const Sweep& sweep, const FeatureConfig& config) {
                 return c[a] > c[bb] || (c[a] == c[bb] && a < bb);
             });
             auto markNeighbours = [&](std::size_t k, int radius) {
-                const std::size_t lo = k >= static_cast<std::size_t>(radius) ? k - static_cast<std::size_t>(radius) : 0;
+                const std::size_t lo = k >= static_cast<std::size_t>(radius)
+                                           ? k - static_cast<std::size_t>(radius)
+                                           : 0;
                 const std::size_t hi = std::min(n - 1, k + static_cast<std::size_t>(radius));
                 for (std::size_t j = lo; j <= hi; ++j) {
                     if (state[j] == 0) {
@@ -153,7 +156,8 @@ FeatureCloud extractFeatures(const Sweep& sweep, const FeatureConfig& config) {
                 }
                 const Eigen::Vector3d& p = sweep.points[line.begin + k].p_start;
                 markNeighbours(k, 1);
-                if (config.planar_leaf_m > 0.0 && !planar_leaves.insert(leafKey(p, config.planar_leaf_m)).second) {
+                if (config.planar_leaf_m > 0.0 &&
+                    !planar_leaves.insert(leafKey(p, config.planar_leaf_m)).second) {
                     continue;
                 }
                 out.planars.push_back(p);

@@ -10,7 +10,8 @@ double msSince(std::chrono::steady_clock::time_point t0) {
     return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
 }
 
-std::vector<Eigen::Vector3d> transformed(const Eigen::Isometry3d& T, const std::vector<Eigen::Vector3d>& pts) {
+std::vector<Eigen::Vector3d> transformed(const Eigen::Isometry3d& T,
+                                         const std::vector<Eigen::Vector3d>& pts) {
     std::vector<Eigen::Vector3d> out;
     out.reserve(pts.size());
     for (const Eigen::Vector3d& p : pts) {
@@ -39,8 +40,8 @@ LaserOdometry::~LaserOdometry() {
     }
 }
 
-SweepResult LaserOdometry::run(const Sweep& sweep, const std::optional<std::vector<PosePrior>>& priors_in,
-                               int thread) {
+SweepResult LaserOdometry::run(const Sweep& sweep,
+                               const std::optional<std::vector<PosePrior>>& priors_in, int thread) {
     const auto t_total = std::chrono::steady_clock::now();
     SweepResult out;
     out.sweep_index = sweep.index;
@@ -63,11 +64,14 @@ SweepResult LaserOdometry::run(const Sweep& sweep, const std::optional<std::vect
             // eq. (16): T_m = T_{m-1} * (odometry motion from m-1 to m); with parallel matchers
             // m-1 may still be running, then the latest refined sweep stands in for it.
             PosePrior p;
-            p.T_world_body = have_refined_ ? T_world_refined_ * T_world_refined_odom_.inverse() * sweep.T_world_start_odom
+            p.T_world_body = have_refined_ ? T_world_refined_ * T_world_refined_odom_.inverse() *
+                                                 sweep.T_world_start_odom
                                            : sweep.T_world_start_odom;
             p.information.setZero();
-            p.information.diagonal().head<3>().setConstant(1.0 / (config_.prior_sigma_rot_rad * config_.prior_sigma_rot_rad));
-            p.information.diagonal().tail<3>().setConstant(1.0 / (config_.prior_sigma_trans_m * config_.prior_sigma_trans_m));
+            p.information.diagonal().head<3>().setConstant(
+                1.0 / (config_.prior_sigma_rot_rad * config_.prior_sigma_rot_rad));
+            p.information.diagonal().tail<3>().setConstant(
+                1.0 / (config_.prior_sigma_trans_m * config_.prior_sigma_trans_m));
             priors.push_back(p);
         }
         out.T_world_prior = priors.front().T_world_body;
@@ -118,7 +122,8 @@ SweepResult LaserOdometry::run(const Sweep& sweep, const std::optional<std::vect
     return out;
 }
 
-SweepResult LaserOdometry::process(const Sweep& sweep, const std::optional<std::vector<PosePrior>>& priors) {
+SweepResult LaserOdometry::process(const Sweep& sweep,
+                                   const std::optional<std::vector<PosePrior>>& priors) {
     return run(sweep, priors, 0);
 }
 

@@ -11,7 +11,8 @@ namespace {
 
 // PLY binary_little_endian stores the host's bytes as they are on the little-endian targets we
 // build for (x86-64, aarch64); a big-endian host would need byte swaps here.
-static_assert(std::endian::native == std::endian::little, "PLY writer assumes a little-endian host");
+static_assert(std::endian::native == std::endian::little,
+              "PLY writer assumes a little-endian host");
 
 template <typename T>
 void put(std::string& buf, T v) {

@@ -41,8 +41,9 @@ double robustWeight(RobustKernel kernel, double r, double scale) {
 // both faces fit the same plane shape, so the match would pull the pose by the wall's thickness.
 // The laser centres that saw the map points tell the faces apart: a match is rejected when most
 // of its map points were seen from the other side of the plane than the query point.
-bool seenFromTheSameSide(const Eigen::Vector3d& normal, const Eigen::Vector3d& c, const Eigen::Vector3f* origins,
-                         int n, const Eigen::Vector3d& query_origin, double margin) {
+bool seenFromTheSameSide(const Eigen::Vector3d& normal, const Eigen::Vector3d& c,
+                         const Eigen::Vector3f* origins, int n, const Eigen::Vector3d& query_origin,
+                         double margin) {
     const double side = normal.dot(query_origin - c);
     if (std::abs(side) < margin) return true;  // sensor (nearly) in the plane: no side to tell
     int same = 0;
@@ -61,11 +62,12 @@ bool seenFromTheSameSide(const Eigen::Vector3d& normal, const Eigen::Vector3d& c
 // surface under the query (surface_offset.hpp), a millimetre refinement for the final kernel
 // scale (the extra neighbours cost a third of the matching time when searched every time).
 void associate(const ScanMatcherConfig& config, const FeatureCloud& features, const LocalMap& map,
-               const Eigen::Isometry3d& T, bool curvature, std::vector<Correspondence>& corr, int& edges,
-               int& planes) {
+               const Eigen::Isometry3d& T, bool curvature, std::vector<Correspondence>& corr,
+               int& edges, int& planes) {
     const int K_edge = std::min(config.neighbours, LocalMap::kMaxNeighbours);
     const int K_plane = std::min(config.plane_neighbours, LocalMap::kMaxNeighbours);
-    const int K_curv = curvature ? std::min(config.curvature_neighbours, LocalMap::kMaxNeighbours) : 0;
+    const int K_curv =
+        curvature ? std::min(config.curvature_neighbours, LocalMap::kMaxNeighbours) : 0;
     SurfaceOffsetLimits curvature_limits;
     curvature_limits.max_rms_m = config.curvature_max_rms_m;
     const double max_d2 = config.max_neighbour_dist_m * config.max_neighbour_dist_m;
@@ -84,8 +86,9 @@ void associate(const ScanMatcherConfig& config, const FeatureCloud& features, co
             const Eigen::Vector3d q = T * p;
             const int K = edge ? K_edge : K_plane;
             // Planar: the nearest K fit the plane, up to K_curv (closest first) its curvature.
-            const int found = map.nearest(edge ? FeatureKind::kEdge : FeatureKind::kPlanar, q,
-                                          edge ? K : std::max(K, K_curv), nb, d2, edge ? nullptr : nb_origin);
+            const int found =
+                map.nearest(edge ? FeatureKind::kEdge : FeatureKind::kPlanar, q,
+                            edge ? K : std::max(K, K_curv), nb, d2, edge ? nullptr : nb_origin);
             const int n = std::min(found, K);
             if (n < K || d2[n - 1] > max_d2) {
                 continue;
@@ -119,17 +122,19 @@ void associate(const ScanMatcherConfig& config, const FeatureCloud& features, co
                     thin = std::abs(nrm.dot(nb[i] - c)) <= config.plane_max_thickness_m;
                 }
                 if (!thin) continue;
-                if (with_origins && !seenFromTheSameSide(nrm, c, nb_origin, n, T * features.planar_origins[pi],
-                                                         config.view_side_margin_m)) {
+                if (with_origins &&
+                    !seenFromTheSameSide(nrm, c, nb_origin, n, T * features.planar_origins[pi],
+                                         config.view_side_margin_m)) {
                     continue;
                 }
                 // The plane through the surface under the query, not through the cluster's
                 // centroid, which a curved surface moves off it (surface_offset.hpp).
                 int n_curv = n;
                 while (n_curv < found && d2[n_curv] <= max_d2) ++n_curv;
-                const auto offset = K_curv > K ? surfaceOffsetAt(nb, n_curv, c, nrm, es.eigenvectors().col(2),
-                                                                 es.eigenvectors().col(1), q, curvature_limits)
-                                               : std::nullopt;
+                const auto offset =
+                    K_curv > K ? surfaceOffsetAt(nb, n_curv, c, nrm, es.eigenvectors().col(2),
+                                                 es.eigenvectors().col(1), q, curvature_limits)
+                               : std::nullopt;
                 corr.push_back({p, offset ? Eigen::Vector3d(c + *offset * nrm) : c, nrm, false});
                 ++planes;
             }
@@ -228,7 +233,8 @@ MatchResult ScanMatcher::match(const FeatureCloud& features, const LocalMap& map
             T.linear() = orthonormalize(T.linear());
             H_final = H;
             ++res.iterations;
-            if (dx.head<3>().norm() < config_.converged_rot_rad && dx.tail<3>().norm() < config_.converged_trans_m) {
+            if (dx.head<3>().norm() < config_.converged_rot_rad &&
+                dx.tail<3>().norm() < config_.converged_trans_m) {
                 return true;
             }
         }
@@ -236,14 +242,15 @@ MatchResult ScanMatcher::match(const FeatureCloud& features, const LocalMap& map
     };
 
     for (int assoc = 0; assoc < config_.max_associations; ++assoc) {
-        const double scale = std::max(config_.kernel_scale_m,
-                                      config_.kernel_scale_initial_m * std::pow(0.5, assoc));
-        associate(config_, features, map, T, scale <= config_.kernel_scale_m, corr, res.edge_matches,
-                  res.plane_matches);
+        const double scale =
+            std::max(config_.kernel_scale_m, config_.kernel_scale_initial_m * std::pow(0.5, assoc));
+        associate(config_, features, map, T, scale <= config_.kernel_scale_m, corr,
+                  res.edge_matches, res.plane_matches);
         ++res.associations;
         if (static_cast<int>(corr.size()) < config_.min_correspondences) {
             res.enough_matches = false;
-            res.T_world_body = initial != nullptr ? *initial : (priors.empty() ? T : priors.front().T_world_body);
+            res.T_world_body =
+                initial != nullptr ? *initial : (priors.empty() ? T : priors.front().T_world_body);
             res.degeneracy = analyzeDegeneracy(Matrix6d::Zero(), 1.0);
             return res;
         }
@@ -325,10 +332,12 @@ std::optional<double> ScanMatcher::comesBack(const FeatureCloud& features, const
         for (const double sign : {1.0, -1.0}) {
             // The information of clusters whose normals only noise tilts towards v is local to
             // one association and does not pull back; a recess's faces do.
-            const std::optional<double> travelled = descend(T_min * expSE3(sign * offset * v), scale);
+            const std::optional<double> travelled =
+                descend(T_min * expSE3(sign * offset * v), scale);
             if (!travelled) return std::nullopt;
             const double back = -*travelled / (sign * offset);
-            if (back < config_.degeneracy_probe_min_return || back > 2.0 - config_.degeneracy_probe_min_return) {
+            if (back < config_.degeneracy_probe_min_return ||
+                back > 2.0 - config_.degeneracy_probe_min_return) {
                 return std::nullopt;
             }
         }

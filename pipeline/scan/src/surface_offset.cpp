@@ -20,9 +20,10 @@ Row quadricRow(double u, double v) {
 
 }  // namespace
 
-std::optional<double> surfaceOffsetAt(const Eigen::Vector3d* points, int n, const Eigen::Vector3d& c,
-                                      const Eigen::Vector3d& normal, const Eigen::Vector3d& t1,
-                                      const Eigen::Vector3d& t2, const Eigen::Vector3d& query,
+std::optional<double> surfaceOffsetAt(const Eigen::Vector3d* points, int n,
+                                      const Eigen::Vector3d& c, const Eigen::Vector3d& normal,
+                                      const Eigen::Vector3d& t1, const Eigen::Vector3d& t2,
+                                      const Eigen::Vector3d& query,
                                       const SurfaceOffsetLimits& limits) {
     constexpr int kTerms = 6;
     if (n <= kTerms) return std::nullopt;  // no redundancy: cannot tell a surface from noise
@@ -54,7 +55,8 @@ std::optional<double> surfaceOffsetAt(const Eigen::Vector3d* points, int n, cons
     if (!(leverage <= limits.max_leverage)) return std::nullopt;
     const Vector6 theta = ldlt.solve(Ath);
     double ss = 0.0;
-    for (int i = 0; i < n; ++i) ss += std::pow(normal.dot(points[i] - c) - row(points[i]) * theta, 2);
+    for (int i = 0; i < n; ++i)
+        ss += std::pow(normal.dot(points[i] - c) - row(points[i]) * theta, 2);
     if (ss > limits.max_rms_m * limits.max_rms_m * (n - kTerms)) return std::nullopt;
     const double offset = rq * theta;
     if (!(std::abs(offset) <= limits.max_offset_m)) return std::nullopt;

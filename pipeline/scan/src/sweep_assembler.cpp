@@ -10,8 +10,9 @@ namespace handscan::scan {
 
 Eigen::Isometry3d SpinGeometry::bodyFromLaser(double encoder_angle_rad) const {
     Eigen::Isometry3d spin = Eigen::Isometry3d::Identity();
-    spin.linear() = Eigen::AngleAxisd(encoder_angle_rad - encoder_zero_offset_rad,
-                                      Eigen::Vector3d::UnitZ()).toRotationMatrix();
+    spin.linear() =
+        Eigen::AngleAxisd(encoder_angle_rad - encoder_zero_offset_rad, Eigen::Vector3d::UnitZ())
+            .toRotationMatrix();
     return T_body_shaftbase * spin * T_shaft_laser;
 }
 
@@ -38,8 +39,8 @@ Status SweepAssembler::addEncoder(const EncoderSample& sample) {
 
 Status SweepAssembler::addScan(const LaserScan& scan) {
     if (scan.ranges_m.empty()) {
-        return {StatusCode::kInvalidArgument, "SweepAssembler: scan at t=" +
-                                                  std::to_string(scan.t_host) + " ns has no steps"};
+        return {StatusCode::kInvalidArgument,
+                "SweepAssembler: scan at t=" + std::to_string(scan.t_host) + " ns has no steps"};
     }
     if (scan.step_period_ns < 0 || scan.angle_increment_rad == 0.0) {
         return {StatusCode::kInvalidArgument,
@@ -159,7 +160,8 @@ void SweepAssembler::processScan(const LaserScan& scan) {
     auto poseAt = [&](TimeNs t) {
         const double u = static_cast<double>(t - t0) / static_cast<double>(dt);
         const std::size_t k = std::min(samples - 2, static_cast<std::size_t>(std::max(0.0, u)));
-        return interpolate(poses[k], poses[k + 1], std::clamp(u - static_cast<double>(k), 0.0, 1.0));
+        return interpolate(poses[k], poses[k + 1],
+                           std::clamp(u - static_cast<double>(k), 0.0, 1.0));
     };
 
     bool line_open = false;
@@ -194,8 +196,8 @@ void SweepAssembler::processScan(const LaserScan& scan) {
             current_boundary_ = boundary;
         }
         if (!line_open) {
-            current_->lines.push_back({current_->points.size(), current_->points.size(),
-                                       scan.angle_increment_rad});
+            current_->lines.push_back(
+                {current_->points.size(), current_->points.size(), scan.angle_increment_rad});
             line_open = true;
         }
         const double a = scan.stepAngle(i);

@@ -14,20 +14,24 @@ int positiveMod(int a, int n) { return ((a % n) + n) % n; }
 
 VoxelMap::VoxelMap(const VoxelMapConfig& config)
     : config_(config), fine_size_m_(config.coarse_size_m / config.fine_per_coarse) {
-    leaves_per_axis_[0] = std::max(1, static_cast<int>(std::ceil(fine_size_m_ / config.edge_leaf_m)));
-    leaves_per_axis_[1] = std::max(1, static_cast<int>(std::ceil(fine_size_m_ / config.planar_leaf_m)));
+    leaves_per_axis_[0] =
+        std::max(1, static_cast<int>(std::ceil(fine_size_m_ / config.edge_leaf_m)));
+    leaves_per_axis_[1] =
+        std::max(1, static_cast<int>(std::ceil(fine_size_m_ / config.planar_leaf_m)));
     slots_.resize(static_cast<std::size_t>(config.window_voxels.prod()));
 }
 
 bool VoxelMap::inside(const VoxelKey& coarse) const {
     const VoxelKey d = coarse - origin_;
-    return has_origin_ && (d.array() >= 0).all() && (d.array() < config_.window_voxels.array()).all();
+    return has_origin_ && (d.array() >= 0).all() &&
+           (d.array() < config_.window_voxels.array()).all();
 }
 
 std::size_t VoxelMap::slotOf(const VoxelKey& c) const {
     const Eigen::Vector3i& n = config_.window_voxels;
-    return static_cast<std::size_t>(positiveMod(c.x(), n.x()) +
-                                    n.x() * (positiveMod(c.y(), n.y()) + n.y() * positiveMod(c.z(), n.z())));
+    return static_cast<std::size_t>(
+        positiveMod(c.x(), n.x()) +
+        n.x() * (positiveMod(c.y(), n.y()) + n.y() * positiveMod(c.z(), n.z())));
 }
 
 std::size_t VoxelMap::clearSlot(CoarseVoxel& v) {
@@ -97,7 +101,8 @@ std::size_t VoxelMap::insert(FeatureKind kind, const std::vector<Eigen::Vector3d
         v.used = true;
         v.key = coarse;
         const VoxelKey local = fine - coarse * F;
-        const auto cell_idx = static_cast<std::uint32_t>(local.x() + F * (local.y() + F * local.z()));
+        const auto cell_idx =
+            static_cast<std::uint32_t>(local.x() + F * (local.y() + F * local.z()));
         FineCell& cell = v.cells[cell_idx];
         if (cell.leaves[k].empty()) {
             cell.leaves[k].assign((static_cast<std::size_t>(L) * L * L + 63) / 64, 0);
@@ -113,8 +118,9 @@ std::size_t VoxelMap::insert(FeatureKind kind, const std::vector<Eigen::Vector3d
         }
         word |= mask;
         cell.pts[k].push_back(p.cast<float>());
-        cell.origins[k].push_back(with_origins ? Eigen::Vector3f(origins_world[i].cast<float>())
-                                               : Eigen::Vector3f::Constant(std::numeric_limits<float>::quiet_NaN()));
+        cell.origins[k].push_back(
+            with_origins ? Eigen::Vector3f(origins_world[i].cast<float>())
+                         : Eigen::Vector3f::Constant(std::numeric_limits<float>::quiet_NaN()));
         ++stats_points_[k];
         ++kept;
     }
@@ -132,7 +138,8 @@ const VoxelMap::FineCell* VoxelMap::findCell(const VoxelKey& fine) const {
         return nullptr;
     }
     const VoxelKey local = fine - coarse * F;
-    const auto it = v.cells.find(static_cast<std::uint32_t>(local.x() + F * (local.y() + F * local.z())));
+    const auto it =
+        v.cells.find(static_cast<std::uint32_t>(local.x() + F * (local.y() + F * local.z())));
     return it == v.cells.end() ? nullptr : &it->second;
 }
 
@@ -149,7 +156,8 @@ LocalMap VoxelMap::extract(const std::vector<Eigen::Vector3d>& edges_world,
     }
     // Each coarse voxel's trees hold its green voxels and their neighbours, even across the
     // coarse boundary, so a query never misses a neighbour just over the edge.
-    std::unordered_map<VoxelKey, std::unordered_set<VoxelKey, VoxelKeyHash>, VoxelKeyHash> per_coarse;
+    std::unordered_map<VoxelKey, std::unordered_set<VoxelKey, VoxelKeyHash>, VoxelKeyHash>
+        per_coarse;
     for (const VoxelKey& g : green) {
         auto& cells = per_coarse[floorDiv(g, F)];
         for (int dz = -D; dz <= D; ++dz) {
@@ -173,7 +181,8 @@ LocalMap VoxelMap::extract(const std::vector<Eigen::Vector3d>& edges_world,
                 for (const Eigen::Vector3f& p : cell->pts[k]) {
                     pts[k].push_back(p.cast<double>());
                 }
-                origins[k].insert(origins[k].end(), cell->origins[k].begin(), cell->origins[k].end());
+                origins[k].insert(origins[k].end(), cell->origins[k].begin(),
+                                  cell->origins[k].end());
             }
         }
         if (!pts[0].empty() || !pts[1].empty()) {
@@ -223,7 +232,8 @@ VoxelMapStats VoxelMap::stats() const {
         for (const auto& [idx, cell] : v.cells) {
             s.memory_bytes += sizeof(FineCell) + 2 * sizeof(void*);
             for (int k = 0; k < 2; ++k) {
-                s.memory_bytes += (cell.pts[k].capacity() + cell.origins[k].capacity()) * sizeof(Eigen::Vector3f) +
+                s.memory_bytes += (cell.pts[k].capacity() + cell.origins[k].capacity()) *
+                                      sizeof(Eigen::Vector3f) +
                                   cell.leaves[k].capacity() * sizeof(std::uint64_t);
             }
         }
@@ -232,10 +242,12 @@ VoxelMapStats VoxelMap::stats() const {
 }
 
 std::size_t VoxelMap::capacityBound() const {
-    const std::size_t cells = slots_.size() * static_cast<std::size_t>(std::pow(config_.fine_per_coarse, 3));
+    const std::size_t cells =
+        slots_.size() * static_cast<std::size_t>(std::pow(config_.fine_per_coarse, 3));
     std::size_t per_cell = 0;
     for (int k = 0; k < 2; ++k) {
-        per_cell += static_cast<std::size_t>(leaves_per_axis_[k]) * leaves_per_axis_[k] * leaves_per_axis_[k];
+        per_cell += static_cast<std::size_t>(leaves_per_axis_[k]) * leaves_per_axis_[k] *
+                    leaves_per_axis_[k];
     }
     return cells * per_cell;
 }

@@ -41,7 +41,8 @@ std::vector<std::uint8_t> cameraLikeFrame() {
     std::vector<std::uint8_t> px(kW * kH);
     for (std::uint32_t y = 0; y < kH; ++y) {
         for (std::uint32_t x = 0; x < kW; ++x) {
-            const float signal = 40.0f + 0.15f * static_cast<float>(x) + (((x / 24) + (y / 24)) % 2 ? 50.0f : 0.0f);
+            const float signal =
+                40.0f + 0.15f * static_cast<float>(x) + (((x / 24) + (y / 24)) % 2 ? 50.0f : 0.0f);
             const float v = signal + unit(rng) * std::sqrt(0.02f * signal) + 0.5f;
             px[y * kW + x] = static_cast<std::uint8_t>(std::clamp(v, 0.0f, 255.0f));
         }

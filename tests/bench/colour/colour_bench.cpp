@@ -1,6 +1,7 @@
 // Cost of colourising laser points: a batch of points spread over the colour camera's view
-// (a slanted wall at 4-6 m; a quarter of them on a near board that hides part of the wall), against 1 frame and against the 5
-// frames of a 1 s sweep at 5 Hz. Items/s = points/s; time per 1M points = 1e6 / items_per_second.
+// (a slanted wall at 4-6 m; a quarter of them on a near board that hides part of the wall), against
+// 1 frame and against the 5 frames of a 1 s sweep at 5 Hz. Items/s = points/s; time per 1M points =
+// 1e6 / items_per_second.
 #include <benchmark/benchmark.h>
 
 #include <random>
@@ -36,7 +37,9 @@ void BM_Colourise(benchmark::State& state) {
     Colouriser col(cal);
     std::mt19937 rng(1);
     for (int k = 0; k < frames; ++k) {
-        if (!col.addImage(noiseFrame(k * 200 * kNsPerMs, static_cast<std::uint32_t>(k), rng)).isOk()) state.SkipWithError("addImage");
+        if (!col.addImage(noiseFrame(k * 200 * kNsPerMs, static_cast<std::uint32_t>(k), rng))
+                 .isOk())
+            state.SkipWithError("addImage");
     }
     std::uniform_real_distribution<float> xy(-0.55f, 0.55f);
     std::uniform_int_distribution<TimeNs> when(0, (frames - 1) * 200 * kNsPerMs + 1);
@@ -64,7 +67,11 @@ void BM_Colourise(benchmark::State& state) {
     state.SetItemsProcessed(static_cast<std::int64_t>(state.iterations() * n));
     state.counters["coloured_frac"] = static_cast<double>(coloured) / static_cast<double>(n);
 }
-BENCHMARK(BM_Colourise)->Args({1'000'000, 1})->Args({1'000'000, 5})->Args({43'000, 5})->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_Colourise)
+    ->Args({1'000'000, 1})
+    ->Args({1'000'000, 5})
+    ->Args({43'000, 5})
+    ->Unit(benchmark::kMillisecond);
 
 void BM_AddImageYuyv(benchmark::State& state) {
     const Calibration cal = camchain();

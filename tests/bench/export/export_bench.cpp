@@ -2,8 +2,9 @@
 // in the same run and interleaved iteration by iteration (the machine is shared and noisy, so the
 // ratios are what to read):
 //   dd_MBps         dd-style buffered baseline: 4 MiB write() calls + fsync   (dd bs=4M conv=fsync)
-//   dd_direct_MBps  the same with O_DIRECT                                     (dd bs=4M oflag=direct conv=fsync)
-//   dd_verify_MBps  O_DIRECT write + fsync + O_DIRECT read back of the file: the work a verified
+//   dd_direct_MBps  the same with O_DIRECT                                     (dd bs=4M
+//   oflag=direct conv=fsync) dd_verify_MBps  O_DIRECT write + fsync + O_DIRECT read back of the
+//   file: the work a verified
 //                   export does on the medium, without any encoding or checksums
 //   export_MBps     handscan::exporter::exportScan of the journal (encode, write, fsync, read back,
 //                   CRC compare, rename), bytes of the point file / export seconds (= the
@@ -19,8 +20,8 @@
 
 #include <algorithm>
 #include <chrono>
-#include <ctime>
 #include <cstdlib>
+#include <ctime>
 #include <filesystem>
 #include <memory>
 #include <random>
@@ -41,7 +42,8 @@ constexpr std::size_t kBlock = 4u << 20;
 
 fs::path benchDir() {
     const char* env = std::getenv("HANDSCAN_BENCH_DIR");
-    return fs::path(env ? env : fs::temp_directory_path().string()) / ("handscan_export_bench_" + std::to_string(::getpid()));
+    return fs::path(env ? env : fs::temp_directory_path().string()) /
+           ("handscan_export_bench_" + std::to_string(::getpid()));
 }
 
 // One journal of 10 M points shared by the benchmarks, removed at exit.
@@ -61,7 +63,14 @@ const std::string& journalPath() {
         std::vector<journal::MapPoint> batch(100'000);
         for (std::size_t done = 0; done < kPoints; done += batch.size()) {
             for (std::size_t i = 0; i < batch.size(); ++i) {
-                batch[i] = {static_cast<double>(done + i) * 1e-5, u(rng), u(rng), u(rng) * 0.1f, 10, 20, 30, 100};
+                batch[i] = {static_cast<double>(done + i) * 1e-5,
+                            u(rng),
+                            u(rng),
+                            u(rng) * 0.1f,
+                            10,
+                            20,
+                            30,
+                            100};
             }
             (void)(*w)->appendPoints(batch);
         }
@@ -82,19 +91,22 @@ struct AlignedFree {
 };
 
 // dd-style raw write of `bytes` in 4 MiB blocks + fsync; with `direct`, O_DIRECT (page cache
-// bypassed); with `read_back`, then read the file back with O_DIRECT. Returns seconds, < 0 on error.
+// bypassed); with `read_back`, then read the file back with O_DIRECT. Returns seconds, < 0 on
+// error.
 double rawWrite(const std::string& path, std::uint64_t bytes, bool direct, bool read_back) {
     void* mem = nullptr;
     if (::posix_memalign(&mem, 4096, kBlock) != 0) return -1.0;
     std::unique_ptr<std::uint8_t, AlignedFree> block(static_cast<std::uint8_t*>(mem));
     std::fill(block.get(), block.get() + kBlock, std::uint8_t{'x'});
     const auto t0 = Clock::now();
-    const int fd = ::open(path.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC | (direct ? O_DIRECT : 0), 0644);
+    const int fd = ::open(path.c_str(),
+                          O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC | (direct ? O_DIRECT : 0), 0644);
     if (fd < 0) return -1.0;
     bool ok = true;
     for (std::uint64_t done = 0; done < bytes && ok;) {
         // The last block is cut to the byte count, rounded up to 4 KiB for O_DIRECT.
-        const std::size_t n = static_cast<std::size_t>(std::min<std::uint64_t>(kBlock, (bytes - done + 4095) & ~std::uint64_t{4095}));
+        const std::size_t n = static_cast<std::size_t>(
+            std::min<std::uint64_t>(kBlock, (bytes - done + 4095) & ~std::uint64_t{4095}));
         ok = ::write(fd, block.get(), n) == static_cast<ssize_t>(n);
         done += n;
     }
@@ -103,7 +115,8 @@ double rawWrite(const std::string& path, std::uint64_t bytes, bool direct, bool 
     if (ok && read_back) {
         const int rfd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC | O_DIRECT);
         ok = rfd >= 0;
-        while (ok && ::read(rfd, block.get(), kBlock) > 0) {}
+        while (ok && ::read(rfd, block.get(), kBlock) > 0) {
+        }
         if (rfd >= 0) ::close(rfd);
     }
     const double s = std::chrono::duration<double>(Clock::now() - t0).count();
@@ -149,14 +162,21 @@ void BM_ExportVsDd(benchmark::State& state, const std::string& format, std::uint
         state.counters["vs_dd"] = t_dd / t_export;
         state.counters["vs_direct"] = t_direct / t_export;
         state.counters["vs_verify"] = t_verify / t_export;
-        state.counters["ns_per_point"] = t_export * 1e9 / (static_cast<double>(kPoints) * static_cast<double>(state.iterations()));
+        state.counters["ns_per_point"] =
+            t_export * 1e9 /
+            (static_cast<double>(kPoints) * static_cast<double>(state.iterations()));
         // CPU of all threads per point: on this shared 2-core machine the wall time follows it.
-        state.counters["cpu_ns_per_point"] = cpu * 1e9 / (static_cast<double>(kPoints) * static_cast<double>(state.iterations()));
+        state.counters["cpu_ns_per_point"] =
+            cpu * 1e9 / (static_cast<double>(kPoints) * static_cast<double>(state.iterations()));
     }
 }
 
-void BM_ExportPly(benchmark::State& state) { BM_ExportVsDd(state, "ply", exporter::plyBytes(kPoints)); }
-void BM_ExportLas(benchmark::State& state) { BM_ExportVsDd(state, "las", exporter::lasBytes(kPoints)); }
+void BM_ExportPly(benchmark::State& state) {
+    BM_ExportVsDd(state, "ply", exporter::plyBytes(kPoints));
+}
+void BM_ExportLas(benchmark::State& state) {
+    BM_ExportVsDd(state, "las", exporter::lasBytes(kPoints));
+}
 BENCHMARK(BM_ExportPly)->Unit(benchmark::kMillisecond)->Iterations(3)->UseManualTime();
 BENCHMARK(BM_ExportLas)->Unit(benchmark::kMillisecond)->Iterations(3)->UseManualTime();
 
@@ -176,10 +196,12 @@ void BM_JournalStream(benchmark::State& state) {
     auto reader = journal::JournalReader::open(journalPath());
     double sum = 0;
     for (auto _ : state) {
-        (void)reader->forEachPoints([&](std::span<const journal::MapPoint> pts) { sum += pts.back().x; });
+        (void)reader->forEachPoints(
+            [&](std::span<const journal::MapPoint> pts) { sum += pts.back().x; });
     }
     benchmark::DoNotOptimize(sum);
-    state.SetBytesProcessed(static_cast<std::int64_t>(fs::file_size(journalPath())) * state.iterations());
+    state.SetBytesProcessed(static_cast<std::int64_t>(fs::file_size(journalPath())) *
+                            state.iterations());
 }
 BENCHMARK(BM_JournalStream)->Unit(benchmark::kMillisecond)->Iterations(3)->UseRealTime();
 
@@ -189,7 +211,8 @@ void BM_VoxelFilter(benchmark::State& state) {
     std::vector<journal::MapPoint> pts(4'000'000);
     std::mt19937 rng(7);
     std::uniform_real_distribution<float> u(0.f, 2.f);
-    for (std::size_t i = 0; i < pts.size(); ++i) pts[i] = {static_cast<double>(i) * 1e-6, u(rng), u(rng), u(rng), 1, 2, 3, 4};
+    for (std::size_t i = 0; i < pts.size(); ++i)
+        pts[i] = {static_cast<double>(i) * 1e-6, u(rng), u(rng), u(rng), 1, 2, 3, 4};
     std::size_t kept = 0;
     for (auto _ : state) {
         exporter::VoxelFilter f(0.02);
@@ -198,8 +221,9 @@ void BM_VoxelFilter(benchmark::State& state) {
         benchmark::DoNotOptimize(kept);
     }
     state.counters["kept"] = static_cast<double>(kept);
-    state.counters["points_per_s"] = benchmark::Counter(static_cast<double>(pts.size()) * static_cast<double>(state.iterations()),
-                                                        benchmark::Counter::kIsRate);
+    state.counters["points_per_s"] = benchmark::Counter(
+        static_cast<double>(pts.size()) * static_cast<double>(state.iterations()),
+        benchmark::Counter::kIsRate);
 }
 BENCHMARK(BM_VoxelFilter)->Unit(benchmark::kMillisecond)->Iterations(3)->UseRealTime();
 

@@ -19,7 +19,8 @@ ImuSample sampleAt(int k) {
     const double t = k * 0.005;
     ImuSample s;
     s.t_host = static_cast<TimeNs>(k) * 5 * kNsPerMs;
-    s.gyro_radps_imu = Eigen::Vector3d(0.3 * std::sin(1.3 * t), 0.2 * std::cos(0.9 * t), 0.5 * std::sin(0.5 * t));
+    s.gyro_radps_imu =
+        Eigen::Vector3d(0.3 * std::sin(1.3 * t), 0.2 * std::cos(0.9 * t), 0.5 * std::sin(0.5 * t));
     s.accel_mps2_imu = Eigen::Vector3d(0.5 * std::sin(0.6 * t), 0.4 * std::cos(1.1 * t), 9.81);
     return s;
 }
@@ -85,7 +86,8 @@ void BM_EvalTrajectory30min(benchmark::State& state) {
         const double t = k * 0.005, a = t / 60.0;
         eval::StampedPose p;
         p.t_s = t;
-        p.T.translation() = Eigen::Vector3d(20 * std::cos(a), 15 * std::sin(a), 0.1 * std::sin(5 * a));
+        p.T.translation() =
+            Eigen::Vector3d(20 * std::cos(a), 15 * std::sin(a), 0.1 * std::sin(5 * a));
         p.T.linear() = expSO3(Eigen::Vector3d(0, 0, a));
         gt.push_back(p);
         p.T.translation() *= 1.003;

@@ -19,7 +19,8 @@ void BM_RecompensateHalfRevolutionSweep(benchmark::State& state) {
         const double t = k * 0.005;
         ImuSample s;
         s.t_host = static_cast<TimeNs>(k) * 5 * kNsPerMs;
-        s.gyro_radps_imu = Eigen::Vector3d(0.3 * std::sin(1.3 * t), 0.2 * std::cos(0.9 * t), 0.5 * std::sin(0.5 * t));
+        s.gyro_radps_imu = Eigen::Vector3d(0.3 * std::sin(1.3 * t), 0.2 * std::cos(0.9 * t),
+                                           0.5 * std::sin(0.5 * t));
         s.accel_mps2_imu = Eigen::Vector3d(0.5 * std::sin(0.6 * t), 0.4 * std::cos(1.1 * t), 9.81);
         (void)p.addImu(s);
     }

@@ -20,7 +20,8 @@ namespace {
 std::vector<std::uint8_t> payload(std::size_t size) {
     std::mt19937 rng(1);
     std::vector<std::uint8_t> v(size);
-    for (std::size_t i = 0; i < size; ++i) v[i] = static_cast<std::uint8_t>((i % 640) / 3 + rng() % 8);
+    for (std::size_t i = 0; i < size; ++i)
+        v[i] = static_cast<std::uint8_t>((i % 640) / 3 + rng() % 8);
     return v;
 }
 
@@ -67,7 +68,10 @@ void BM_WriteFile(benchmark::State& state) {
     std::remove(path.c_str());
     state.SetBytesProcessed(static_cast<std::int64_t>(state.iterations() * total));
 }
-BENCHMARK(BM_WriteFile)->ArgsProduct({{3300, 327680}, {0, 1}})->ArgNames({"msg_bytes", "zstd"})->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_WriteFile)
+    ->ArgsProduct({{3300, 327680}, {0, 1}})
+    ->ArgNames({"msg_bytes", "zstd"})
+    ->Unit(benchmark::kMillisecond);
 
 // Reading every message back in log-time order, indexed.
 void BM_Read(benchmark::State& state) {
@@ -82,12 +86,16 @@ void BM_Read(benchmark::State& state) {
     for (auto _ : state) {
         auto r = McapReader::fromBuffer(bytes);
         std::uint64_t n = 0;
-        if (!(*r)->forEachMessage({}, [&](const RecordedMessage& m) { n += m.data.size(); })) std::abort();
+        if (!(*r)->forEachMessage({}, [&](const RecordedMessage& m) { n += m.data.size(); }))
+            std::abort();
         read += n;
     }
     state.SetBytesProcessed(static_cast<std::int64_t>(read));
 }
-BENCHMARK(BM_Read)->ArgsProduct({{70, 3300, 327680}, {0, 1}})->ArgNames({"msg_bytes", "zstd"})->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_Read)
+    ->ArgsProduct({{70, 3300, 327680}, {0, 1}})
+    ->ArgNames({"msg_bytes", "zstd"})
+    ->Unit(benchmark::kMillisecond);
 
 // Recovery of a file without footer: the linear scan (decompress + CRC every chunk), then reading.
 void BM_ReadTruncated(benchmark::State& state) {
@@ -101,7 +109,8 @@ void BM_ReadTruncated(benchmark::State& state) {
     for (auto _ : state) {
         auto r = McapReader::fromBuffer(bytes);
         if (!(*r)->truncated()) std::abort();
-        if (!(*r)->forEachMessage({}, [&](const RecordedMessage& m) { read += m.data.size(); })) std::abort();
+        if (!(*r)->forEachMessage({}, [&](const RecordedMessage& m) { read += m.data.size(); }))
+            std::abort();
     }
     state.SetBytesProcessed(static_cast<std::int64_t>(read));
 }

@@ -15,8 +15,8 @@ using testing::toWorld;
 
 struct Fixture {
     testing::SimStreams streams;
-    Sweep map_sweep;    // full revolution at pose A: builds the map
-    Sweep sweep;        // full revolution at pose B: matched
+    Sweep map_sweep;  // full revolution at pose A: builds the map
+    Sweep sweep;      // full revolution at pose B: matched
     Eigen::Isometry3d A = testing::pose(0.0, 0.0, 0.0, 0.0, 0.0, 0.0);
     Eigen::Isometry3d B = testing::pose(0.03, 0.3, -0.02, 0.4, 0.03, 0.5);
     Eigen::Isometry3d guess = B * testing::pose(0.01, -0.01, 0.01, 0.05, -0.03, 0.04);
@@ -25,9 +25,11 @@ struct Fixture {
         SweepAssemblerConfig full;
         full.boundary = SweepBoundary::kFullRevolution;
         const auto scene = testing::officeRoom();
-        const auto sa = testing::simulate(scene, testing::staticPose(A), deviceGeometry(), kNsPerSec, 2 * kNsPerSec);
+        const auto sa = testing::simulate(scene, testing::staticPose(A), deviceGeometry(),
+                                          kNsPerSec, 2 * kNsPerSec);
         map_sweep = testing::assemble(sa, deviceGeometry(), testing::staticPose(A), full).at(0);
-        streams = testing::simulate(scene, testing::staticPose(B), deviceGeometry(), kNsPerSec, 2 * kNsPerSec);
+        streams = testing::simulate(scene, testing::staticPose(B), deviceGeometry(), kNsPerSec,
+                                    2 * kNsPerSec);
         sweep = testing::assemble(streams, deviceGeometry(), testing::staticPose(B), full).at(0);
     }
 };
@@ -50,7 +52,8 @@ void BM_SweepAssembly(benchmark::State& state) {
     SweepAssemblerConfig full;
     full.boundary = SweepBoundary::kFullRevolution;
     for (auto _ : state) {
-        auto sweeps = testing::assemble(f.streams, deviceGeometry(), testing::staticPose(f.B), full);
+        auto sweeps =
+            testing::assemble(f.streams, deviceGeometry(), testing::staticPose(f.B), full);
         benchmark::DoNotOptimize(sweeps);
     }
     state.counters["points"] = static_cast<double>(f.sweep.points.size());
@@ -82,7 +85,8 @@ void BM_ExtractAndMatch(benchmark::State& state) {
     const ScanMatcher matcher(config);
     MatchResult r;
     for (auto _ : state) {
-        const LocalMap local = map.extract(toWorld(f.guess, fb.edges), toWorld(f.guess, fb.planars));
+        const LocalMap local =
+            map.extract(toWorld(f.guess, fb.edges), toWorld(f.guess, fb.planars));
         r = matcher.match(fb, local, {prior});
         benchmark::DoNotOptimize(r);
     }
@@ -101,7 +105,8 @@ void BM_FeaturesAndMatchingPerSweep(benchmark::State& state) {
     const ScanMatcher matcher;
     for (auto _ : state) {
         const FeatureCloud fb = extractFeatures(f.sweep, FeatureConfig{});
-        const LocalMap local = map.extract(toWorld(f.guess, fb.edges), toWorld(f.guess, fb.planars));
+        const LocalMap local =
+            map.extract(toWorld(f.guess, fb.edges), toWorld(f.guess, fb.planars));
         MatchResult r = matcher.match(fb, local, {prior});
         benchmark::DoNotOptimize(r);
     }
@@ -130,7 +135,8 @@ void BM_MapUpdate(benchmark::State& state) {
         benchmark::DoNotOptimize(map.insert(FeatureKind::kEdge, edges));
         benchmark::DoNotOptimize(map.insert(FeatureKind::kPlanar, planars));
     }
-    state.counters["map_points"] = static_cast<double>(base.stats().points[0] + base.stats().points[1]);
+    state.counters["map_points"] =
+        static_cast<double>(base.stats().points[0] + base.stats().points[1]);
     state.counters["map_MiB"] = static_cast<double>(base.stats().memory_bytes) / (1 << 20);
 }
 BENCHMARK(BM_MapUpdate)->Arg(1)->Arg(20)->Unit(benchmark::kMillisecond);

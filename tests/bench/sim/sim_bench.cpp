@@ -10,15 +10,16 @@
 #include "handscan/sim/camera_model.hpp"
 #include "handscan/sim/laser_model.hpp"
 #include "handscan/sim/mcap_sink.hpp"
-#include "handscan/sim/simulator.hpp"
 #include "handscan/sim/scenes.hpp"
+#include "handscan/sim/simulator.hpp"
 #include "handscan/sim/trajectory.hpp"
 
 namespace handscan::sim {
 namespace {
 
 const Calibration& cal() {
-    static const Calibration c = loadCalibration(std::string(HANDSCAN_BENCH_SOURCE_DIR) + "/config/calibration.yaml");
+    static const Calibration c =
+        loadCalibration(std::string(HANDSCAN_BENCH_SOURCE_DIR) + "/config/calibration.yaml");
     return c;
 }
 
@@ -44,12 +45,14 @@ void renderCamera(benchmark::State& state, const CameraIntrinsics& cam, bool col
     std::vector<std::uint8_t> img;
     double t = 3.0;
     for (auto _ : state) {
-        r.render(t, [](double s) { return walk().at(s).T_world_body; }, img);
+        r.render(
+            t, [](double s) { return walk().at(s).T_world_body; }, img);
         t += 0.37;
         if (t > 58) t = 3.0;
         benchmark::DoNotOptimize(img.data());
     }
-    state.counters["rays/frame"] = static_cast<double>(r.raysCast()) / static_cast<double>(state.iterations());
+    state.counters["rays/frame"] =
+        static_cast<double>(r.raysCast()) / static_cast<double>(state.iterations());
 }
 
 void BM_TrackingFrame(benchmark::State& state) { renderCamera(state, cal().tracking, false); }
@@ -70,8 +73,10 @@ void BM_LaserScan(benchmark::State& state) {
 // The acceptance figure: `handscan sim --scene office --duration 60` with every sensor, on one
 // core, written to a file. Counters: file size, the payload bytes per channel, simulated seconds.
 void BM_Office60s(benchmark::State& state) {
-    const DeviceConfig device = loadDeviceConfig(std::string(HANDSCAN_BENCH_SOURCE_DIR) + "/config/device.yaml");
-    const std::string path = (std::filesystem::temp_directory_path() / "handscan_bench_office60.mcap").string();
+    const DeviceConfig device =
+        loadDeviceConfig(std::string(HANDSCAN_BENCH_SOURCE_DIR) + "/config/device.yaml");
+    const std::string path =
+        (std::filesystem::temp_directory_path() / "handscan_bench_office60.mcap").string();
     std::uint64_t bytes = 0;
     SimStats stats;
     for (auto _ : state) {
@@ -90,11 +95,14 @@ void BM_Office60s(benchmark::State& state) {
     std::filesystem::remove(path);
     state.counters["file_MB"] = static_cast<double>(bytes) / 1e6;
     // Where the bytes go: message payloads per channel, before the chunks' zstd.
-    auto mb = [&](SimChannel c) { return static_cast<double>(stats.bytes[static_cast<int>(c)]) / 1e6; };
+    auto mb = [&](SimChannel c) {
+        return static_cast<double>(stats.bytes[static_cast<int>(c)]) / 1e6;
+    };
     state.counters["track_MB"] = mb(SimChannel::kTrackingCamera);
     state.counters["colour_MB"] = mb(SimChannel::kColourCamera);
     state.counters["laser_MB"] = mb(SimChannel::kHokuyo);
-    state.counters["imu_can_gt_MB"] = mb(SimChannel::kXsens) + mb(SimChannel::kCan) + mb(SimChannel::kGroundTruth);
+    state.counters["imu_can_gt_MB"] =
+        mb(SimChannel::kXsens) + mb(SimChannel::kCan) + mb(SimChannel::kGroundTruth);
     state.counters["sim_s"] = static_cast<double>(state.range(0));
 }
 

@@ -93,7 +93,8 @@ void BM_FrameTime(benchmark::State& state) {
     cam.target = {0, 0, 1};
     cam.distance_m = 45;
     glViewport(0, 110, 1020, 690);
-    renderer.draw(cam.projection(1020.0f / 690.0f) * cam.view(), mode, point_size, budget);  // warm-up: shader JIT
+    renderer.draw(cam.projection(1020.0f / 690.0f) * cam.view(), mode, point_size,
+                  budget);  // warm-up: shader JIT
     glFinish();
     for (auto _ : state) {
         glClearColor(0.08f, 0.08f, 0.1f, 1.0f);
@@ -105,15 +106,20 @@ void BM_FrameTime(benchmark::State& state) {
     }
     state.counters["points"] = static_cast<double>(n);
     state.counters["drawn"] = static_cast<double>(renderer.lastDrawnPoints());
-    state.counters["fps"] = benchmark::Counter(static_cast<double>(state.iterations()), benchmark::Counter::kIsRate);
+    state.counters["fps"] =
+        benchmark::Counter(static_cast<double>(state.iterations()), benchmark::Counter::kIsRate);
     state.SetLabel(window().renderer);
 }
 // Args: points, colour mode, point size (px), per-frame point budget (0 = draw all).
 BENCHMARK(BM_FrameTime)
     ->ArgNames({"points", "colour", "size", "budget"})
-    ->ArgsProduct({{1'000'000, 5'000'000, 10'000'000}, {static_cast<int>(ColourMode::kRgb)}, {1, 2}, {0}})
+    ->ArgsProduct(
+        {{1'000'000, 5'000'000, 10'000'000}, {static_cast<int>(ColourMode::kRgb)}, {1, 2}, {0}})
     ->Args({10'000'000, static_cast<int>(ColourMode::kHeight), 1, 0})
-    ->ArgsProduct({{1'000'000, 5'000'000, 10'000'000}, {static_cast<int>(ColourMode::kRgb)}, {1}, {1'000'000}})
+    ->ArgsProduct({{1'000'000, 5'000'000, 10'000'000},
+                   {static_cast<int>(ColourMode::kRgb)},
+                   {1},
+                   {1'000'000}})
     ->Unit(benchmark::kMillisecond)
     ->UseRealTime()
     ->MinTime(1.0);
@@ -125,7 +131,8 @@ void BM_AppendChunk(benchmark::State& state) {
         state.SkipWithError("no OpenGL 3.3 window: run under xvfb-run (DISPLAY unset?)");
         return;
     }
-    const std::vector<DisplayPoint> chunk = syntheticMap(static_cast<std::size_t>(state.range(0)), 2);
+    const std::vector<DisplayPoint> chunk =
+        syntheticMap(static_cast<std::size_t>(state.range(0)), 2);
     MapRenderer renderer;
     if (!renderer.init().isOk()) {
         state.SkipWithError("shader build failed");

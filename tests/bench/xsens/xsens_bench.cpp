@@ -18,7 +18,8 @@ using namespace handscan;
 using namespace handscan::xsens;
 
 std::vector<std::uint8_t> capture(int n) {
-    const auto p = std::filesystem::path(HANDSCAN_SHARED_DATA_DIR) / "xsens/mtig710" / std::to_string(n) / "output.bin";
+    const auto p = std::filesystem::path(HANDSCAN_SHARED_DATA_DIR) / "xsens/mtig710" /
+                   std::to_string(n) / "output.bin";
     std::ifstream in(p, std::ios::binary);
     return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
 }
@@ -27,8 +28,11 @@ std::vector<std::uint8_t> imuStream(int packets) {
     std::vector<std::uint8_t> out;
     for (int i = 0; i < packets; ++i) {
         MtData2Builder b;
-        b.packetCounter(static_cast<std::uint16_t>(i)).sampleTimeFine(static_cast<std::uint32_t>(i * 50))
-            .acceleration({0.1, 0.2, 9.81}).rateOfTurn({0.01, -0.02, 0.3}).statusWord(3);
+        b.packetCounter(static_cast<std::uint16_t>(i))
+            .sampleTimeFine(static_cast<std::uint32_t>(i * 50))
+            .acceleration({0.1, 0.2, 9.81})
+            .rateOfTurn({0.01, -0.02, 0.3})
+            .statusWord(3);
         const auto f = b.frame();
         out.insert(out.end(), f.begin(), f.end());
     }

@@ -53,19 +53,24 @@ double chromaAngleDeg(const Eigen::Vector3d& a, const Eigen::Vector3d& b) {
 }
 
 TEST(ColourSim, OfficeWalkPointsTakeTheSurfaceColours) {
-    const DeviceConfig device = loadDeviceConfig(std::string(HANDSCAN_SOURCE_DIR) + "/config/device.yaml");
-    const Calibration cal = loadCalibration(std::string(HANDSCAN_SOURCE_DIR) + "/config/calibration.yaml");
+    const DeviceConfig device =
+        loadDeviceConfig(std::string(HANDSCAN_SOURCE_DIR) + "/config/device.yaml");
+    const Calibration cal =
+        loadCalibration(std::string(HANDSCAN_SOURCE_DIR) + "/config/calibration.yaml");
     sim::SimOptions opt;
     opt.scene = "office";
     opt.duration_s = 8.0;
     sim::Simulator simulator(opt, device, cal);
-    simulator.devices().tracking.fps = 1.0;  // the tracking camera is not under test: render little of it
+    simulator.devices().tracking.fps =
+        1.0;  // the tracking camera is not under test: render little of it
     ColourFrameSink sink;
     ASSERT_TRUE(simulator.run(sink).isOk());
     ASSERT_GE(sink.frames.size(), 35u);
 
     const auto simSeconds = [&](TimeNs t) { return toSeconds(t - opt.host_start_ns); };
-    const PoseAtFn pose_at = [&](TimeNs t) { return simulator.trajectory().at(simSeconds(t)).T_world_body; };
+    const PoseAtFn pose_at = [&](TimeNs t) {
+        return simulator.trajectory().at(simSeconds(t)).T_world_body;
+    };
     const sim::World& world = simulator.scene().world;
     const sim::Raycaster raycaster(world);
     const sim::TextureAtlas& atlas = sim::TextureAtlas::instance();
@@ -75,7 +80,8 @@ TEST(ColourSim, OfficeWalkPointsTakeTheSurfaceColours) {
     std::mt19937 rng(7);
     std::uniform_real_distribution<double> beam(-0.75 * M_PI, 0.75 * M_PI), unit(0.0, 1.0);
     Colouriser colouriser(simulator.calibration());
-    std::size_t next_frame = 0, total = 0, coloured = 0, agree = 0, agree_shuffled = 0, coloured_late = 0, agree_late = 0;
+    std::size_t next_frame = 0, total = 0, coloured = 0, agree = 0, agree_shuffled = 0,
+                coloured_late = 0, agree_late = 0;
     // Control: poses taken 100 ms late, as if the frames' times (or the points') were wrong.
     const PoseAtFn late_pose_at = [&](TimeNs t) { return pose_at(t + 100 * kNsPerMs); };
     std::vector<double> angles;
@@ -90,7 +96,9 @@ TEST(ColourSim, OfficeWalkPointsTakeTheSurfaceColours) {
             const double a = beam(rng);
             sim::Ray ray;
             ray.origin = T_wl.translation().cast<float>();
-            ray.dir = (T_wl.linear() * Eigen::Vector3d(std::cos(a), std::sin(a), 0.0)).cast<float>().normalized();
+            ray.dir = (T_wl.linear() * Eigen::Vector3d(std::cos(a), std::sin(a), 0.0))
+                          .cast<float>()
+                          .normalized();
             const sim::RayHit hit = raycaster.cast(ray);
             if (!hit.hit() || hit.t > 30.0f) continue;
             const Eigen::Vector3f p = ray.origin + hit.t * ray.dir;
@@ -102,7 +110,8 @@ TEST(ColourSim, OfficeWalkPointsTakeTheSurfaceColours) {
                 cos_inc = -cos_inc;
             }
             // The renderer's footprint: colour pixels shaded at half resolution (render_scale 0.5).
-            const float footprint = hit.t * (2.0f / 1350.0f) / (m.texture_scale_m * std::max(cos_inc, 0.25f));
+            const float footprint =
+                hit.t * (2.0f / 1350.0f) / (m.texture_scale_m * std::max(cos_inc, 0.25f));
             const Eigen::Vector2f uv = sim::TextureAtlas::planarUv(p, n, m.texture_scale_m);
             const Eigen::Vector3f tex = atlas.rgb(m.texture, uv.x(), uv.y(), footprint);
             truth.emplace_back(tex.x() * m.colour[0], tex.y() * m.colour[1], tex.z() * m.colour[2]);
@@ -112,7 +121,8 @@ TEST(ColourSim, OfficeWalkPointsTakeTheSurfaceColours) {
         // The frames that have arrived by the end of the sweep plus a frame period (the pipeline
         // colours a sweep once the next frame is in).
         const TimeNs arrived = opt.host_start_ns + fromSeconds(sweep + 1.0 + 0.25);
-        for (; next_frame < sink.frames.size() && sink.frames[next_frame].t_host < arrived; ++next_frame) {
+        for (; next_frame < sink.frames.size() && sink.frames[next_frame].t_host < arrived;
+             ++next_frame) {
             ASSERT_TRUE(colouriser.addImage(sink.frames[next_frame]).isOk());
         }
         const ColourResult r = colouriser.colourise(pts, times, pose_at);
@@ -120,7 +130,9 @@ TEST(ColourSim, OfficeWalkPointsTakeTheSurfaceColours) {
         for (std::size_t i = 0; i < pts.size(); ++i) {
             if (!late.valid(i)) continue;
             ++coloured_late;
-            agree_late += chromaAngleDeg(Eigen::Vector3d(late.rgb[i][0] + 0.5, late.rgb[i][1] + 0.5, late.rgb[i][2] + 0.5), truth[i]) < 5.0;
+            agree_late += chromaAngleDeg(Eigen::Vector3d(late.rgb[i][0] + 0.5, late.rgb[i][1] + 0.5,
+                                                         late.rgb[i][2] + 0.5),
+                                         truth[i]) < 5.0;
         }
         total += pts.size();
         for (std::size_t i = 0; i < pts.size(); ++i) {
@@ -138,21 +150,29 @@ TEST(ColourSim, OfficeWalkPointsTakeTheSurfaceColours) {
     ASSERT_GT(coloured, 0u);
     std::sort(angles.begin(), angles.end());
     const double frac = static_cast<double>(agree) / static_cast<double>(coloured);
-    const double frac_shuffled = static_cast<double>(agree_shuffled) / static_cast<double>(coloured);
-    std::printf("[ measured ] office sim: %zu frames, %zu points, %zu coloured (%.1f %%); chromaticity angle median %.2f deg, "
-                "p90 %.2f deg; agree (< 5 deg) %.1f %% (control with shuffled truth: %.1f %%)\n",
-                sink.frames.size(), total, coloured, 100.0 * static_cast<double>(coloured) / static_cast<double>(total),
-                angles[angles.size() / 2], angles[angles.size() * 9 / 10], 100.0 * frac, 100.0 * frac_shuffled);
-    const double frac_late = static_cast<double>(agree_late) / static_cast<double>(std::max<std::size_t>(1, coloured_late));
+    const double frac_shuffled =
+        static_cast<double>(agree_shuffled) / static_cast<double>(coloured);
+    std::printf(
+        "[ measured ] office sim: %zu frames, %zu points, %zu coloured (%.1f %%); chromaticity "
+        "angle median %.2f deg, "
+        "p90 %.2f deg; agree (< 5 deg) %.1f %% (control with shuffled truth: %.1f %%)\n",
+        sink.frames.size(), total, coloured,
+        100.0 * static_cast<double>(coloured) / static_cast<double>(total),
+        angles[angles.size() / 2], angles[angles.size() * 9 / 10], 100.0 * frac,
+        100.0 * frac_shuffled);
+    const double frac_late = static_cast<double>(agree_late) /
+                             static_cast<double>(std::max<std::size_t>(1, coloured_late));
     std::printf("[ measured ] control with poses 100 ms late: agree %.1f %%\n", 100.0 * frac_late);
     EXPECT_LT(frac_late, frac - 0.05);
     std::printf("[ measured ] not coloured: ");
-    for (std::size_t k = 1; k < reasons.size(); ++k) std::printf("%s %zu  ", toString(static_cast<ColourStatus>(k)), reasons[k]);
+    for (std::size_t k = 1; k < reasons.size(); ++k)
+        std::printf("%s %zu  ", toString(static_cast<ColourStatus>(k)), reasons[k]);
     std::printf("\n");
     // The laser sees 270 x 360 degrees, the colour camera about 61 x 48: most points are behind it
     // or outside its image, not occluded and never without a frame.
     EXPECT_GT(static_cast<double>(coloured), 0.15 * static_cast<double>(total));
-    EXPECT_GT(reasons[static_cast<std::size_t>(ColourStatus::kOutside)] + reasons[static_cast<std::size_t>(ColourStatus::kBehind)],
+    EXPECT_GT(reasons[static_cast<std::size_t>(ColourStatus::kOutside)] +
+                  reasons[static_cast<std::size_t>(ColourStatus::kBehind)],
               total / 2);
     EXPECT_EQ(reasons[static_cast<std::size_t>(ColourStatus::kNoImage)], 0u);
     EXPECT_LT(reasons[static_cast<std::size_t>(ColourStatus::kOccluded)], total / 20);

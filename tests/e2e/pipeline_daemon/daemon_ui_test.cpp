@@ -9,9 +9,9 @@
 #include <sstream>
 #include <thread>
 
+#include "../ui/screenshot_checks.hpp"
 #include "child_process.hpp"
 #include "daemon_rig.hpp"
-#include "../ui/screenshot_checks.hpp"
 #include "handscan/pipeline_daemon/pipeline_daemon.hpp"
 
 namespace handscan::pipeline_daemon::test {
@@ -33,16 +33,24 @@ TEST(PipelineDaemonUi, UiRendersTheLiveScan) {
     ASSERT_TRUE(daemon.open().isOk());
     DaemonThread running(daemon);
 
-    const bool up = rig.waitStatus([](const shm::StatusBlock& s) {
-        return sensorConnected(s, "hokuyo") && sensorConnected(s, "xsens") && sensorConnected(s, "encoder");
-    }, 10.0).has_value();
+    const bool up = rig.waitStatus(
+                           [](const shm::StatusBlock& s) {
+                               return sensorConnected(s, "hokuyo") && sensorConnected(s, "xsens") &&
+                                      sensorConnected(s, "encoder");
+                           },
+                           10.0)
+                        .has_value();
     const auto ack = rig.command(shm::CommandType::kStartScan);
-    const bool scanned = up && rig.waitStatus([](const shm::StatusBlock& s) { return s.point_count > 0; }, 15.0).has_value();
+    const bool scanned =
+        up && rig.waitStatus([](const shm::StatusBlock& s) { return s.point_count > 0; }, 15.0)
+                  .has_value();
     const fs::path png = rig.dir() / "shot.png";
-    const e2e::ChildResult ui = scanned ? e2e::runChild({kUi, "--shm-name", rig.shmName(), "--screenshot", png.string(), "--wait-points",
-                                                    "3000", "--timeout", "60", "--width", "1024", "--height", "640"},
-                                                   90)
-                                   : e2e::ChildResult{};
+    const e2e::ChildResult ui =
+        scanned ? e2e::runChild({kUi, "--shm-name", rig.shmName(), "--screenshot", png.string(),
+                                 "--wait-points", "3000", "--timeout", "60", "--width", "1024",
+                                 "--height", "640"},
+                                90)
+                : e2e::ChildResult{};
     const Status result = running.stop();
     ASSERT_TRUE(up) << "devices did not come up";
     EXPECT_EQ(ack.state, static_cast<std::uint32_t>(shm::CommandState::kDone));
@@ -53,7 +61,8 @@ TEST(PipelineDaemonUi, UiRendersTheLiveScan) {
     const cv::Mat img = cv::imread(png.string(), cv::IMREAD_GRAYSCALE);
     ASSERT_FALSE(img.empty());
     fs::copy_file(png, keep, fs::copy_options::overwrite_existing);  // for a look after the run
-    EXPECT_GT(::handscan::test::nonBackgroundFraction(img), 0.05) << "the screenshot is nearly uniform";
+    EXPECT_GT(::handscan::test::nonBackgroundFraction(img), 0.05)
+        << "the screenshot is nearly uniform";
 
     std::ifstream in(png.string().substr(0, png.string().size() - 4) + ".json");
     std::stringstream ss;

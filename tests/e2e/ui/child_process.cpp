@@ -66,7 +66,8 @@ bool ChildProcess::running() {
 void ChildProcess::terminate() {
     if (pid_ > 0 && !reaped_) {
         ::kill(pid_, SIGTERM);
-        for (int i = 0; i < 200 && running(); ++i) std::this_thread::sleep_for(std::chrono::milliseconds(10));
+        for (int i = 0; i < 200 && running(); ++i)
+            std::this_thread::sleep_for(std::chrono::milliseconds(10));
         if (running()) ::kill(pid_, SIGKILL);
         if (!reaped_) ::waitpid(pid_, &status_, 0);
         reaped_ = true;
@@ -94,11 +95,13 @@ ChildResult ChildProcess::wait(double timeout_s, const std::function<void()>& ti
     return r;
 }
 
-ChildResult runChild(const std::vector<std::string>& argv, double timeout_s, const std::function<void()>& tick) {
-    const std::string log = (std::filesystem::temp_directory_path() /
-                             ("handscan-e2e-" + std::to_string(::getpid()) + "-" +
-                              std::to_string(std::chrono::steady_clock::now().time_since_epoch().count()) + ".log"))
-                                .string();
+ChildResult runChild(const std::vector<std::string>& argv, double timeout_s,
+                     const std::function<void()>& tick) {
+    const std::string log =
+        (std::filesystem::temp_directory_path() /
+         ("handscan-e2e-" + std::to_string(::getpid()) + "-" +
+          std::to_string(std::chrono::steady_clock::now().time_since_epoch().count()) + ".log"))
+            .string();
     ChildProcess p(argv, log);
     ChildResult r = p.wait(timeout_s, tick);
     std::filesystem::remove(log);
@@ -114,14 +117,16 @@ std::string ensureDisplay() {
         for (const char* dir : {"/usr/bin", "/usr/local/bin", "/bin"}) {
             have_xvfb = have_xvfb || std::filesystem::exists(std::string(dir) + "/Xvfb");
         }
-        if (!have_xvfb) return std::string("Xvfb not installed (apt install xvfb) and DISPLAY not set");
+        if (!have_xvfb)
+            return std::string("Xvfb not installed (apt install xvfb) and DISPLAY not set");
         // A display number nobody uses: no lock file and no socket.
         for (int n = 90 + ::getpid() % 300, tries = 0; tries < 50; ++n, ++tries) {
             const std::string lock = "/tmp/.X" + std::to_string(n) + "-lock";
             const std::string sock = "/tmp/.X11-unix/X" + std::to_string(n);
             if (std::filesystem::exists(lock) || std::filesystem::exists(sock)) continue;
             const std::string display = ":" + std::to_string(n);
-            xvfb.pid = spawn({"Xvfb", display, "-screen", "0", "1600x1200x24", "-nolisten", "tcp"}, "/dev/null");
+            xvfb.pid = spawn({"Xvfb", display, "-screen", "0", "1600x1200x24", "-nolisten", "tcp"},
+                             "/dev/null");
             if (xvfb.pid <= 0) return std::string("cannot start Xvfb");
             for (int i = 0; i < 500 && !std::filesystem::exists(sock); ++i) {
                 std::this_thread::sleep_for(std::chrono::milliseconds(10));

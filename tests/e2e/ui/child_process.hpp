@@ -12,8 +12,8 @@
 namespace handscan::e2e {
 
 struct ChildResult {
-    int exit_code = -1;   // -1: killed after the timeout
-    std::string output;   // stdout + stderr
+    int exit_code = -1;  // -1: killed after the timeout
+    std::string output;  // stdout + stderr
 };
 
 class ChildProcess {
@@ -35,7 +35,8 @@ private:
 };
 
 // Runs to completion (see ChildProcess::wait).
-ChildResult runChild(const std::vector<std::string>& argv, double timeout_s, const std::function<void()>& tick = {});
+ChildResult runChild(const std::vector<std::string>& argv, double timeout_s,
+                     const std::function<void()>& tick = {});
 
 // Empty when a display is available (DISPLAY set, or an Xvfb started here); otherwise why not,
 // for GTEST_SKIP.

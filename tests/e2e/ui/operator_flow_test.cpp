@@ -36,7 +36,9 @@ shm::CommandAck command(shm::LiveMapReader& ui, CommandType type, const std::str
         if (r) {
             last = *r;
             const auto s = static_cast<CommandState>(r->state);
-            if (s != CommandState::kPending && s != CommandState::kAccepted && s != CommandState::kInProgress) return last;
+            if (s != CommandState::kPending && s != CommandState::kAccepted &&
+                s != CommandState::kInProgress)
+                return last;
         }
         std::this_thread::sleep_for(std::chrono::milliseconds(10));
     }
@@ -56,11 +58,12 @@ std::optional<shm::StatusBlock> waitForState(shm::LiveMapReader& ui, shm::ScanSt
 
 TEST(OperatorFlow, StartScanStopExportSafeToRemove) {
     if (!fs::exists(kCli)) GTEST_SKIP() << kCli << " not built";
-    const fs::path dir = fs::temp_directory_path() / ("handscan-flow-" + std::to_string(::getpid()));
+    const fs::path dir =
+        fs::temp_directory_path() / ("handscan-flow-" + std::to_string(::getpid()));
     fs::create_directories(dir / "usb");
     const std::string name = "/handscan-e2e-flow-" + std::to_string(::getpid());
-    ChildProcess pipeline({kCli, "shm-demo", "--shm-name", name, "--export-root", (dir / "internal").string(),
-                           "--samples-per-second", "30000"},
+    ChildProcess pipeline({kCli, "shm-demo", "--shm-name", name, "--export-root",
+                           (dir / "internal").string(), "--samples-per-second", "30000"},
                           (dir / "pipeline.log").string());
 
     shm::ReaderOptions ro;
@@ -89,7 +92,8 @@ TEST(OperatorFlow, StartScanStopExportSafeToRemove) {
     }
     EXPECT_GE(points, 3000u);
     EXPECT_GT(track, 0u);
-    EXPECT_EQ(static_cast<CommandState>(command(ui, CommandType::kStartScan).state), CommandState::kRejected);
+    EXPECT_EQ(static_cast<CommandState>(command(ui, CommandType::kStartScan).state),
+              CommandState::kRejected);
 
     // Export is refused while scanning: the map is not final.
     a = command(ui, CommandType::kExport, (dir / "usb").string());
@@ -112,7 +116,8 @@ TEST(OperatorFlow, StartScanStopExportSafeToRemove) {
     // Export to the "USB stick": done, verified, safe to remove; the file holds every point.
     a = command(ui, CommandType::kExport, (dir / "usb").string());
     EXPECT_EQ(static_cast<CommandState>(a.state), CommandState::kDone) << shm::getText(a.message);
-    EXPECT_EQ(std::string(shm::getText(a.message)).rfind("safe to remove", 0), 0u) << shm::getText(a.message);
+    EXPECT_EQ(std::string(shm::getText(a.message)).rfind("safe to remove", 0), 0u)
+        << shm::getText(a.message);
     EXPECT_FLOAT_EQ(a.progress, 1.0f);
     auto after = ui.readStatus();
     ASSERT_TRUE(after.has_value());
@@ -126,28 +131,35 @@ TEST(OperatorFlow, StartScanStopExportSafeToRemove) {
         header += line + "\n";
         if (line == "end_header") break;
     }
-    EXPECT_NE(header.find("element vertex " + std::to_string(points) + "\n"), std::string::npos) << header;
+    EXPECT_NE(header.find("element vertex " + std::to_string(points) + "\n"), std::string::npos)
+        << header;
     EXPECT_EQ(fs::file_size(ply), header.size() + points * sizeof(shm::DisplayPoint));
 
     // The UI shows the finished export and the whole map.
     if (ensureDisplay().empty() && fs::exists(kUi)) {
         const fs::path png = dir / "ui.png";
-        const ChildResult r = runChild({kUi, "--shm-name", name, "--screenshot", png.string(), "--wait-points",
-                                        std::to_string(points), "--timeout", "20", "--camera", "top-down"},
-                                       60);
+        const ChildResult r =
+            runChild({kUi, "--shm-name", name, "--screenshot", png.string(), "--wait-points",
+                      std::to_string(points), "--timeout", "20", "--camera", "top-down"},
+                     60);
         ASSERT_EQ(r.exit_code, 0) << r.output;
         std::ifstream js((dir / "ui.json").string());
         std::stringstream ss;
         ss << js.rdbuf();
         const std::string json = ss.str();
-        EXPECT_NE(json.find(R"("export": {"text": "Export done: SAFE TO REMOVE the USB stick", "health": "ok"})"),
-                  std::string::npos) << json;
+        EXPECT_NE(
+            json.find(
+                R"("export": {"text": "Export done: SAFE TO REMOVE the USB stick", "health": "ok"})"),
+            std::string::npos)
+            << json;
         EXPECT_NE(json.find(R"("scan_state": "STOPPED")"), std::string::npos) << json;
-        EXPECT_NE(json.find("\"points_drawn\": " + std::to_string(points) + ","), std::string::npos) << json;
+        EXPECT_NE(json.find("\"points_drawn\": " + std::to_string(points) + ","), std::string::npos)
+            << json;
     }
 
     // Shutdown ends the pipeline process cleanly.
-    EXPECT_EQ(static_cast<CommandState>(command(ui, CommandType::kShutdown).state), CommandState::kDone);
+    EXPECT_EQ(static_cast<CommandState>(command(ui, CommandType::kShutdown).state),
+              CommandState::kDone);
     const ChildResult r = pipeline.wait(10);
     EXPECT_EQ(r.exit_code, 0) << r.output;
     std::error_code ec;

@@ -27,31 +27,38 @@ TEST(ReplayLive, UiRendersAReplayedScan) {
     fs::remove_all(dir);
     fs::create_directories(dir);
     const std::string rec = (dir / "office.mcap").string();
-    ASSERT_EQ(runChild({kCli, "-q", "sim", "--scene", "office", "--duration", "8", "--seed", "2", "--no-camera", "--out", rec}, 120)
+    ASSERT_EQ(runChild({kCli, "-q", "sim", "--scene", "office", "--duration", "8", "--seed", "2",
+                        "--no-camera", "--out", rec},
+                       120)
                   .exit_code,
               0);
     const std::string name = "/handscan-e2e-replay-" + std::to_string(::getpid());
-    ChildProcess replay({kCli, "-q", "replay", rec, "--out", (dir / "out").string(), "--fast", "--live", "--hold",
-                         "--shm-name", name},
+    ChildProcess replay({kCli, "-q", "replay", rec, "--out", (dir / "out").string(), "--fast",
+                         "--live", "--hold", "--shm-name", name},
                         (dir / "replay.log").string());
     const fs::path png = dir / "shot.png";
-    const ChildResult ui = runChild({kUi, "--shm-name", name, "--screenshot", png.string(), "--wait-points", "2000",
-                                     "--timeout", "90", "--width", "1024", "--height", "640"},
-                                    150);
+    const ChildResult ui =
+        runChild({kUi, "--shm-name", name, "--screenshot", png.string(), "--wait-points", "2000",
+                  "--timeout", "90", "--width", "1024", "--height", "640"},
+                 150);
     replay.terminate();
     ASSERT_EQ(ui.exit_code, 0) << ui.output;
     const cv::Mat img = cv::imread(png.string(), cv::IMREAD_GRAYSCALE);
     ASSERT_FALSE(img.empty());
     // Not blank: many pixels differ from the background (the most common grey level).
-    EXPECT_GT(::handscan::test::nonBackgroundFraction(img), 0.05) << "the screenshot is nearly uniform";
+    EXPECT_GT(::handscan::test::nonBackgroundFraction(img), 0.05)
+        << "the screenshot is nearly uniform";
     std::ifstream in(dir / "shot.json");
     std::stringstream ss;
     ss << in.rdbuf();
     const std::string json = ss.str();
     EXPECT_NE(json.find("hokuyo 40.0 Hz"), std::string::npos) << json;
     EXPECT_NE(json.find("xsens 200.0 Hz"), std::string::npos) << json;
-    EXPECT_TRUE(json.find("replaying") != std::string::npos || json.find("replay finished") != std::string::npos) << json;
-    EXPECT_EQ(json.find("Camera dark"), std::string::npos) << "no camera in this replay, so no dark-camera warning";
+    EXPECT_TRUE(json.find("replaying") != std::string::npos ||
+                json.find("replay finished") != std::string::npos)
+        << json;
+    EXPECT_EQ(json.find("Camera dark"), std::string::npos)
+        << "no camera in this replay, so no dark-camera warning";
     EXPECT_EQ(json.find("free 0 KiB"), std::string::npos) << "the replay's storage is not reported";
 }
 

@@ -35,16 +35,18 @@ bool waitFor(const std::function<bool()>& condition, double seconds) {
 
 TEST(TouchFlow, OperatorTapsStartStopExport) {
     if (const std::string why = ensureDisplay(); !why.empty()) GTEST_SKIP() << why;
-    if (!fs::exists("/usr/bin/xdotool")) GTEST_SKIP() << "xdotool not installed (apt install xdotool)";
+    if (!fs::exists("/usr/bin/xdotool"))
+        GTEST_SKIP() << "xdotool not installed (apt install xdotool)";
     if (!fs::exists(kUi) || !fs::exists(kCli)) GTEST_SKIP() << "handscan-ui or handscan not built";
-    const fs::path dir = fs::temp_directory_path() / ("handscan-touch-" + std::to_string(::getpid()));
+    const fs::path dir =
+        fs::temp_directory_path() / ("handscan-touch-" + std::to_string(::getpid()));
     fs::create_directories(dir / "usb");
     const std::string name = "/handscan-e2e-touch-" + std::to_string(::getpid());
-    ChildProcess pipeline({kCli, "shm-demo", "--shm-name", name, "--export-root", (dir / "internal").string(),
-                           "--samples-per-second", "20000"},
+    ChildProcess pipeline({kCli, "shm-demo", "--shm-name", name, "--export-root",
+                           (dir / "internal").string(), "--samples-per-second", "20000"},
                           (dir / "pipeline.log").string());
-    ChildProcess ui({kUi, "--shm-name", name, "--width", "1280", "--height", "800", "--export-target",
-                     (dir / "usb").string(), "--max-seconds", "90"},
+    ChildProcess ui({kUi, "--shm-name", name, "--width", "1280", "--height", "800",
+                     "--export-target", (dir / "usb").string(), "--max-seconds", "90"},
                     (dir / "ui.log").string());
 
     shm::ReaderOptions ro;
@@ -54,32 +56,45 @@ TEST(TouchFlow, OperatorTapsStartStopExport) {
     const auto state = [&] {
         observer.poll();
         auto s = observer.readStatus();
-        return s ? std::optional<shm::ScanState>(static_cast<shm::ScanState>(s->scan_state)) : std::nullopt;
+        return s ? std::optional<shm::ScanState>(static_cast<shm::ScanState>(s->scan_state))
+                 : std::nullopt;
     };
-    ASSERT_TRUE(waitFor([&] { return state() == shm::ScanState::kIdle; }, 10)) << "pipeline did not come up";
+    ASSERT_TRUE(waitFor([&] { return state() == shm::ScanState::kIdle; }, 10))
+        << "pipeline did not come up";
 
     const ChildResult found = runChild({"xdotool", "search", "--sync", "--name", "^handscan$"}, 20);
     ASSERT_EQ(found.exit_code, 0) << found.output;
     const std::string window = found.output.substr(0, found.output.find('\n'));
     const auto tap = [&](int x, int y) {
-        ASSERT_EQ(runChild({"xdotool", "mousemove", "--window", window, std::to_string(x), std::to_string(y)}, 10).exit_code, 0);
-        std::this_thread::sleep_for(std::chrono::milliseconds(300));  // hover first, as a finger lands
+        ASSERT_EQ(runChild({"xdotool", "mousemove", "--window", window, std::to_string(x),
+                            std::to_string(y)},
+                           10)
+                      .exit_code,
+                  0);
+        std::this_thread::sleep_for(
+            std::chrono::milliseconds(300));  // hover first, as a finger lands
         ASSERT_EQ(runChild({"xdotool", "click", "1"}, 10).exit_code, 0);
     };
-    std::this_thread::sleep_for(std::chrono::milliseconds(500));  // first frames drawn, buttons enabled
+    std::this_thread::sleep_for(
+        std::chrono::milliseconds(500));  // first frames drawn, buttons enabled
 
     tap(kButtonX, kStartStopY);  // START SCAN
-    ASSERT_TRUE(waitFor([&] { return state() == shm::ScanState::kScanning; }, 10)) << "START tap had no effect";
+    ASSERT_TRUE(waitFor([&] { return state() == shm::ScanState::kScanning; }, 10))
+        << "START tap had no effect";
     std::this_thread::sleep_for(std::chrono::milliseconds(1500));
     tap(kButtonX, kStartStopY);  // the same place now says STOP SCAN
-    ASSERT_TRUE(waitFor([&] { return state() == shm::ScanState::kStopped; }, 10)) << "STOP tap had no effect";
+    ASSERT_TRUE(waitFor([&] { return state() == shm::ScanState::kStopped; }, 10))
+        << "STOP tap had no effect";
     std::this_thread::sleep_for(std::chrono::milliseconds(500));
     tap(kButtonX, kExportY);  // EXPORT TO USB (enabled once stopped)
-    ASSERT_TRUE(waitFor([&] {
-        observer.poll();
-        auto s = observer.readStatus();
-        return s && s->export_status.safe_to_remove == 1;
-    }, 20)) << "EXPORT tap did not lead to a safe-to-remove export";
+    ASSERT_TRUE(waitFor(
+        [&] {
+            observer.poll();
+            auto s = observer.readStatus();
+            return s && s->export_status.safe_to_remove == 1;
+        },
+        20))
+        << "EXPORT tap did not lead to a safe-to-remove export";
     EXPECT_TRUE(fs::exists(dir / "usb" / "scan-1" / "map.ply"));
     EXPECT_GT(fs::file_size(dir / "usb" / "scan-1" / "map.ply"), 1000u);
 

@@ -24,7 +24,9 @@ namespace fs = std::filesystem;
 
 const std::string kUi = std::string(HANDSCAN_BINARY_DIR) + "/ui/handscan-ui";
 
-std::string regionName(const std::string& tag) { return "/handscan-e2e-" + tag + "-" + std::to_string(::getpid()); }
+std::string regionName(const std::string& tag) {
+    return "/handscan-e2e-" + tag + "-" + std::to_string(::getpid());
+}
 
 std::string readText(const fs::path& p) {
     std::ifstream in(p);
@@ -38,8 +40,9 @@ protected:
     void SetUp() override {
         if (const std::string why = ensureDisplay(); !why.empty()) GTEST_SKIP() << why;
         if (!fs::exists(kUi)) GTEST_SKIP() << kUi << " not built (HANDSCAN_WITH_UI=OFF)";
-        dir_ = fs::temp_directory_path() / ("handscan-ui-e2e-" + std::to_string(::getpid()) + "-" +
-                                            ::testing::UnitTest::GetInstance()->current_test_info()->name());
+        dir_ = fs::temp_directory_path() /
+               ("handscan-ui-e2e-" + std::to_string(::getpid()) + "-" +
+                ::testing::UnitTest::GetInstance()->current_test_info()->name());
         fs::create_directories(dir_);
     }
     void TearDown() override {
@@ -139,10 +142,12 @@ TEST_F(UiScreenshot, PointsLandWhereTheProjectionSaysAndStatusMatchesTheBlock) {
     (*writer)->publishPose(pose);
 
     const fs::path png = dir_ / "out.png";
-    const ChildResult r = runChild({kUi, "--shm-name", name, "--screenshot", png.string(), "--wait-points", "5",
-                                    "--timeout", "20", "--width", "1280", "--height", "800", "--camera-eye", "0,-10,0",
-                                    "--camera-target", "0,0,0", "--fov", "60", "--point-size", "9"},
-                                   60, [&] { (*writer)->heartbeat(); });
+    const ChildResult r = runChild(
+        {kUi,   "--shm-name",   name,      "--screenshot",    png.string(), "--wait-points",
+         "5",   "--timeout",    "20",      "--width",         "1280",       "--height",
+         "800", "--camera-eye", "0,-10,0", "--camera-target", "0,0,0",      "--fov",
+         "60",  "--point-size", "9"},
+        60, [&] { (*writer)->heartbeat(); });
     ASSERT_EQ(r.exit_code, 0) << r.output;
     const cv::Mat img = cv::imread(png.string(), cv::IMREAD_COLOR);
     ASSERT_FALSE(img.empty());
@@ -152,25 +157,30 @@ TEST_F(UiScreenshot, PointsLandWhereTheProjectionSaysAndStatusMatchesTheBlock) {
 
     // The viewport the UI used (the layout: status bar on top, buttons on the right).
     std::smatch m;
-    ASSERT_TRUE(std::regex_search(json, m, std::regex(R"("viewport": \[([0-9.]+), ([0-9.]+), ([0-9.]+), ([0-9.]+)\])")))
+    ASSERT_TRUE(std::regex_search(
+        json, m, std::regex(R"("viewport": \[([0-9.]+), ([0-9.]+), ([0-9.]+), ([0-9.]+)\])")))
         << json;
-    const Projector proj{{0, -10, 0}, {0, 0, 0}, 60.0, std::stod(m[1]), std::stod(m[2]), std::stod(m[3]), std::stod(m[4])};
+    const Projector proj{{0, -10, 0},     {0, 0, 0},       60.0,           std::stod(m[1]),
+                         std::stod(m[2]), std::stod(m[3]), std::stod(m[4])};
     EXPECT_GT(proj.vw, 600);
     EXPECT_GT(proj.vh, 400);
 
     // Not blank: the status bar and the buttons drew text and shapes; the view has the points.
-    const cv::Vec3b background = img.at<cv::Vec3b>(static_cast<int>(proj.vy + proj.vh / 2) + 100, static_cast<int>(proj.vx + 40));
+    const cv::Vec3b background = img.at<cv::Vec3b>(static_cast<int>(proj.vy + proj.vh / 2) + 100,
+                                                   static_cast<int>(proj.vx + 40));
     int differing = 0;
     for (int y = 0; y < img.rows; ++y) {
-        for (int x = 0; x < img.cols; ++x) differing += cv::norm(img.at<cv::Vec3b>(y, x), background, cv::NORM_L1) > 30;
+        for (int x = 0; x < img.cols; ++x)
+            differing += cv::norm(img.at<cv::Vec3b>(y, x), background, cv::NORM_L1) > 30;
     }
     EXPECT_GT(differing, 20000) << "screenshot is (almost) blank";
 
     // Each bright point: the centroid of its colour near the predicted pixel is within a pixel.
     for (const Bright& b : bright) {
         const Eigen::Vector2d px = proj.pixel(b.p);
-        SCOPED_TRACE("point (" + std::to_string(b.p.x()) + ", " + std::to_string(b.p.z()) + ") predicted at (" +
-                     std::to_string(px.x()) + ", " + std::to_string(px.y()) + ")");
+        SCOPED_TRACE("point (" + std::to_string(b.p.x()) + ", " + std::to_string(b.p.z()) +
+                     ") predicted at (" + std::to_string(px.x()) + ", " + std::to_string(px.y()) +
+                     ")");
         double sx = 0, sy = 0;
         int n = 0;
         for (int y = static_cast<int>(px.y()) - 20; y <= static_cast<int>(px.y()) + 20; ++y) {
@@ -192,28 +202,37 @@ TEST_F(UiScreenshot, PointsLandWhereTheProjectionSaysAndStatusMatchesTheBlock) {
     }
     // Halfway between two points there is nothing.
     const Eigen::Vector2d mid = proj.pixel({1, 0, 0.5});
-    EXPECT_LT(cv::norm(img.at<cv::Vec3b>(static_cast<int>(mid.y()), static_cast<int>(mid.x())), background, cv::NORM_L1), 30);
+    EXPECT_LT(cv::norm(img.at<cv::Vec3b>(static_cast<int>(mid.y()), static_cast<int>(mid.x())),
+                       background, cv::NORM_L1),
+              30);
 
     // The status texts shown are the published block's values.
-    for (const char* expected : {
-             R"("scan_state": "SCANNING")", R"("elapsed": "02:05")", R"("distance": "12.3 m")",
-             R"("points": "1,234,567 points")", R"("storage": {"text": "free 12.0 GiB of 58.0 GiB", "health": "ok"})",
-             R"({"text": "hokuyo 40.0 Hz", "health": "ok"})", R"({"text": "xsens 200.0 Hz", "health": "ok"})",
-             R"({"text": "colour-cam LOST", "health": "error"})",
-             R"j({"text": "Sensor lost: colour-cam (/dev/video2: No such device)", "health": "error"})j",
-             R"({"text": "scan-match degenerate tx", "health": "warning"})", R"("message": "e2e test")",
-             R"("dof": ["vio", "vio", "vio", "imu", "scan", "scan"])", R"("points_drawn": 5)",
-             R"("connection": {"text": "connected", "health": "ok"})"}) {
-        EXPECT_NE(json.find(expected), std::string::npos) << "missing " << expected << " in\n" << json;
+    for (
+        const char* expected :
+        {R"("scan_state": "SCANNING")", R"("elapsed": "02:05")", R"("distance": "12.3 m")",
+         R"("points": "1,234,567 points")",
+         R"("storage": {"text": "free 12.0 GiB of 58.0 GiB", "health": "ok"})",
+         R"({"text": "hokuyo 40.0 Hz", "health": "ok"})",
+         R"({"text": "xsens 200.0 Hz", "health": "ok"})",
+         R"({"text": "colour-cam LOST", "health": "error"})",
+         R"j({"text": "Sensor lost: colour-cam (/dev/video2: No such device)", "health": "error"})j",
+         R"({"text": "scan-match degenerate tx", "health": "warning"})", R"("message": "e2e test")",
+         R"("dof": ["vio", "vio", "vio", "imu", "scan", "scan"])", R"("points_drawn": 5)",
+         R"("connection": {"text": "connected", "health": "ok"})"}) {
+        EXPECT_NE(json.find(expected), std::string::npos) << "missing " << expected << " in\n"
+                                                          << json;
     }
     EXPECT_NE(json.find("Laser degenerate along tx"), std::string::npos);
 }
 
 TEST_F(UiScreenshot, NoPipelineExitsNonZeroWithAClearMessage) {
     const fs::path png = dir_ / "none.png";
-    const ChildResult r = runChild({kUi, "--shm-name", regionName("absent"), "--screenshot", png.string(), "--timeout", "1.5"}, 30);
+    const ChildResult r = runChild(
+        {kUi, "--shm-name", regionName("absent"), "--screenshot", png.string(), "--timeout", "1.5"},
+        30);
     EXPECT_NE(r.exit_code, 0);
-    EXPECT_NE(r.output.find("no live map appeared in shared memory"), std::string::npos) << r.output;
+    EXPECT_NE(r.output.find("no live map appeared in shared memory"), std::string::npos)
+        << r.output;
     EXPECT_NE(r.output.find("waiting for pipeline"), std::string::npos) << r.output;
     EXPECT_FALSE(fs::exists(png));
 }
@@ -223,14 +242,16 @@ TEST_F(UiScreenshot, FollowsAPipelineThatRestarts) {
     // replaces it: the screenshot must show the second map only.
     const std::string name = regionName("restart");
     const fs::path png = dir_ / "restart.png";
-    ChildProcess ui({kUi, "--shm-name", name, "--screenshot", png.string(), "--wait-points", "40", "--timeout", "20",
-                     "--camera", "top-down"},
+    ChildProcess ui({kUi, "--shm-name", name, "--screenshot", png.string(), "--wait-points", "40",
+                     "--timeout", "20", "--camera", "top-down"},
                     (dir_ / "ui.log").string());
     std::this_thread::sleep_for(std::chrono::milliseconds(700));
     ASSERT_TRUE(ui.running()) << readText(dir_ / "ui.log");
     const auto grid = [](int n, float z) {
         std::vector<shm::DisplayPoint> v;
-        for (int i = 0; i < n; ++i) v.push_back({static_cast<float>(i % 8), static_cast<float>(i / 8), z, 255, 255, 255, 255});
+        for (int i = 0; i < n; ++i)
+            v.push_back(
+                {static_cast<float>(i % 8), static_cast<float>(i / 8), z, 255, 255, 255, 255});
         return v;
     };
     shm::WriterOptions wo;

@@ -41,7 +41,8 @@ void checkLine(std::string_view line) {
     if (!again || !(again->frame == rec.frame)) std::abort();
     const std::string screen = formatCandumpDefaultLine(rec);
     auto back = parseCandumpDefaultLine(screen);
-    if (back && !rec.frame.fd && back->frame.payload().size() != rec.frame.payload().size()) std::abort();
+    if (back && !rec.frame.fd && back->frame.payload().size() != rec.frame.payload().size())
+        std::abort();
 }
 
 }  // namespace
@@ -56,7 +57,8 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     std::size_t start = 0;
     while (start <= text.size()) {
         const std::size_t nl = text.find('\n', start);
-        checkLine(text.substr(start, nl == std::string_view::npos ? std::string_view::npos : nl - start));
+        checkLine(
+            text.substr(start, nl == std::string_view::npos ? std::string_view::npos : nl - start));
         if (nl == std::string_view::npos) break;
         start = nl + 1;
     }

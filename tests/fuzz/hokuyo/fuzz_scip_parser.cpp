@@ -71,7 +71,8 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     p.feed(replies, events);
     for (const auto& e : events) {
         // Echoes of garbage may not be valid echoes, but what parses must not be a fault of sums.
-        if (const auto* fault = std::get_if<ScipFault>(&e)) check(fault->code != handscan::StatusCode::kChecksumError);
+        if (const auto* fault = std::get_if<ScipFault>(&e))
+            check(fault->code != handscan::StatusCode::kChecksumError);
     }
     return 0;
 }

@@ -40,8 +40,10 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
             std::abort();
         }
         if (r->coding == FrameCoding::kPng) {
-            auto recoded = decodeFrameRecord(encodeFrameRecord(r->header, r->payload, FrameCoding::kPng));
-            if (!recoded || !std::equal(recoded->payload.begin(), recoded->payload.end(), r->payload.begin(), r->payload.end())) {
+            auto recoded =
+                decodeFrameRecord(encodeFrameRecord(r->header, r->payload, FrameCoding::kPng));
+            if (!recoded || !std::equal(recoded->payload.begin(), recoded->payload.end(),
+                                        r->payload.begin(), r->payload.end())) {
                 std::abort();
             }
         }

@@ -43,7 +43,8 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
         while (auto f = parser.next()) {
             const auto frame = encodeFrame(f->mid, f->payload, f->bus_id);
             auto again = decodeFrame(frame);
-            check(again.isOk() && again->mid == f->mid && again->payload.size() == f->payload.size());
+            check(again.isOk() && again->mid == f->mid &&
+                  again->payload.size() == f->payload.size());
             if (f->mid == toByte(MessageId::kMtData2)) {
                 auto packet = decodeMtData2(f->payload);
                 check(packet.isOk());  // the parser only hands out MTData2 whose items tile

@@ -17,11 +17,13 @@ namespace {
 
 const ScanRequest kMe{'M', ScanEncoding::kThreeCharWithIntensity, 0, 1080, 1, 0, 0, ""};
 
-// A recording's raw stream: the handshake replies, the ME acknowledgement and `n` scans 25 ms apart.
+// A recording's raw stream: the handshake replies, the ME acknowledgement and `n` scans 25 ms
+// apart.
 std::string recordedStream(int n, std::uint32_t start_ms = 16'000'000u) {
     const FakeHokuyoIdentity id;
     std::string raw = encodeReply("SCIP2.0", "0E") + encodeKeyValueReply("VV", "00", id.vv) +
-                      encodeKeyValueReply("PP", "00", id.pp) + encodeReply("BM", "00") + encodeScanAck(kMe);
+                      encodeKeyValueReply("PP", "00", id.pp) + encodeReply("BM", "00") +
+                      encodeScanAck(kMe);
     for (int k = 0; k < n; ++k) {
         ScanPayload p;
         p.timestamp_ms = (start_ms + static_cast<std::uint32_t>(k) * 25u) & 0xFFFFFFu;
@@ -90,7 +92,8 @@ TEST(HokuyoHil, CleanStreamYieldsExactlyTheRecordedScans) {
     ASSERT_TRUE(dev.stop());
     server.stop();
     const auto log = server.commandLog();
-    const std::vector<std::string> want = {"SCIP2.0", "VV", "PP", "II", "BM", "ME0000108001000", "QT"};
+    const std::vector<std::string> want = {"SCIP2.0",         "VV", "PP", "II", "BM",
+                                           "ME0000108001000", "QT"};
     EXPECT_EQ(log, want);
     const HokuyoDeviceStats st = dev.stats();
     EXPECT_EQ(st.connects, 1u);
@@ -101,7 +104,8 @@ TEST(HokuyoHil, CleanStreamYieldsExactlyTheRecordedScans) {
 
 TEST(HokuyoHil, FaultsLoseOnlyTheDamagedScans) {
     const auto source = splitScanFrames(recordedStream(200));
-    const std::size_t first_block = source[0].bytes.find('\n', source[0].bytes.find('\n', 16) + 1) + 1;
+    const std::size_t first_block =
+        source[0].bytes.find('\n', source[0].bytes.find('\n', 16) + 1) + 1;
     FakeServerOptions opt;
     opt.faults = {{FakeLinkFault::Kind::kCloseMidFrame, 50, 3000},
                   {FakeLinkFault::Kind::kCorruptByte, 100, first_block + 66 * 30 + 17},
@@ -174,7 +178,8 @@ TEST(HokuyoHil, TcpErrorsNameHostAndPort) {
     transport::TcpStream tcp("127.0.0.1", port, 500 * kNsPerMs);
     Status s = tcp.open();
     ASSERT_FALSE(s);
-    EXPECT_NE(s.message().find("127.0.0.1:" + std::to_string(port)), std::string::npos) << s.message();
+    EXPECT_NE(s.message().find("127.0.0.1:" + std::to_string(port)), std::string::npos)
+        << s.message();
     transport::TcpStream bad("no-such-host.invalid", 10940, 500 * kNsPerMs);
     Status b = bad.open();
     ASSERT_FALSE(b);

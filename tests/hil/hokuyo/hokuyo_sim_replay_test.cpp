@@ -18,7 +18,8 @@ namespace {
 // Plays recorded chunks back as a ByteStream; the host clock is the chunk's receive time.
 class RecordedChunks : public transport::ByteStream {
 public:
-    explicit RecordedChunks(std::vector<sim::StreamMessage> chunks) : chunks_(chunks.begin(), chunks.end()) {}
+    explicit RecordedChunks(std::vector<sim::StreamMessage> chunks)
+        : chunks_(chunks.begin(), chunks.end()) {}
     Status open() override {
         open_ = true;
         return Status::ok();
@@ -68,7 +69,8 @@ TEST(HokuyoSimReplay, DriverReturnsTheSimulatorsScansAtTheirTrueTimes) {
         sim::LaserScanTruth s;
         s.t_first_step = 0.05 + k * laser.scan_period_s;
         for (int i = 0; i < laser.steps; ++i) {
-            s.ranges_mm.push_back(static_cast<std::uint32_t>(i % 97 == 0 ? 1 : 300 + (i * 13 + k * 7) % 29000));
+            s.ranges_mm.push_back(
+                static_cast<std::uint32_t>(i % 97 == 0 ? 1 : 300 + (i * 13 + k * 7) % 29000));
             s.intensities.push_back(static_cast<std::uint32_t>((i + k) % 4000));
         }
         hs.scan(s, k == corrupted, chunks);
@@ -80,7 +82,8 @@ TEST(HokuyoSimReplay, DriverReturnsTheSimulatorsScansAtTheirTrueTimes) {
     // The simulator's constant part of the delay (unobservable from timestamps alone; on a real
     // rig it comes from calibration): processing after the last step plus the fixed link latency.
     dc.timing.extra_latency_ns = fromSeconds(cfg.processing_s + cfg.clock.latency_s);
-    HokuyoDevice dev(link, dc, nullptr, [&] { return link.now; }, [&](TimeNs dt) { link.now += dt; });
+    HokuyoDevice dev(
+        link, dc, nullptr, [&] { return link.now; }, [&](TimeNs dt) { link.now += dt; });
     std::vector<LaserScan> scans;
     while (!link.done()) (void)dev.poll(scans);
     ASSERT_EQ(scans.size(), static_cast<std::size_t>(n - 1));
@@ -103,13 +106,16 @@ TEST(HokuyoSimReplay, DriverReturnsTheSimulatorsScansAtTheirTrueTimes) {
             ASSERT_EQ(got.intensities[i], truth[k].intensities[i]);
         }
         if (k < 400) continue;  // 10 s to learn the clock
-        const double err = static_cast<double>(got.t_host - sim::hostNs(host_start, truth[k].t_first_step));
+        const double err =
+            static_cast<double>(got.t_host - sim::hostNs(host_start, truth[k].t_first_step));
         sum += std::abs(err);
         worst = std::max(worst, std::abs(err));
         ++counted;
     }
-    std::printf("sim replay: drift %.1f ppm (simulated %.1f), step-0 time error mean %.3f ms, max %.3f ms\n",
-                dev.clock().driftPpm(), -cfg.clock.drift_ppm, sum / counted * 1e-6, worst * 1e-6);
+    std::printf(
+        "sim replay: drift %.1f ppm (simulated %.1f), step-0 time error mean %.3f ms, max %.3f "
+        "ms\n",
+        dev.clock().driftPpm(), -cfg.clock.drift_ppm, sum / counted * 1e-6, worst * 1e-6);
     EXPECT_NEAR(dev.clock().driftPpm(), -cfg.clock.drift_ppm, 10.0);
     EXPECT_LT(sum / counted, 0.8e6);
     EXPECT_LT(worst, 1.6e6);

@@ -18,16 +18,18 @@ constexpr double kTwoPi = 2.0 * std::numbers::pi;
 
 struct Outcome {
     std::vector<EncoderSample> samples;
-    Status end;          // ok, or the fault that ended the run
+    Status end;  // ok, or the fault that ended the run
     TimeNs end_time = 0;
 };
 
 bool same(const EncoderSample& a, const EncoderSample& b) {
-    return a.t_host == b.t_host && a.raw_position == b.raw_position && a.angle_rad == b.angle_rad && a.speed_radps == b.speed_radps;
+    return a.t_host == b.t_host && a.raw_position == b.raw_position && a.angle_rad == b.angle_rad &&
+           a.speed_radps == b.speed_radps;
 }
 
 template <typename Bus>
-Outcome drive(Bus& bus, const MotorConfig& cfg, TimeNs duration, const std::function<void(TimeNs)>& at_each = {}) {
+Outcome drive(Bus& bus, const MotorConfig& cfg, TimeNs duration,
+              const std::function<void(TimeNs)>& at_each = {}) {
     Outcome o;
     MotorDevice dev(bus, cfg, [&] { return bus.now(); });
     o.end = dev.start();
@@ -101,7 +103,8 @@ TEST(MotorReplay, ARecordingReplaysToExactlyTheSameSamples) {
         auto r = parseCandumpLogLine(line);
         ASSERT_TRUE(r);
         const auto fn = classifyCobId(r->frame).function;
-        if (fn == CanOpenFunction::kSdoRequest || fn == CanOpenFunction::kNmt) recorded_requests.push_back(line);
+        if (fn == CanOpenFunction::kSdoRequest || fn == CanOpenFunction::kNmt)
+            recorded_requests.push_back(line);
     }
     std::vector<std::string> replay_requests;
     std::istringstream out(sent.str());
@@ -116,7 +119,9 @@ TEST(MotorReplay, AHeartbeatLossInTheRecordingIsTheSameFaultOnReplay) {
     std::ostringstream sent;
     const Outcome again = replay(rec.log, sent);
     ASSERT_FALSE(again.end);
-    const auto cause = [](const Status& st) { return st.message().substr(0, st.message().find(" on ")); };
+    const auto cause = [](const Status& st) {
+        return st.message().substr(0, st.message().find(" on "));
+    };
     EXPECT_EQ(cause(again.end), cause(rec.live.end));
     EXPECT_EQ(again.end.code(), rec.live.end.code());
     EXPECT_EQ(again.end_time, rec.live.end_time);

@@ -19,13 +19,16 @@ namespace {
 class ForwardingChip final : public gpio::GpioChip {
 public:
     explicit ForwardingChip(gpio::FakeGpioChip& fake) : fake_(fake) {}
-    Result<std::unique_ptr<gpio::GpioInput>> requestInput(unsigned offset, const gpio::InputRequest& r) override {
+    Result<std::unique_ptr<gpio::GpioInput>> requestInput(unsigned offset,
+                                                          const gpio::InputRequest& r) override {
         return fake_.requestInput(offset, r);
     }
-    Result<std::unique_ptr<gpio::GpioOutput>> requestOutput(unsigned offset, bool active_low, bool on) override {
+    Result<std::unique_ptr<gpio::GpioOutput>> requestOutput(unsigned offset, bool active_low,
+                                                            bool on) override {
         return fake_.requestOutput(offset, active_low, on);
     }
-    Result<std::vector<std::size_t>> waitAny(std::span<gpio::GpioInput* const> inputs, TimeNs timeout) override {
+    Result<std::vector<std::size_t>> waitAny(std::span<gpio::GpioInput* const> inputs,
+                                             TimeNs timeout) override {
         return fake_.waitAny(inputs, timeout);
     }
     TimeNs now() const override { return fake_.now(); }
@@ -38,10 +41,14 @@ private:
 class LinksWithFakeGpio final : public DeviceLinks {
 public:
     explicit LinksWithFakeGpio(gpio::FakeGpioChip& fake) : fake_(fake) {}
-    std::unique_ptr<transport::ByteStream> hokuyo(const HokuyoConfig& c) override { return linux_->hokuyo(c); }
+    std::unique_ptr<transport::ByteStream> hokuyo(const HokuyoConfig& c) override {
+        return linux_->hokuyo(c);
+    }
     Result<xsens::XsensLink> xsens(const XsensConfig& c) override { return linux_->xsens(c); }
     Result<CanLink> can(const MotorConfig& c) override { return linux_->can(c); }
-    std::unique_ptr<transport::V4l2Device> camera(const CameraConfig& c) override { return linux_->camera(c); }
+    std::unique_ptr<transport::V4l2Device> camera(const CameraConfig& c) override {
+        return linux_->camera(c);
+    }
     Result<std::unique_ptr<gpio::GpioChip>> gpioChip(const GpioConfig&) override {
         return std::unique_ptr<gpio::GpioChip>(std::make_unique<ForwardingChip>(fake_));
     }
@@ -88,13 +95,17 @@ TEST(PipelineDaemonDevices, AbsentDevicesReportedButtonsStillScan) {
         {"encoder", "hscan-absent0"},
         {"tracking-cam", "/dev/handscan-no-such-video0"},
         {"colour-cam", "/dev/handscan-no-such-video1"}};
-    auto reported = rig.waitStatus([&](const shm::StatusBlock& s) {
-        for (const auto& [name, where] : expected) {
-            const shm::SensorStatus* x = findSensor(s, name);
-            if (!x || x->connected || std::string(shm::getText(x->last_error)).find(where) == std::string::npos) return false;
-        }
-        return true;
-    }, 8.0);
+    auto reported = rig.waitStatus(
+        [&](const shm::StatusBlock& s) {
+            for (const auto& [name, where] : expected) {
+                const shm::SensorStatus* x = findSensor(s, name);
+                if (!x || x->connected ||
+                    std::string(shm::getText(x->last_error)).find(where) == std::string::npos)
+                    return false;
+            }
+            return true;
+        },
+        8.0);
     std::optional<shm::StatusBlock> last;
     rig.ui().poll();
     last = rig.ui().readStatus();
@@ -111,22 +122,34 @@ TEST(PipelineDaemonDevices, AbsentDevicesReportedButtonsStillScan) {
     EXPECT_TRUE(sensorConnected(*reported, "buttons"));
 
     // The button starts the scan, the second press stops it.
-    ASSERT_TRUE(rig.waitStatus([](const shm::StatusBlock& s) { return s.scan_state == static_cast<std::uint8_t>(shm::ScanState::kScanning); }, 6.0))
+    ASSERT_TRUE(rig.waitStatus(
+        [](const shm::StatusBlock& s) {
+            return s.scan_state == static_cast<std::uint8_t>(shm::ScanState::kScanning);
+        },
+        6.0))
         << "the scan button did not start a scan";
     EXPECT_EQ(rig.scanDirs().size(), 1u);
-    ASSERT_TRUE(rig.waitStatus([](const shm::StatusBlock& s) { return s.scan_state == static_cast<std::uint8_t>(shm::ScanState::kStopped); }, 6.0))
+    ASSERT_TRUE(rig.waitStatus(
+        [](const shm::StatusBlock& s) {
+            return s.scan_state == static_cast<std::uint8_t>(shm::ScanState::kStopped);
+        },
+        6.0))
         << "the second press did not stop the scan";
 
     // The export button takes the same path as the UI's export to USB: here, a clear failure.
-    auto exported = rig.waitStatus([](const shm::StatusBlock& s) {
-        return s.export_status.state == static_cast<std::uint8_t>(shm::ExportState::kFailed);
-    }, 6.0);
+    auto exported = rig.waitStatus(
+        [](const shm::StatusBlock& s) {
+            return s.export_status.state == static_cast<std::uint8_t>(shm::ExportState::kFailed);
+        },
+        6.0);
     ASSERT_TRUE(exported) << "the export button did not start an export";
-    EXPECT_NE(std::string(shm::getText(exported->export_status.message)).find("no USB stick"), std::string::npos)
+    EXPECT_NE(std::string(shm::getText(exported->export_status.message)).find("no USB stick"),
+              std::string::npos)
         << shm::getText(exported->export_status.message);
 
     // The daemon still answers the UI.
-    EXPECT_EQ(rig.command(shm::CommandType::kNewScan).state, static_cast<std::uint32_t>(shm::CommandState::kDone));
+    EXPECT_EQ(rig.command(shm::CommandType::kNewScan).state,
+              static_cast<std::uint32_t>(shm::CommandState::kDone));
     const Status result = running.stop();
     EXPECT_TRUE(result.isOk()) << result.message();
 

@@ -44,22 +44,28 @@ TEST(PipelineDaemonFlow, ScanStopExportNewScanSensorLostShutdown) {
     DaemonThread running(daemon);
 
     // Every device came up through its real driver; the absent GPIO chip is reported.
-    auto up = rig.waitStatus([](const shm::StatusBlock& s) {
-        return sensorConnected(s, "hokuyo") && sensorConnected(s, "xsens") && sensorConnected(s, "encoder");
-    }, 10.0);
+    auto up = rig.waitStatus(
+        [](const shm::StatusBlock& s) {
+            return sensorConnected(s, "hokuyo") && sensorConnected(s, "xsens") &&
+                   sensorConnected(s, "encoder");
+        },
+        10.0);
     ASSERT_TRUE(up) << "devices did not come up";
     const shm::SensorStatus* buttons = findSensor(*up, "buttons");
     ASSERT_NE(buttons, nullptr);
     EXPECT_FALSE(buttons->connected);
-    EXPECT_NE(shm::getText(buttons->last_error).find("handscan-test-no-such-chip"), std::string::npos)
+    EXPECT_NE(shm::getText(buttons->last_error).find("handscan-test-no-such-chip"),
+              std::string::npos)
         << shm::getText(buttons->last_error);
     EXPECT_EQ(up->scan_state, static_cast<std::uint8_t>(shm::ScanState::kIdle));
 
     // Start: poses in the ring, points in the journal.
     auto ack = rig.command(CommandType::kStartScan);
-    ASSERT_EQ(ack.state, static_cast<std::uint32_t>(CommandState::kDone)) << shm::getText(ack.message);
+    ASSERT_EQ(ack.state, static_cast<std::uint32_t>(CommandState::kDone))
+        << shm::getText(ack.message);
     const std::uint64_t poses_at_start = rig.ui().poseCount();
-    auto scanned = rig.waitStatus([](const shm::StatusBlock& s) { return s.point_count > 20000; }, 15.0);
+    auto scanned =
+        rig.waitStatus([](const shm::StatusBlock& s) { return s.point_count > 20000; }, 15.0);
     ASSERT_TRUE(scanned) << "no points registered";
     EXPECT_EQ(scanned->scan_state, static_cast<std::uint8_t>(shm::ScanState::kScanning));
     EXPECT_GT(rig.ui().poseCount(), poses_at_start + 100);  // 200 Hz poses
@@ -69,8 +75,13 @@ TEST(PipelineDaemonFlow, ScanStopExportNewScanSensorLostShutdown) {
 
     // Stop: the journal holds exactly what the status counted.
     ack = rig.command(CommandType::kStopScan);
-    ASSERT_EQ(ack.state, static_cast<std::uint32_t>(CommandState::kDone)) << shm::getText(ack.message);
-    auto stopped = rig.waitStatus([](const shm::StatusBlock& s) { return s.scan_state == static_cast<std::uint8_t>(shm::ScanState::kStopped); }, 2.0);
+    ASSERT_EQ(ack.state, static_cast<std::uint32_t>(CommandState::kDone))
+        << shm::getText(ack.message);
+    auto stopped = rig.waitStatus(
+        [](const shm::StatusBlock& s) {
+            return s.scan_state == static_cast<std::uint8_t>(shm::ScanState::kStopped);
+        },
+        2.0);
     ASSERT_TRUE(stopped);
     ASSERT_EQ(rig.scanDirs().size(), 1u);
     const fs::path journal = rig.scanDirs()[0] / "journal.hsj";
@@ -87,11 +98,14 @@ TEST(PipelineDaemonFlow, ScanStopExportNewScanSensorLostShutdown) {
     const fs::path target = rig.dir() / "export";
     fs::create_directories(target);
     ack = rig.command(CommandType::kExport, target.string(), &seen);
-    ASSERT_EQ(ack.state, static_cast<std::uint32_t>(CommandState::kDone)) << shm::getText(ack.message);
+    ASSERT_EQ(ack.state, static_cast<std::uint32_t>(CommandState::kDone))
+        << shm::getText(ack.message);
     EXPECT_NE(std::find(seen.begin(), seen.end(), CommandState::kInProgress), seen.end());
-    auto exported = rig.waitStatus([](const shm::StatusBlock& s) {
-        return s.export_status.state == static_cast<std::uint8_t>(shm::ExportState::kDone);
-    }, 2.0);
+    auto exported = rig.waitStatus(
+        [](const shm::StatusBlock& s) {
+            return s.export_status.state == static_cast<std::uint8_t>(shm::ExportState::kDone);
+        },
+        2.0);
     ASSERT_TRUE(exported);
     EXPECT_EQ(exported->export_status.safe_to_remove, 1);
     std::vector<fs::path> plys, lases;
@@ -106,7 +120,8 @@ TEST(PipelineDaemonFlow, ScanStopExportNewScanSensorLostShutdown) {
     // "Export to USB" without a stick: refused with a clear reason, the journal untouched.
     ack = rig.command(CommandType::kExport, "usb");
     EXPECT_EQ(ack.state, static_cast<std::uint32_t>(CommandState::kFailed));
-    EXPECT_NE(std::string(shm::getText(ack.message)).find("USB"), std::string::npos) << shm::getText(ack.message);
+    EXPECT_NE(std::string(shm::getText(ack.message)).find("USB"), std::string::npos)
+        << shm::getText(ack.message);
 
     // New scan: the display map's epoch changes, the next start journals into a new directory.
     shm::MapCursor cursor;
@@ -114,29 +129,39 @@ TEST(PipelineDaemonFlow, ScanStopExportNewScanSensorLostShutdown) {
     ASSERT_TRUE(rig.ui().readMap(cursor, delta));
     EXPECT_GT(delta.points.size(), 100u);
     ack = rig.command(CommandType::kNewScan);
-    ASSERT_EQ(ack.state, static_cast<std::uint32_t>(CommandState::kDone)) << shm::getText(ack.message);
+    ASSERT_EQ(ack.state, static_cast<std::uint32_t>(CommandState::kDone))
+        << shm::getText(ack.message);
     ASSERT_TRUE(rig.ui().readMap(cursor, delta));
     EXPECT_TRUE(delta.reset);
     ack = rig.command(CommandType::kStartScan);
-    ASSERT_EQ(ack.state, static_cast<std::uint32_t>(CommandState::kDone)) << shm::getText(ack.message);
+    ASSERT_EQ(ack.state, static_cast<std::uint32_t>(CommandState::kDone))
+        << shm::getText(ack.message);
     EXPECT_EQ(rig.scanDirs().size(), 2u);
-    EXPECT_EQ(rig.command(CommandType::kExport, target.string()).state, static_cast<std::uint32_t>(CommandState::kRejected));
+    EXPECT_EQ(rig.command(CommandType::kExport, target.string()).state,
+              static_cast<std::uint32_t>(CommandState::kRejected));
 
     // The laser dies mid-scan: reported lost, the daemon and the IMU poses go on.
     ASSERT_TRUE(rig.waitStatus([](const shm::StatusBlock& s) { return s.point_count > 0; }, 10.0));
     rig.killHokuyo();
-    auto lost = rig.waitStatus([](const shm::StatusBlock& s) { return !sensorConnected(s, "hokuyo"); }, 6.0);
+    auto lost = rig.waitStatus(
+        [](const shm::StatusBlock& s) { return !sensorConnected(s, "hokuyo"); }, 6.0);
     ASSERT_TRUE(lost) << "the dead laser is not reported";
     const shm::SensorStatus* h = findSensor(*lost, "hokuyo");
     ASSERT_NE(h, nullptr);
     const std::uint64_t poses_after_loss = rig.ui().poseCount();
-    auto still = rig.waitStatus([](const shm::StatusBlock& s) { return !std::string(shm::getText(findSensor(s, "hokuyo")->last_error)).empty(); }, 5.0);
+    auto still = rig.waitStatus(
+        [](const shm::StatusBlock& s) {
+            return !std::string(shm::getText(findSensor(s, "hokuyo")->last_error)).empty();
+        },
+        5.0);
     ASSERT_TRUE(still);
-    EXPECT_NE(std::string(shm::getText(findSensor(*still, "hokuyo")->last_error)).find("127.0.0.1"), std::string::npos)
+    EXPECT_NE(std::string(shm::getText(findSensor(*still, "hokuyo")->last_error)).find("127.0.0.1"),
+              std::string::npos)
         << shm::getText(findSensor(*still, "hokuyo")->last_error);
     EXPECT_TRUE(sensorConnected(*still, "xsens"));
     EXPECT_EQ(still->scan_state, static_cast<std::uint8_t>(shm::ScanState::kScanning));
-    EXPECT_TRUE(rig.waitStatus([&](const shm::StatusBlock&) { return rig.ui().poseCount() > poses_after_loss + 50; }, 3.0))
+    EXPECT_TRUE(rig.waitStatus(
+        [&](const shm::StatusBlock&) { return rig.ui().poseCount() > poses_after_loss + 50; }, 3.0))
         << "poses stopped with the laser";
 
     // Shutdown: acknowledged, the daemon ends cleanly, both journals are finished and intact.

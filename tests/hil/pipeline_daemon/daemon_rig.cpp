@@ -21,11 +21,13 @@ std::vector<SourceScanFrame> roomScans() {
     const ScanRequest me{'M', ScanEncoding::kThreeCharWithIntensity, 0, 1080, 1, 0, 0, ""};
     const FakeHokuyoIdentity id;
     std::string raw = encodeReply("SCIP2.0", "0E") + encodeKeyValueReply("VV", "00", id.vv) +
-                      encodeKeyValueReply("PP", "00", id.pp) + encodeReply("BM", "00") + encodeScanAck(me);
+                      encodeKeyValueReply("PP", "00", id.pp) + encodeReply("BM", "00") +
+                      encodeScanAck(me);
     ScanPayload p;
     for (int i = 0; i <= 1080; ++i) {
         const double a = (i - 540) * 2.0 * std::numbers::pi / 1440.0;
-        const double r = std::min(3.0 / std::max(1e-6, std::abs(std::cos(a))), 2.0 / std::max(1e-6, std::abs(std::sin(a))));
+        const double r = std::min(3.0 / std::max(1e-6, std::abs(std::cos(a))),
+                                  2.0 / std::max(1e-6, std::abs(std::sin(a))));
         p.ranges.push_back(static_cast<std::uint32_t>(std::lround(std::min(r, 30.0) * 1000.0)));
         p.intensities.push_back(static_cast<std::uint32_t>(1000 + (i % 7) * 300));
     }
@@ -63,24 +65,30 @@ DaemonRig::DaemonRig(const std::string& name, RigDevices devices) {
         xsens_path = pty_->slavePath();
     }
     const auto camera = [](const std::string& device, int w, int h, const char* format) {
-        return "  enabled: " + std::string(device.empty() ? "false" : "true") + "\n  device: " + (device.empty() ? "/dev/null" : device) +
-               "\n  width: " + std::to_string(w) + "\n  height: " + std::to_string(h) + "\n  fps: 10\n  format: " + format +
-               "\n  exposure_ms: 5.0\n";
+        return "  enabled: " + std::string(device.empty() ? "false" : "true") +
+               "\n  device: " + (device.empty() ? "/dev/null" : device) +
+               "\n  width: " + std::to_string(w) + "\n  height: " + std::to_string(h) +
+               "\n  fps: 10\n  format: " + format + "\n  exposure_ms: 5.0\n";
     };
     device_yaml_ = (dir_ / "device.yaml").string();
     std::ofstream y(device_yaml_);
     y << "hokuyo:\n  host: 127.0.0.1\n  port: " << hokuyo_port
       << "\n  connect_timeout_s: 0.5\n  reconnect_max_backoff_s: 0.5\n  frame_latency_ms: 1.2\n"
-      << "xsens:\n  transport: serial\n  serial_path: " << xsens_path << "\n  baud: 921600\n  rate_hz: 200\n  delta_q_v: false\n"
+      << "xsens:\n  transport: serial\n  serial_path: " << xsens_path
+      << "\n  baud: 921600\n  rate_hz: 200\n  delta_q_v: false\n"
       << "motor:\n  can_interface: " << devices.can_interface
-      << "\n  encoder_node_id: 1\n  drive_node_id: 2\n  encoder_counts_per_rev: 16384\n  tpdo_period_ms: 5\n"
+      << "\n  encoder_node_id: 1\n  drive_node_id: 2\n  encoder_counts_per_rev: 16384\n  "
+         "tpdo_period_ms: 5\n"
       << "  heartbeat_timeout_s: 0.5\n  target_speed_rev_s: 1.0\n  sweep_boundary: half\n"
-      << "tracking_camera:\n" << camera(devices.tracking_camera, 640, 512, "GREY")
-      << "colour_camera:\n" << camera(devices.colour_camera, 1600, 1200, "YUYV")
-      << "gpio:\n  chip: handscan-test-no-such-chip\n  start_button_line: 17\n  export_button_line: 27\n  led_ready_line: 5\n"
-      << "  led_scanning_line: 6\n  led_fault_line: 13\n  led_exporting_line: 19\n  debounce_ms: 20\n"
-      << "storage:\n  journal_dir: " << journalDir().string() << "\n  recording_dir: " << (dir_ / "rec").string()
-      << "\n  min_free_gib: 0.0\n";
+      << "tracking_camera:\n"
+      << camera(devices.tracking_camera, 640, 512, "GREY") << "colour_camera:\n"
+      << camera(devices.colour_camera, 1600, 1200, "YUYV")
+      << "gpio:\n  chip: handscan-test-no-such-chip\n  start_button_line: 17\n  "
+         "export_button_line: 27\n  led_ready_line: 5\n"
+      << "  led_scanning_line: 6\n  led_fault_line: 13\n  led_exporting_line: 19\n  debounce_ms: "
+         "20\n"
+      << "storage:\n  journal_dir: " << journalDir().string()
+      << "\n  recording_dir: " << (dir_ / "rec").string() << "\n  min_free_gib: 0.0\n";
     shm::ReaderOptions ro;
     ro.name = shm_name_;
     reader_ = std::make_unique<shm::LiveMapReader>(ro);
@@ -94,13 +102,16 @@ DaemonRig::~DaemonRig() {
     fs::remove_all(dir_, ec);
 }
 
-std::string DaemonRig::calibrationYaml() { return std::string(HANDSCAN_SOURCE_DIR) + "/config/calibration.yaml"; }
+std::string DaemonRig::calibrationYaml() {
+    return std::string(HANDSCAN_SOURCE_DIR) + "/config/calibration.yaml";
+}
 
 void DaemonRig::killHokuyo() {
     if (hokuyo_) hokuyo_->stop();
 }
 
-shm::CommandAck DaemonRig::command(shm::CommandType type, const std::string& argument, std::vector<shm::CommandState>* seen) {
+shm::CommandAck DaemonRig::command(shm::CommandType type, const std::string& argument,
+                                   std::vector<shm::CommandState>* seen) {
     shm::CommandAck last;
     reader_->poll();
     auto seq = reader_->sendCommand(type, argument);
@@ -116,7 +127,9 @@ shm::CommandAck DaemonRig::command(shm::CommandType type, const std::string& arg
             last = *r;
             const auto s = static_cast<shm::CommandState>(r->state);
             if (seen && (seen->empty() || seen->back() != s)) seen->push_back(s);
-            if (s != shm::CommandState::kPending && s != shm::CommandState::kAccepted && s != shm::CommandState::kInProgress) return last;
+            if (s != shm::CommandState::kPending && s != shm::CommandState::kAccepted &&
+                s != shm::CommandState::kInProgress)
+                return last;
         }
         std::this_thread::sleep_for(std::chrono::milliseconds(5));
     }
@@ -124,8 +137,10 @@ shm::CommandAck DaemonRig::command(shm::CommandType type, const std::string& arg
     return last;
 }
 
-std::optional<shm::StatusBlock> DaemonRig::waitStatus(const std::function<bool(const shm::StatusBlock&)>& pred, double timeout_s) {
-    const auto deadline = std::chrono::steady_clock::now() + std::chrono::duration<double>(timeout_s);
+std::optional<shm::StatusBlock> DaemonRig::waitStatus(
+    const std::function<bool(const shm::StatusBlock&)>& pred, double timeout_s) {
+    const auto deadline =
+        std::chrono::steady_clock::now() + std::chrono::duration<double>(timeout_s);
     std::optional<shm::StatusBlock> last;
     while (std::chrono::steady_clock::now() < deadline) {
         reader_->poll();

@@ -26,8 +26,8 @@ struct RigDevices {
     bool hokuyo = true;
     bool xsens = true;
     std::string can_interface = "emulated";
-    std::string tracking_camera;   // empty: disabled
-    std::string colour_camera;     // empty: disabled
+    std::string tracking_camera;  // empty: disabled
+    std::string colour_camera;    // empty: disabled
 };
 
 class DaemonRig {
@@ -47,9 +47,11 @@ public:
     // The UI's side.
     shm::LiveMapReader& ui() { return *reader_; }
     // Sends a command and waits for its final answer (collecting every ack state seen).
-    shm::CommandAck command(shm::CommandType type, const std::string& argument = {}, std::vector<shm::CommandState>* seen = nullptr);
+    shm::CommandAck command(shm::CommandType type, const std::string& argument = {},
+                            std::vector<shm::CommandState>* seen = nullptr);
     // Polls the status block until `pred` holds (or `timeout_s` passes).
-    std::optional<shm::StatusBlock> waitStatus(const std::function<bool(const shm::StatusBlock&)>& pred, double timeout_s);
+    std::optional<shm::StatusBlock> waitStatus(
+        const std::function<bool(const shm::StatusBlock&)>& pred, double timeout_s);
     // The scan directories in the journal directory, sorted.
     std::vector<fs::path> scanDirs() const;
 
@@ -67,7 +69,8 @@ private:
 // out of scope, also when an assertion ends the test early.
 class DaemonThread {
 public:
-    explicit DaemonThread(PipelineDaemon& daemon) : thread_([this, &daemon] { result_ = daemon.run(stop_); }) {}
+    explicit DaemonThread(PipelineDaemon& daemon)
+        : thread_([this, &daemon] { result_ = daemon.run(stop_); }) {}
     ~DaemonThread() { (void)stop(); }
     // Requests the clean shutdown and waits for it; the result of run().
     Status stop() {

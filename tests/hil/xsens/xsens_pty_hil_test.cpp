@@ -15,14 +15,16 @@ namespace handscan::xsens {
 namespace {
 
 struct PtyRig {
-    PtyRig(FakeXsensConfig fc, FakeXsensFaults faults, PtyXsensOptions options) : fake(fc, std::move(faults)) {
+    PtyRig(FakeXsensConfig fc, FakeXsensFaults faults, PtyXsensOptions options)
+        : fake(fc, std::move(faults)) {
         try {
             pty = std::make_unique<PtyXsens>(fake, options);
         } catch (const std::exception& e) {
             skip_reason = e.what();
             return;
         }
-        serial = std::make_unique<transport::SerialStream>(transport::SerialConfig{pty->slavePath(), 921600});
+        serial = std::make_unique<transport::SerialStream>(
+            transport::SerialConfig{pty->slavePath(), 921600});
         host = std::make_unique<PtyXsensHostStream>(*serial, *pty);
         device = std::make_unique<XsensDevice>(*host, deviceConfig());
     }
@@ -52,7 +54,10 @@ struct PtyRig {
             const std::size_t before = out.size();
             const std::uint64_t bytes_before = device->stats().bytes;
             ASSERT_TRUE(device->poll(out, 30 * kNsPerMs).isOk());
-            quiet = (pty->drained() && out.size() == before && device->stats().bytes == bytes_before) ? quiet + 1 : 0;
+            quiet =
+                (pty->drained() && out.size() == before && device->stats().bytes == bytes_before)
+                    ? quiet + 1
+                    : 0;
         }
     }
     // The packets of the current measurement period that reached the wire undamaged.
@@ -77,7 +82,8 @@ struct PtyRig {
     std::string skip_reason;
 };
 
-void expectExactly(const std::vector<ImuSample>& samples, const std::vector<StreamedPacket>& truth) {
+void expectExactly(const std::vector<ImuSample>& samples,
+                   const std::vector<StreamedPacket>& truth) {
     ASSERT_EQ(samples.size(), truth.size());
     for (std::size_t i = 0; i < samples.size(); ++i) {
         SCOPED_TRACE("sample " + std::to_string(i));
@@ -163,7 +169,8 @@ TEST(XsensPtyHil, FaultsAreReportedAndCostOnlyTheDamagedPackets) {
     std::string all;
     for (const auto& p : rig.device->problems()) all += p + "\n";
     EXPECT_NE(all.find("DataOverflow"), std::string::npos) << all;
-    EXPECT_NE(all.find("setting the outputs: device answered SetOutputConfiguration with Error"), std::string::npos)
+    EXPECT_NE(all.find("setting the outputs: device answered SetOutputConfiguration with Error"),
+              std::string::npos)
         << all;
     EXPECT_NE(all.find("packet counter jumped"), std::string::npos) << all;
 }

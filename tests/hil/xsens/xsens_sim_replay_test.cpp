@@ -30,8 +30,10 @@ TEST_P(XsensSimReplay, SamplesAreExactlyWhatTheSimulatorSent) {
     for (std::int64_t k = 0; k < 1000; ++k) {
         sim::ImuMeasurement m;
         m.t = stream.sampleTime(k);
-        m.accel = {0.4 * std::sin(3.0 * m.t), -0.3 * std::cos(2.0 * m.t), 9.81 + 0.1 * std::sin(m.t)};
-        m.gyro = {2.0 * std::sin(1.3 * m.t), -6.4 * std::cos(0.7 * m.t), 0.01 * m.t};  // up to 370 deg/s
+        m.accel = {0.4 * std::sin(3.0 * m.t), -0.3 * std::cos(2.0 * m.t),
+                   9.81 + 0.1 * std::sin(m.t)};
+        m.gyro = {2.0 * std::sin(1.3 * m.t), -6.4 * std::cos(0.7 * m.t),
+                  0.01 * m.t};  // up to 370 deg/s
         stream.sample(k, m, dropped.count(k) != 0, msgs);
         if (dropped.count(k) == 0) sent.emplace_back(k, m);
     }

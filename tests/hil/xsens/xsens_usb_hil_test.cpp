@@ -30,7 +30,8 @@ TEST(XsensUsbHil, OpensTheMtiDetachesTheKernelDriverAndStreams) {
     ASSERT_TRUE(s.isOk()) << s.message();
     const std::vector<std::string> first{"init", "list", "open 1:7", "detach 1", "claim 1"};
     ASSERT_GE(rig.layer->calls.size(), first.size());
-    EXPECT_EQ(std::vector<std::string>(rig.layer->calls.begin(), rig.layer->calls.begin() + 5), first);
+    EXPECT_EQ(std::vector<std::string>(rig.layer->calls.begin(), rig.layer->calls.begin() + 5),
+              first);
     EXPECT_EQ(rig.stream->describe(), "usb 2639:* (bus 1 address 7)");
     EXPECT_EQ(rig.fake.rateHz(), 200);
     std::vector<ImuSample> samples;

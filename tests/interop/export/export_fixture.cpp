@@ -29,16 +29,22 @@ int main(int argc, char** argv) {
     exporter::Bounds bounds;
     std::vector<journal::MapPoint> pts;
     for (std::size_t i = 0; i < n; ++i) {
-        journal::MapPoint p{1000.0 + i * 1e-4, pos(rng), pos(rng) * 0.5f, pos(rng) * 0.1f,
-                            static_cast<std::uint8_t>(col(rng)), static_cast<std::uint8_t>(col(rng)),
-                            static_cast<std::uint8_t>(col(rng)), static_cast<std::uint16_t>(i % 4096)};
+        journal::MapPoint p{1000.0 + i * 1e-4,
+                            pos(rng),
+                            pos(rng) * 0.5f,
+                            pos(rng) * 0.1f,
+                            static_cast<std::uint8_t>(col(rng)),
+                            static_cast<std::uint8_t>(col(rng)),
+                            static_cast<std::uint8_t>(col(rng)),
+                            static_cast<std::uint16_t>(i % 4096)};
         sum_r += p.r;
         sum_g += p.g;
         sum_b += p.b;
         bounds.add(p.x, p.y, p.z);
         pts.push_back(p);
     }
-    if (!(*writer)->appendPoints(pts).isOk() || !(*writer)->appendPose({1000.0, 0, 0, 0, 0, 0, 0, 1}).isOk() ||
+    if (!(*writer)->appendPoints(pts).isOk() ||
+        !(*writer)->appendPose({1000.0, 0, 0, 0, 0, 0, 0, 1}).isOk() ||
         !(*writer)->finish().isOk()) {
         return 1;
     }
@@ -49,9 +55,10 @@ int main(int argc, char** argv) {
     if (!report.isOk()) return std::fprintf(stderr, "%s\n", report.status().message().c_str()), 1;
     std::ofstream js(out / "expected.json");
     js.precision(9);
-    js << "{\"count\": " << n << ", \"min\": [" << bounds.min[0] << ", " << bounds.min[1] << ", " << bounds.min[2]
-       << "], \"max\": [" << bounds.max[0] << ", " << bounds.max[1] << ", " << bounds.max[2] << "], \"sum_rgb\": [" << sum_r
-       << ", " << sum_g << ", " << sum_b << "], \"first_rgb\": [" << int(pts[0].r) << ", " << int(pts[0].g) << ", "
-       << int(pts[0].b) << "], \"dir\": \"" << report->directory << "\"}\n";
+    js << "{\"count\": " << n << ", \"min\": [" << bounds.min[0] << ", " << bounds.min[1] << ", "
+       << bounds.min[2] << "], \"max\": [" << bounds.max[0] << ", " << bounds.max[1] << ", "
+       << bounds.max[2] << "], \"sum_rgb\": [" << sum_r << ", " << sum_g << ", " << sum_b
+       << "], \"first_rgb\": [" << int(pts[0].r) << ", " << int(pts[0].g) << ", " << int(pts[0].b)
+       << "], \"dir\": \"" << report->directory << "\"}\n";
     return 0;
 }

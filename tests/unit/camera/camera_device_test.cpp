@@ -1,4 +1,6 @@
 // The V4L2 ioctl sequence and buffer handling against the fake device layer.
+#include "handscan/camera/camera_device.hpp"
+
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -6,7 +8,6 @@
 #include <condition_variable>
 #include <mutex>
 
-#include "handscan/camera/camera_device.hpp"
 #include "handscan/camera/frame_record.hpp"
 #include "handscan/camera/replay_v4l2_device.hpp"
 
@@ -33,7 +34,9 @@ std::vector<std::uint8_t> greyFrame(std::uint8_t seed) {
     return p;
 }
 
-FrameRecordHeader header(std::uint32_t seq, TimeNs t, std::uint32_t flags = kV4l2BufFlagTimestampMonotonic | kV4l2BufFlagTstampSrcSoe) {
+FrameRecordHeader header(std::uint32_t seq, TimeNs t,
+                         std::uint32_t flags = kV4l2BufFlagTimestampMonotonic |
+                                               kV4l2BufFlagTstampSrcSoe) {
     FrameRecordHeader h;
     h.sequence = seq;
     h.flags = flags;
@@ -66,12 +69,32 @@ TEST(CameraDevice, RunsTheV4l2StreamingSequence) {
     ASSERT_TRUE(img->has_value());
     ASSERT_TRUE(cam.stop());
     const std::vector<std::string> expected = {
-        "open", "QUERYCAP", "S_FMT 8x4 GREY", "S_PARM 1/60",
-        "S_CTRL 0x009A0901 1", "S_CTRL 0x009A0902 50",  // manual exposure, 50 x 100 us
-        "REQBUFS 4", "QUERYBUF 0", "mmap 0 64", "QUERYBUF 1", "mmap 4096 64", "QUERYBUF 2", "mmap 8192 64",
-        "QBUF 0", "QBUF 1", "QBUF 2", "STREAMON",
-        "poll", "DQBUF", "QBUF 0",
-        "STREAMOFF", "munmap", "munmap", "munmap", "REQBUFS 0", "close"};
+        "open",
+        "QUERYCAP",
+        "S_FMT 8x4 GREY",
+        "S_PARM 1/60",
+        "S_CTRL 0x009A0901 1",
+        "S_CTRL 0x009A0902 50",  // manual exposure, 50 x 100 us
+        "REQBUFS 4",
+        "QUERYBUF 0",
+        "mmap 0 64",
+        "QUERYBUF 1",
+        "mmap 4096 64",
+        "QUERYBUF 2",
+        "mmap 8192 64",
+        "QBUF 0",
+        "QBUF 1",
+        "QBUF 2",
+        "STREAMON",
+        "poll",
+        "DQBUF",
+        "QBUF 0",
+        "STREAMOFF",
+        "munmap",
+        "munmap",
+        "munmap",
+        "REQBUFS 0",
+        "close"};
     EXPECT_EQ(dev.calls(), expected);
     EXPECT_TRUE(dev.violations().empty()) << dev.violations().front();
 }
@@ -96,7 +119,9 @@ TEST(CameraDevice, FallsBackThroughTheFormatPreferences) {
     Status s = cam2.start();
     ASSERT_FALSE(s);
     EXPECT_EQ(s.code(), StatusCode::kUnsupported);
-    EXPECT_NE(s.message().find("offers none of GREY, YUYV, MJPG at 8x4 (driver answered RGB3)"), std::string::npos) << s.message();
+    EXPECT_NE(s.message().find("offers none of GREY, YUYV, MJPG at 8x4 (driver answered RGB3)"),
+              std::string::npos)
+        << s.message();
     EXPECT_EQ(dev2.calls().back(), "close");
     EXPECT_TRUE(dev2.violations().empty());
 }
@@ -116,7 +141,8 @@ TEST(CameraDevice, CountsDroppedFramesAndSkipsErrorBuffers) {
     dev.addFrame(header(5, 1 * kNsPerSec), greyFrame(1));
     dev.addFrame(header(6, 2 * kNsPerSec), greyFrame(2));
     dev.addFrame(header(9, 3 * kNsPerSec), greyFrame(3));  // 7, 8 dropped
-    dev.addFrame(header(10, 4 * kNsPerSec, kV4l2BufFlagTimestampMonotonic | kV4l2BufFlagError), greyFrame(4));
+    dev.addFrame(header(10, 4 * kNsPerSec, kV4l2BufFlagTimestampMonotonic | kV4l2BufFlagError),
+                 greyFrame(4));
     dev.addFrame(header(11, 5 * kNsPerSec), std::vector<std::uint8_t>(20));  // short payload
     dev.addFrame(header(12, 6 * kNsPerSec), greyFrame(6));
     CameraConfig cfg;
@@ -140,7 +166,9 @@ TEST(CameraDevice, CountsDroppedFramesAndSkipsErrorBuffers) {
 TEST(CameraDevice, ShiftsTimestampsToMidExposure) {
     ReplayV4l2Device dev(greyCamera());
     dev.addFrame(header(0, 10 * kNsPerSec), greyFrame(0));  // SOE, auto exposure reports 2000 us
-    dev.addFrame(header(1, 11 * kNsPerSec, kV4l2BufFlagTimestampMonotonic | kV4l2BufFlagTstampSrcEof), greyFrame(1));
+    dev.addFrame(
+        header(1, 11 * kNsPerSec, kV4l2BufFlagTimestampMonotonic | kV4l2BufFlagTstampSrcEof),
+        greyFrame(1));
     dev.addFrame(header(2, 12 * kNsPerSec, kV4l2BufFlagTimestampCopy), greyFrame(2));
     CameraConfig cfg;
     cfg.width = 8;
@@ -183,11 +211,14 @@ TEST(CameraDevice, ReportsAnUnpluggedCamera) {
 
 TEST(CameraDevice, TapsEachBufferAsAFrameRecordThatReplaysIdentically) {
     struct Tap : RawTap {
-        void onRaw(TimeNs, std::span<const std::uint8_t> b) override { bytes.insert(bytes.end(), b.begin(), b.end()); }
+        void onRaw(TimeNs, std::span<const std::uint8_t> b) override {
+            bytes.insert(bytes.end(), b.begin(), b.end());
+        }
         std::vector<std::uint8_t> bytes;
     } tap;
     ReplayV4l2Device live(greyCamera());
-    for (std::uint32_t i = 0; i < 5; ++i) live.addFrame(header(i * 2, (i + 1) * kNsPerSec), greyFrame(static_cast<std::uint8_t>(i)));
+    for (std::uint32_t i = 0; i < 5; ++i)
+        live.addFrame(header(i * 2, (i + 1) * kNsPerSec), greyFrame(static_cast<std::uint8_t>(i)));
     CameraConfig cfg;
     cfg.width = 8;
     cfg.height = 4;
@@ -253,7 +284,8 @@ TEST(CameraDevice, ASlowRecordingTapDoesNotHoldUpCapture) {
         std::vector<std::vector<std::uint8_t>> records;
     } tap;
     ReplayV4l2Device live(greyCamera());
-    for (std::uint32_t i = 0; i < 8; ++i) live.addFrame(header(i, (i + 1) * kNsPerSec), greyFrame(static_cast<std::uint8_t>(i)));
+    for (std::uint32_t i = 0; i < 8; ++i)
+        live.addFrame(header(i, (i + 1) * kNsPerSec), greyFrame(static_cast<std::uint8_t>(i)));
     CameraConfig cfg;
     cfg.width = 8;
     cfg.height = 4;
@@ -277,7 +309,8 @@ TEST(CameraDevice, ASlowRecordingTapDoesNotHoldUpCapture) {
         ASSERT_TRUE(rec) << rec.status().message();
         EXPECT_EQ(rec->header.sequence, i);
         EXPECT_EQ(rec->header.t_host_ns, grabbed[i].t_host);
-        EXPECT_TRUE(std::equal(rec->payload.begin(), rec->payload.end(), grabbed[i].data.begin(), grabbed[i].data.end()));
+        EXPECT_TRUE(std::equal(rec->payload.begin(), rec->payload.end(), grabbed[i].data.begin(),
+                               grabbed[i].data.end()));
         if (i > 0) {
             EXPECT_GT(tap.times[i], tap.times[i - 1]);
         }

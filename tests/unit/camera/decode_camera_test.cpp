@@ -14,7 +14,8 @@ namespace handscan::camera {
 namespace {
 
 std::vector<std::string> run(const std::string& args) {
-    const std::string cmd = std::string(HANDSCAN_BINARY_DIR) + "/firmware/cli/handscan decode " + args + " 2>/dev/null";
+    const std::string cmd =
+        std::string(HANDSCAN_BINARY_DIR) + "/firmware/cli/handscan decode " + args + " 2>/dev/null";
     std::vector<std::string> lines;
     FILE* p = popen(cmd.c_str(), "r");
     if (p == nullptr) return lines;
@@ -41,23 +42,34 @@ TEST(DecodeCamera, PrintsEachFrameAndResyncsAfterDamage) {
         h.sequence = seq;
         h.timestamp_ns = 1000 * (seq + 1);
         h.t_host_ns = h.timestamp_ns + 500'000;
-        const auto rec = encodeFrameRecord(h, std::vector<std::uint8_t>(8, static_cast<std::uint8_t>(50 * seq)));
+        const auto rec =
+            encodeFrameRecord(h, std::vector<std::uint8_t>(8, static_cast<std::uint8_t>(50 * seq)));
         file.insert(file.end(), rec.begin(), rec.end());
         if (seq == 1) file.insert(file.end(), {'j', 'u', 'n', 'k'});
     }
-    const auto path = std::filesystem::temp_directory_path() / ("decode_camera_test_" + std::to_string(::getpid()) + ".bin");
-    std::ofstream(path, std::ios::binary).write(reinterpret_cast<const char*>(file.data()), static_cast<std::streamsize>(file.size()));
+    const auto path = std::filesystem::temp_directory_path() /
+                      ("decode_camera_test_" + std::to_string(::getpid()) + ".bin");
+    std::ofstream(path, std::ios::binary)
+        .write(reinterpret_cast<const char*>(file.data()),
+               static_cast<std::streamsize>(file.size()));
     const auto out = run("--device camera " + path.string());
     std::filesystem::remove(path);
     ASSERT_EQ(out.size(), 5u);
     EXPECT_EQ(out[0],
-              "{\"t_host_ns\":null,\"sequence\":0,\"timestamp_ns\":1000,\"timestamp_clock\":\"monotonic\",\"timestamp_source\":"
-              "\"start_of_exposure\",\"error_flag\":false,\"flags\":73728,\"format\":\"GREY\",\"width\":4,\"height\":2,\"stride\":4,"
-              "\"bytesused\":8,\"coding\":\"raw\",\"stored_bytes\":8,\"exposure_us\":1000,\"t_mid_exposure_ns\":501000,\"mean_grey\":0}");
-    EXPECT_NE(out[2].find("\"error\":\"camera frame record: magic is not 'HSVF'\""), std::string::npos) << out[2];
+              "{\"t_host_ns\":null,\"sequence\":0,\"timestamp_ns\":1000,\"timestamp_clock\":"
+              "\"monotonic\",\"timestamp_source\":"
+              "\"start_of_exposure\",\"error_flag\":false,\"flags\":73728,\"format\":\"GREY\","
+              "\"width\":4,\"height\":2,\"stride\":4,"
+              "\"bytesused\":8,\"coding\":\"raw\",\"stored_bytes\":8,\"exposure_us\":1000,\"t_mid_"
+              "exposure_ns\":501000,\"mean_grey\":0}");
+    EXPECT_NE(out[2].find("\"error\":\"camera frame record: magic is not 'HSVF'\""),
+              std::string::npos)
+        << out[2];
     EXPECT_NE(out[3].find("\"sequence\":3"), std::string::npos);
     EXPECT_NE(out[3].find("\"mean_grey\":150"), std::string::npos) << out[3];
-    EXPECT_EQ(out[4], "{\"summary\":{\"device\":\"camera\",\"messages\":3,\"checksum_failures\":0,\"resyncs\":1,\"gaps\":1}}");
+    EXPECT_EQ(out[4],
+              "{\"summary\":{\"device\":\"camera\",\"messages\":3,\"checksum_failures\":0,"
+              "\"resyncs\":1,\"gaps\":1}}");
 }
 
 }  // namespace

@@ -1,9 +1,10 @@
+#include "handscan/camera/frame_record.hpp"
+
 #include <gtest/gtest.h>
 
 #include <algorithm>
 #include <random>
 
-#include "handscan/camera/frame_record.hpp"
 #include "handscan/camera/png_payload.hpp"
 #include "handscan/transport/v4l2_device.hpp"
 
@@ -84,7 +85,8 @@ TEST(FrameRecord, RejectsTruncatedAndInconsistentRecords) {
     h.stride = 3;  // shorter than a line
     EXPECT_FALSE(decodeFrameRecord(encodeFrameRecord(h, payload)));
     h = greyHeader();
-    EXPECT_FALSE(decodeFrameRecord(encodeFrameRecord(h, std::vector<std::uint8_t>(9))));  // 6 + 4 needed
+    EXPECT_FALSE(
+        decodeFrameRecord(encodeFrameRecord(h, std::vector<std::uint8_t>(9))));  // 6 + 4 needed
     h.width = 0;
     EXPECT_FALSE(decodeFrameRecord(encodeFrameRecord(h, payload)));
     h = greyHeader();
@@ -106,7 +108,8 @@ TEST(FrameRecord, RejectsTruncatedAndInconsistentRecords) {
 std::vector<std::uint8_t> noiseBytes(std::size_t n, unsigned seed) {
     std::mt19937 rng(seed);
     std::vector<std::uint8_t> v(n);
-    for (std::size_t i = 0; i < n; ++i) v[i] = static_cast<std::uint8_t>(i % 7 == 0 ? 0 : rng() & 0xFF);
+    for (std::size_t i = 0; i < n; ++i)
+        v[i] = static_cast<std::uint8_t>(i % 7 == 0 ? 0 : rng() & 0xFF);
     return v;
 }
 
@@ -117,9 +120,9 @@ TEST(FrameRecordPng, GreyWithLinePaddingDecodesToTheExactBytes) {
     h.stride = 40;  // 3 padding bytes per line, kept as they were
     const auto buffer = noiseBytes(40 * 11, 1);
     const auto rec = encodeFrameRecord(h, buffer, FrameCoding::kPng);
-    EXPECT_EQ(rec[4], 2);   // version 2
-    EXPECT_EQ(rec[6], 64);  // header size
-    EXPECT_EQ(rec[56], 1);  // coding PNG
+    EXPECT_EQ(rec[4], 2);                      // version 2
+    EXPECT_EQ(rec[6], 64);                     // header size
+    EXPECT_EQ(rec[56], 1);                     // coding PNG
     EXPECT_EQ(rec[24] | (rec[25] << 8), 440);  // bytesused is the buffer's size, not the PNG's
     const std::size_t stored = rec[60] | (rec[61] << 8) | (rec[62] << 16);
     ASSERT_EQ(rec.size(), 64 + stored);
@@ -163,7 +166,8 @@ TEST(FrameRecordPng, YuyvRoundTripsAndIsSmallerForImageLikeData) {
     std::normal_distribution<double> sensor(0.0, 1.5);
     std::vector<std::uint8_t> wall(320 * 240);
     for (std::size_t i = 0; i < wall.size(); ++i) {
-        wall[i] = static_cast<std::uint8_t>(std::clamp(60.0 + 0.3 * static_cast<double>(i % 320) + sensor(rng), 0.0, 255.0));
+        wall[i] = static_cast<std::uint8_t>(
+            std::clamp(60.0 + 0.3 * static_cast<double>(i % 320) + sensor(rng), 0.0, 255.0));
     }
     const auto rec = encodeFrameRecord(h, wall, FrameCoding::kPng);
     EXPECT_LT(rec.size(), wall.size() * 6 / 10);
@@ -203,7 +207,8 @@ TEST(FrameRecordPng, DamagedCodedRecordsAreErrorsNotWrongPixels) {
     auto bad = decodeFrameRecord(flipped);
     ASSERT_FALSE(bad);
     EXPECT_EQ(bad.status().code(), StatusCode::kProtocolError);
-    EXPECT_NE(bad.status().message().find("PNG payload"), std::string::npos) << bad.status().message();
+    EXPECT_NE(bad.status().message().find("PNG payload"), std::string::npos)
+        << bad.status().message();
     // The header claims another size than the PNG holds.
     auto taller = rec;
     taller[36] = 7;  // height 7, bytesused still 144
@@ -220,7 +225,8 @@ TEST(FrameRecordPng, DamagedCodedRecordsAreErrorsNotWrongPixels) {
     // Unknown coding.
     auto unknown = rec;
     unknown[56] = 9;
-    EXPECT_NE(decodeFrameRecord(unknown).status().message().find("unknown payload coding 9"), std::string::npos);
+    EXPECT_NE(decodeFrameRecord(unknown).status().message().find("unknown payload coding 9"),
+              std::string::npos);
 }
 
 }  // namespace

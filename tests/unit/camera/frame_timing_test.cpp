@@ -1,6 +1,7 @@
+#include "handscan/camera/frame_timing.hpp"
+
 #include <gtest/gtest.h>
 
-#include "handscan/camera/frame_timing.hpp"
 #include "handscan/transport/v4l2_device.hpp"
 
 namespace handscan::camera {
@@ -9,17 +10,21 @@ namespace {
 using namespace transport;
 
 TEST(FrameTiming, ShiftsToMidExposure) {
-    const TimeNs t = 10 * kNsPerSec, exp = 8 * kNsPerMs, readout = 20 * kNsPerMs, deq = t + 50 * kNsPerMs;
-    auto soe = midExposureTime(kV4l2BufFlagTimestampMonotonic | kV4l2BufFlagTstampSrcSoe, t, exp, readout, deq);
+    const TimeNs t = 10 * kNsPerSec, exp = 8 * kNsPerMs, readout = 20 * kNsPerMs,
+                 deq = t + 50 * kNsPerMs;
+    auto soe = midExposureTime(kV4l2BufFlagTimestampMonotonic | kV4l2BufFlagTstampSrcSoe, t, exp,
+                               readout, deq);
     EXPECT_EQ(soe.t_mid_exposure, t + 4 * kNsPerMs);
     EXPECT_EQ(soe.source, TimestampSource::kStartOfExposure);
-    auto eof = midExposureTime(kV4l2BufFlagTimestampMonotonic | kV4l2BufFlagTstampSrcEof, t, exp, readout, deq);
+    auto eof = midExposureTime(kV4l2BufFlagTimestampMonotonic | kV4l2BufFlagTstampSrcEof, t, exp,
+                               readout, deq);
     EXPECT_EQ(eof.t_mid_exposure, t - 20 * kNsPerMs - 4 * kNsPerMs);
     EXPECT_EQ(eof.source, TimestampSource::kEndOfFrame);
     auto copy = midExposureTime(kV4l2BufFlagTimestampCopy, t, exp, readout, deq);
     EXPECT_EQ(copy.t_mid_exposure, deq - 24 * kNsPerMs);
     EXPECT_EQ(copy.source, TimestampSource::kHostDequeue);
-    auto unknown = midExposureTime(kV4l2BufFlagTimestampUnknown | kV4l2BufFlagTstampSrcSoe, t, exp, 0, deq);
+    auto unknown =
+        midExposureTime(kV4l2BufFlagTimestampUnknown | kV4l2BufFlagTstampSrcSoe, t, exp, 0, deq);
     EXPECT_EQ(unknown.source, TimestampSource::kHostDequeue);
 }
 

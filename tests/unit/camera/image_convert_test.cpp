@@ -1,9 +1,9 @@
+#include "handscan/camera/image_convert.hpp"
+
 #include <gtest/gtest.h>
 #include <turbojpeg.h>
 
 #include <cstdlib>
-
-#include "handscan/camera/image_convert.hpp"
 
 namespace handscan::camera {
 namespace {
@@ -47,12 +47,14 @@ TEST(ImageConvert, DecodesMjpegWithLibjpegTurbo) {
     const int w = 32, h = 16;
     std::vector<std::uint8_t> grey(static_cast<std::size_t>(w * h));
     for (int y = 0; y < h; ++y) {
-        for (int x = 0; x < w; ++x) grey[static_cast<std::size_t>(y * w + x)] = static_cast<std::uint8_t>(x * 8);
+        for (int x = 0; x < w; ++x)
+            grey[static_cast<std::size_t>(y * w + x)] = static_cast<std::uint8_t>(x * 8);
     }
     tjhandle tj = tjInitCompress();
     unsigned char* jpeg = nullptr;
     unsigned long size = 0;
-    ASSERT_EQ(tjCompress2(tj, grey.data(), w, w, h, TJPF_GRAY, &jpeg, &size, TJSAMP_GRAY, 95, 0), 0);
+    ASSERT_EQ(tjCompress2(tj, grey.data(), w, w, h, TJPF_GRAY, &jpeg, &size, TJSAMP_GRAY, 95, 0),
+              0);
     Image m;
     m.format = PixelFormat::kMjpeg;
     m.width = w;
@@ -74,7 +76,8 @@ TEST(ImageConvert, DecodesMjpegWithLibjpegTurbo) {
     corrupt.data.resize(10);
     auto bad = toGrey(corrupt);
     ASSERT_FALSE(bad);
-    EXPECT_NE(bad.status().message().find("camera frame 7"), std::string::npos) << bad.status().message();
+    EXPECT_NE(bad.status().message().find("camera frame 7"), std::string::npos)
+        << bad.status().message();
     Image wrong_size = m;
     wrong_size.width = 64;
     EXPECT_FALSE(toGrey(wrong_size));

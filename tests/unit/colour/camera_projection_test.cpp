@@ -35,7 +35,8 @@ TEST(CameraProjection, RadtanMatchesOpenCvProjectPoints) {
     const CameraProjection proj(cal.colour);
     const auto pts = randomPointsInView(5000, 0.8, 1);
     std::vector<cv::Point2d> ref;
-    cv::projectPoints(pts, cv::Vec3d(0, 0, 0), cv::Vec3d(0, 0, 0), test::cameraMatrix(cal.colour), test::distCoeffs(cal.colour), ref);
+    cv::projectPoints(pts, cv::Vec3d(0, 0, 0), cv::Vec3d(0, 0, 0), test::cameraMatrix(cal.colour),
+                      test::distCoeffs(cal.colour), ref);
     double worst = 0;
     for (std::size_t i = 0; i < pts.size(); ++i) {
         const auto px = proj.project({pts[i].x, pts[i].y, pts[i].z});
@@ -52,8 +53,10 @@ TEST(CameraProjection, RadtanInvertsOpenCvUndistortion) {
     for (int v = 0; v < 1200; v += 37)
         for (int u = 0; u < 1600; u += 41) px.emplace_back(u + 0.25, v + 0.75);
     std::vector<cv::Point2d> norm;
-    cv::undistortPoints(px, norm, test::cameraMatrix(cal.colour), test::distCoeffs(cal.colour), cv::noArray(), cv::noArray(),
-                        cv::TermCriteria(cv::TermCriteria::COUNT | cv::TermCriteria::EPS, 60, 1e-14));
+    cv::undistortPoints(
+        px, norm, test::cameraMatrix(cal.colour), test::distCoeffs(cal.colour), cv::noArray(),
+        cv::noArray(),
+        cv::TermCriteria(cv::TermCriteria::COUNT | cv::TermCriteria::EPS, 60, 1e-14));
     double worst = 0;
     for (std::size_t i = 0; i < px.size(); ++i) {
         const auto back = proj.project(Eigen::Vector3d(norm[i].x, norm[i].y, 1.0) * 2.5);
@@ -69,8 +72,8 @@ TEST(CameraProjection, EquidistantMatchesOpenCvFisheye) {
     const CameraProjection proj(cal.tracking);
     const auto pts = randomPointsInView(5000, 1.5, 2);
     std::vector<cv::Point2d> ref;
-    cv::fisheye::projectPoints(pts, ref, cv::Vec3d(0, 0, 0), cv::Vec3d(0, 0, 0), test::cameraMatrix(cal.tracking),
-                               test::distCoeffs(cal.tracking));
+    cv::fisheye::projectPoints(pts, ref, cv::Vec3d(0, 0, 0), cv::Vec3d(0, 0, 0),
+                               test::cameraMatrix(cal.tracking), test::distCoeffs(cal.tracking));
     double worst = 0;
     for (std::size_t i = 0; i < pts.size(); ++i) {
         const auto px = proj.project({pts[i].x, pts[i].y, pts[i].z});

@@ -30,20 +30,27 @@ protected:
     }
 
     // Colour camera pose for a body (tracking camera) pose.
-    static Eigen::Isometry3d colourPose(const Eigen::Isometry3d& T_world_body) { return T_world_body * cal_->T_colour_tracking.inverse(); }
+    static Eigen::Isometry3d colourPose(const Eigen::Isometry3d& T_world_body) {
+        return T_world_body * cal_->T_colour_tracking.inverse();
+    }
 
-    static Image render(const std::vector<TexturedPlane>& planes, const Eigen::Isometry3d& T_world_body, TimeNs t, std::uint32_t seq) {
+    static Image render(const std::vector<TexturedPlane>& planes,
+                        const Eigen::Isometry3d& T_world_body, TimeNs t, std::uint32_t seq) {
         return test::renderBgr(cal_->colour, *rays_, planes, colourPose(T_world_body), t, seq);
     }
 
     // Points where every `step`-th pixel ray of the camera at T_world_body meets the planes.
-    static void samplePoints(const std::vector<TexturedPlane>& planes, const Eigen::Isometry3d& T_world_body, int step,
-                             std::vector<Eigen::Vector3f>& pts, std::vector<std::size_t>& plane_of) {
+    static void samplePoints(const std::vector<TexturedPlane>& planes,
+                             const Eigen::Isometry3d& T_world_body, int step,
+                             std::vector<Eigen::Vector3f>& pts,
+                             std::vector<std::size_t>& plane_of) {
         const Eigen::Isometry3d T = colourPose(T_world_body);
         const int w = cal_->colour.resolution[0], h = cal_->colour.resolution[1];
         for (int v = 3; v < h - 3; v += step) {
             for (int u = 3; u < w - 3; u += step) {
-                const auto hit = test::castRay(planes, T.translation(), T.linear() * (*rays_)[static_cast<std::size_t>(v * w + u)]);
+                const auto hit =
+                    test::castRay(planes, T.translation(),
+                                  T.linear() * (*rays_)[static_cast<std::size_t>(v * w + u)]);
                 if (!hit) continue;
                 pts.push_back(hit->second.cast<float>());
                 plane_of.push_back(hit->first);
@@ -54,7 +61,9 @@ protected:
     // Largest per-channel difference between the assigned colour and the plane's true colour.
     static double colourError(const std::array<std::uint8_t, 3>& got, const Rgb& want) {
         double e = 0;
-        for (std::size_t c = 0; c < 3; ++c) e = std::max(e, std::abs(static_cast<double>(got[c]) - std::clamp(want[c], 0.0, 255.0)));
+        for (std::size_t c = 0; c < 3; ++c)
+            e = std::max(e,
+                         std::abs(static_cast<double>(got[c]) - std::clamp(want[c], 0.0, 255.0)));
         return e;
     }
 
@@ -64,7 +73,8 @@ protected:
 
 Eigen::Isometry3d pose(double yaw_deg, const Eigen::Vector3d& t) {
     Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
-    T.linear() = Eigen::AngleAxisd(yaw_deg * M_PI / 180.0, Eigen::Vector3d::UnitY()).toRotationMatrix();
+    T.linear() =
+        Eigen::AngleAxisd(yaw_deg * M_PI / 180.0, Eigen::Vector3d::UnitY()).toRotationMatrix();
     T.translation() = t;
     return T;
 }
@@ -90,7 +100,8 @@ TEST_F(ColouriserTest, PlaneColoursComeBackRight) {
         worst = std::max(worst, e);
         sum += e;
     }
-    std::printf("[ measured ] static plane: %zu points, colour error mean %.2f, max %.2f levels\n", pts.size(), sum / static_cast<double>(pts.size()), worst);
+    std::printf("[ measured ] static plane: %zu points, colour error mean %.2f, max %.2f levels\n",
+                pts.size(), sum / static_cast<double>(pts.size()), worst);
     EXPECT_LE(worst, 2.5);  // bilinear interpolation of the smooth pattern plus 8-bit rounding
 }
 
@@ -101,7 +112,9 @@ TEST_F(ColouriserTest, MovingDeviceUsesThePoseAtTheImageTime) {
     const TimeNs t_point = 1000 * kMs, t_image = 1080 * kMs;
     const Eigen::Isometry3d T_point = pose(0, {0, 0, 0});
     const Eigen::Isometry3d T_image = pose(4, {0.12, 0.03, 0.02});
-    const auto pose_at = [&](TimeNs t) { return interpolate(T_point, T_image, toSeconds(t - t_point) / toSeconds(t_image - t_point)); };
+    const auto pose_at = [&](TimeNs t) {
+        return interpolate(T_point, T_image, toSeconds(t - t_point) / toSeconds(t_image - t_point));
+    };
     Colouriser col(*cal_);
     ASSERT_TRUE(col.addImage(render(planes, T_image, t_image, 1)));
     std::vector<Eigen::Vector3f> pts;
@@ -112,13 +125,16 @@ TEST_F(ColouriserTest, MovingDeviceUsesThePoseAtTheImageTime) {
     EXPECT_GT(r.coloured, pts.size() * 8 / 10);
     std::size_t bad = 0;
     for (std::size_t i = 0; i < pts.size(); ++i)
-        if (r.valid(i) && colourError(r.rgb[i], test::wavePattern(pts[i].x(), pts[i].y())) > 2.5) ++bad;
+        if (r.valid(i) && colourError(r.rgb[i], test::wavePattern(pts[i].x(), pts[i].y())) > 2.5)
+            ++bad;
     EXPECT_EQ(bad, 0u);
     // The test can fail: projecting with the point's pose instead puts colours 12 cm off.
     const ColourResult wrong = col.colourise(pts, times, [&](TimeNs) { return T_point; });
     std::size_t bad_wrong = 0;
     for (std::size_t i = 0; i < pts.size(); ++i)
-        if (wrong.valid(i) && colourError(wrong.rgb[i], test::wavePattern(pts[i].x(), pts[i].y())) > 2.5) ++bad_wrong;
+        if (wrong.valid(i) &&
+            colourError(wrong.rgb[i], test::wavePattern(pts[i].x(), pts[i].y())) > 2.5)
+            ++bad_wrong;
     EXPECT_GT(bad_wrong, wrong.coloured / 2);
 }
 
@@ -147,8 +163,11 @@ TEST_F(ColouriserTest, FallsBackToTheOtherBracketingImage) {
 TEST_F(ColouriserTest, OccludedFarPlaneKeepsNoColour) {
     // A red-ish near board covers the left part of the view of a blue-green far wall.
     const auto red = [](double, double) { return Rgb{220, 40, 30}; };
-    const auto far_col = [](double x, double y) { return Rgb{30, 120 + 60 * std::sin(x * 3), 200 + 30 * std::cos(y * 2)}; };
-    const std::vector<TexturedPlane> planes{{1.8, -3, 0.0, -3, 3, red}, {4.0, -100, 100, -100, 100, far_col}};
+    const auto far_col = [](double x, double y) {
+        return Rgb{30, 120 + 60 * std::sin(x * 3), 200 + 30 * std::cos(y * 2)};
+    };
+    const std::vector<TexturedPlane> planes{{1.8, -3, 0.0, -3, 3, red},
+                                            {4.0, -100, 100, -100, 100, far_col}};
     const Eigen::Isometry3d T = pose(0, {0, 0, 0});
     Colouriser col(*cal_);
     ASSERT_TRUE(col.addImage(render(planes, T, 0, 1)));
@@ -177,13 +196,16 @@ TEST_F(ColouriserTest, OccludedFarPlaneKeepsNoColour) {
         }
         if (i >= pts.size() - hidden && r.status[i] == ColourStatus::kOccluded) ++hidden_occluded;
     }
-    std::printf("[ measured ] occlusion: far points coloured right %zu, wrong %zu; hidden %zu of which occluded %zu\n", far_ok, far_wrong,
-                hidden, hidden_occluded);
+    std::printf(
+        "[ measured ] occlusion: far points coloured right %zu, wrong %zu; hidden %zu of which "
+        "occluded %zu\n",
+        far_ok, far_wrong, hidden, hidden_occluded);
     EXPECT_EQ(far_wrong, 0u) << "far wall points took the near board's colour";
     EXPECT_EQ(near_wrong, 0u);
     EXPECT_EQ(hidden_occluded, hidden);
     EXPECT_GT(far_ok, 5000u);
-    EXPECT_GT(r.count(ColourStatus::kColoured), pts.size() - hidden - pts.size() / 20);  // few visible points lost at the silhouette
+    EXPECT_GT(r.count(ColourStatus::kColoured),
+              pts.size() - hidden - pts.size() / 20);  // few visible points lost at the silhouette
 }
 
 TEST_F(ColouriserTest, BehindOutsideTooFarAndUntimedStayUncoloured) {
@@ -194,14 +216,15 @@ TEST_F(ColouriserTest, BehindOutsideTooFarAndUntimedStayUncoloured) {
     Colouriser col(*cal_, cfg);
     ASSERT_TRUE(col.addImage(render(planes, T, 1000 * kMs, 1)));
     const std::vector<Eigen::Vector3f> pts{
-        {0.2f, 0.1f, 3.0f},    // fine
-        {0.2f, 0.1f, -3.0f},   // behind
-        {9.0f, 0.0f, 3.0f},    // beside: outside the image
-        {0.3f, 0.2f, 10.5f},   // beyond max_range_m
-        {0.2f, 0.1f, 3.0f},    // no frame within max_time_offset_ns
+        {0.2f, 0.1f, 3.0f},   // fine
+        {0.2f, 0.1f, -3.0f},  // behind
+        {9.0f, 0.0f, 3.0f},   // beside: outside the image
+        {0.3f, 0.2f, 10.5f},  // beyond max_range_m
+        {0.2f, 0.1f, 3.0f},   // no frame within max_time_offset_ns
         {std::nanf(""), 0.0f, 3.0f},
     };
-    const std::vector<TimeNs> times{1000 * kMs, 1000 * kMs, 1000 * kMs, 1000 * kMs, 2000 * kMs, 1000 * kMs};
+    const std::vector<TimeNs> times{1000 * kMs, 1000 * kMs, 1000 * kMs,
+                                    1000 * kMs, 2000 * kMs, 1000 * kMs};
     const ColourResult r = col.colourise(pts, times, [&](TimeNs) { return T; });
     EXPECT_EQ(r.status[0], ColourStatus::kColoured);
     EXPECT_EQ(r.status[1], ColourStatus::kBehind);
@@ -210,9 +233,11 @@ TEST_F(ColouriserTest, BehindOutsideTooFarAndUntimedStayUncoloured) {
     EXPECT_EQ(r.status[4], ColourStatus::kNoImage);
     EXPECT_FALSE(r.valid(5));
     EXPECT_EQ(r.coloured, 1u);
-    for (std::size_t i = 1; i < pts.size(); ++i) EXPECT_EQ(r.rgb[i], (std::array<std::uint8_t, 3>{0, 0, 0}));
+    for (std::size_t i = 1; i < pts.size(); ++i)
+        EXPECT_EQ(r.rgb[i], (std::array<std::uint8_t, 3>{0, 0, 0}));
     // Mismatched spans: nothing coloured, no crash.
-    const ColourResult m = col.colourise(pts, std::span<const TimeNs>(times).first(2), [&](TimeNs) { return T; });
+    const ColourResult m =
+        col.colourise(pts, std::span<const TimeNs>(times).first(2), [&](TimeNs) { return T; });
     EXPECT_EQ(m.coloured, 0u);
     EXPECT_EQ(m.size(), pts.size());
 }
@@ -238,7 +263,8 @@ TEST_F(ColouriserTest, BufferKeepsTheNewestFramesAndRejectsBadOnes) {
     // YUYV decoded once to BGR: a point sees mid grey.
     const std::vector<Eigen::Vector3f> pts{{0.0f, 0.0f, 2.0f}};
     const std::vector<TimeNs> times{800 * kMs};
-    const ColourResult r = col.colourise(pts, times, [](TimeNs) { return Eigen::Isometry3d::Identity(); });
+    const ColourResult r =
+        col.colourise(pts, times, [](TimeNs) { return Eigen::Isometry3d::Identity(); });
     ASSERT_TRUE(r.valid(0));
     for (int c = 0; c < 3; ++c) EXPECT_NEAR(r.rgb[0][static_cast<std::size_t>(c)], 128, 3);
 

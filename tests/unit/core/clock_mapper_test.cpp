@@ -1,9 +1,9 @@
+#include "handscan/core/clock_mapper.hpp"
+
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <random>
-
-#include "handscan/core/clock_mapper.hpp"
 
 namespace handscan {
 namespace {
@@ -20,7 +20,9 @@ struct SimulatedDevice {
         return static_cast<std::uint64_t>(std::floor(tau)) & ((std::uint64_t{1} << bits) - 1);
     }
     // Host time of the instant the (unwrapped) counter reads `ticks`.
-    double hostOf(double unwrapped_ticks) const { return (unwrapped_ticks - d0_ticks) * tick_s / (1.0 + drift); }
+    double hostOf(double unwrapped_ticks) const {
+        return (unwrapped_ticks - d0_ticks) * tick_s / (1.0 + drift);
+    }
 };
 
 TEST(ClockMapper, Hokuyo24BitMillisecondsWrapTwiceWithDriftAndJitter) {
@@ -43,7 +45,8 @@ TEST(ClockMapper, Hokuyo24BitMillisecondsWrapTwiceWithDriftAndJitter) {
         const double rx = t + jitter(rng);
         mapper.observe(raw, host0 + static_cast<TimeNs>(rx * 1e9));
         if (t > 120.0) {
-            const double truth = dev.hostOf(static_cast<double>(unwrapped_base + static_cast<std::int64_t>(raw)));
+            const double truth =
+                dev.hostOf(static_cast<double>(unwrapped_base + static_cast<std::int64_t>(raw)));
             const double mapped = toSeconds(*mapper.toHost(raw) - host0);
             max_err_s = std::max(max_err_s, std::abs(mapped - truth));
         }
@@ -67,7 +70,8 @@ TEST(ClockMapper, XsensSampleTimeFineTenKilohertz) {
         const std::uint64_t raw = dev.rawAt(t);
         mapper.observe(raw, static_cast<TimeNs>((t + 2e-4 + delay(rng)) * 1e9));
         if (t > 30.0) {
-            const double truth = dev.hostOf(static_cast<double>(raw)) + 2e-4;  // constant latency is unobservable
+            const double truth =
+                dev.hostOf(static_cast<double>(raw)) + 2e-4;  // constant latency is unobservable
             max_err = std::max(max_err, std::abs(toSeconds(*mapper.toHost(raw)) - truth));
         }
     }
@@ -96,11 +100,13 @@ TEST(ClockMapper, DeviceRestartResetsTheFit) {
     cfg.tick_ns = 1e6;
     ClockMapper mapper(cfg);
     // 60 s of scans, then the sensor reboots: its counter starts again from 0.
-    for (int i = 0; i < 2400; ++i) mapper.observe(5'000'000 + i * 25, static_cast<TimeNs>(i) * 25 * kNsPerMs);
+    for (int i = 0; i < 2400; ++i)
+        mapper.observe(5'000'000 + i * 25, static_cast<TimeNs>(i) * 25 * kNsPerMs);
     const TimeNs reboot = 70 * kNsPerSec;
     int resets_seen = 0;
     for (int i = 0; i < 400; ++i) {
-        if (mapper.observe(static_cast<std::uint64_t>(i) * 25, reboot + static_cast<TimeNs>(i) * 25 * kNsPerMs) ==
+        if (mapper.observe(static_cast<std::uint64_t>(i) * 25,
+                           reboot + static_cast<TimeNs>(i) * 25 * kNsPerMs) ==
             ClockMapper::Event::kReset) {
             ++resets_seen;
         }
@@ -117,9 +123,10 @@ TEST(ClockMapper, UnwrapAcceptsSmallStepsBackwards) {
     ClockMapper mapper(cfg);
     const std::uint64_t top = (1u << 24) - 10;
     mapper.observe(top, 0);
-    mapper.observe(5, 15 * kNsPerMs);                     // wrapped forward
+    mapper.observe(5, 15 * kNsPerMs);  // wrapped forward
     EXPECT_EQ(mapper.unwrap(5), static_cast<std::int64_t>(top) + 15);
-    EXPECT_EQ(mapper.unwrap(top - 2), static_cast<std::int64_t>(top) - 2);  // per-step times before the latest scan
+    EXPECT_EQ(mapper.unwrap(top - 2),
+              static_cast<std::int64_t>(top) - 2);  // per-step times before the latest scan
     EXPECT_EQ(mapper.wraps(), 1);
 }
 

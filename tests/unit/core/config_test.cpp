@@ -1,10 +1,10 @@
 // Every kind of bad configuration value gets its exact message: file, line, key, expected, found.
+#include "handscan/core/config.hpp"
+
 #include <gtest/gtest.h>
 
 #include <filesystem>
 #include <fstream>
-
-#include "handscan/core/config.hpp"
 
 namespace handscan {
 namespace {
@@ -50,7 +50,9 @@ TEST_F(ConfigTest, ShippedFilesLoad) {
     EXPECT_EQ(c.colour.distortion_model, "radtan");
     EXPECT_NEAR(c.T_colour_tracking.translation().x(), 0.06, 1e-12);
     // The laser's front beam lies along the shaft axis.
-    EXPECT_LT((c.T_shaft_laser.linear() * Eigen::Vector3d::UnitX() - Eigen::Vector3d::UnitZ()).norm(), 1e-9);
+    EXPECT_LT(
+        (c.T_shaft_laser.linear() * Eigen::Vector3d::UnitX() - Eigen::Vector3d::UnitZ()).norm(),
+        1e-9);
 }
 
 TEST_F(ConfigTest, OutOfRangeInteger) {
@@ -65,7 +67,8 @@ TEST_F(ConfigTest, NotAnInteger) {
 
 TEST_F(ConfigTest, UnknownKeyIsATypo) {
     EXPECT_EQ(deviceError("xsens:\n  baudrate: 921600\n"),
-              ":2: xsens.baudrate: expected one of the keys {baud, delta_q_v, frame_latency_ms, rate_hz, serial_path, transport}, "
+              ":2: xsens.baudrate: expected one of the keys {baud, delta_q_v, frame_latency_ms, "
+              "rate_hz, serial_path, transport}, "
               "got unknown key 'baudrate'");
 }
 
@@ -76,7 +79,8 @@ TEST_F(ConfigTest, EnumValue) {
 
 TEST_F(ConfigTest, NonStandardBaud) {
     EXPECT_EQ(deviceError("xsens:\n  baud: 100000\n"),
-              ":2: xsens.baud: expected one of 9600 19200 38400 57600 115200 230400 460800 921600 2000000 "
+              ":2: xsens.baud: expected one of 9600 19200 38400 57600 115200 230400 460800 921600 "
+              "2000000 "
               "4000000, got 100000");
 }
 
@@ -91,7 +95,8 @@ TEST_F(ConfigTest, XsensFrameLatencyInRange) {
 }
 
 TEST_F(ConfigTest, BooleanValue) {
-    EXPECT_EQ(deviceError("xsens:\n  delta_q_v: maybe\n"), ":2: xsens.delta_q_v: expected true or false, got 'maybe'");
+    EXPECT_EQ(deviceError("xsens:\n  delta_q_v: maybe\n"),
+              ":2: xsens.delta_q_v: expected true or false, got 'maybe'");
 }
 
 TEST_F(ConfigTest, SectionMustBeAMapping) {
@@ -104,7 +109,8 @@ TEST_F(ConfigTest, ConflictingNodeIds) {
 }
 
 TEST_F(ConfigTest, YamlSyntaxError) {
-    EXPECT_EQ(deviceError("hokuyo:\n  port: [1, 2\n"), ":3: YAML syntax error: end of sequence flow not found");
+    EXPECT_EQ(deviceError("hokuyo:\n  port: [1, 2\n"),
+              ":3: YAML syntax error: end of sequence flow not found");
 }
 
 TEST_F(ConfigTest, MissingFile) {
@@ -112,23 +118,26 @@ TEST_F(ConfigTest, MissingFile) {
         loadDeviceConfig((dir_ / "nope.yaml").string());
         FAIL() << "no error";
     } catch (const ConfigError& e) {
-        EXPECT_EQ(std::string(e.what()), (dir_ / "nope.yaml").string() + ": cannot open: file does not exist");
+        EXPECT_EQ(std::string(e.what()),
+                  (dir_ / "nope.yaml").string() + ": cannot open: file does not exist");
     }
 }
 
 TEST_F(ConfigTest, CamchainNonRigidTransform) {
-    const std::string path = write("camchain.yaml",
-                                   "cam0:\n  camera_model: pinhole\n  intrinsics: [300, 300, 320, 256]\n"
-                                   "  distortion_model: radtan\n  distortion_coeffs: [0, 0, 0, 0]\n"
-                                   "  resolution: [640, 512]\n  T_cam_imu:\n  - [2, 0, 0, 0]\n  - [0, 1, 0, 0]\n"
-                                   "  - [0, 0, 1, 0]\n  - [0, 0, 0, 1]\n");
+    const std::string path =
+        write("camchain.yaml",
+              "cam0:\n  camera_model: pinhole\n  intrinsics: [300, 300, 320, 256]\n"
+              "  distortion_model: radtan\n  distortion_coeffs: [0, 0, 0, 0]\n"
+              "  resolution: [640, 512]\n  T_cam_imu:\n  - [2, 0, 0, 0]\n  - [0, 1, 0, 0]\n"
+              "  - [0, 0, 1, 0]\n  - [0, 0, 0, 1]\n");
     Calibration c;
     try {
         loadCamchain(path, c);
         FAIL() << "no error";
     } catch (const ConfigError& e) {
         const std::string msg = std::string(e.what()).substr(path.size());
-        EXPECT_EQ(msg.rfind(":8: cam0.T_cam_imu: expected a rigid transform (orthonormal rotation, det +1), got a "
+        EXPECT_EQ(msg.rfind(":8: cam0.T_cam_imu: expected a rigid transform (orthonormal rotation, "
+                            "det +1), got a "
                             "rotation with |R R^T - I| = 3",
                             0),
                   0u)
@@ -137,10 +146,11 @@ TEST_F(ConfigTest, CamchainNonRigidTransform) {
 }
 
 TEST_F(ConfigTest, CamchainWrongDistortionCount) {
-    const std::string path = write("camchain.yaml",
-                                   "cam0:\n  camera_model: pinhole\n  intrinsics: [300, 300, 320, 256]\n"
-                                   "  distortion_model: equidistant\n  distortion_coeffs: [0, 0]\n"
-                                   "  resolution: [640, 512]\n");
+    const std::string path =
+        write("camchain.yaml",
+              "cam0:\n  camera_model: pinhole\n  intrinsics: [300, 300, 320, 256]\n"
+              "  distortion_model: equidistant\n  distortion_coeffs: [0, 0]\n"
+              "  resolution: [640, 512]\n");
     Calibration c;
     try {
         loadCamchain(path, c);
@@ -152,13 +162,15 @@ TEST_F(ConfigTest, CamchainWrongDistortionCount) {
 }
 
 TEST_F(ConfigTest, CalibrationMissingTransform) {
-    const std::string path = write("calibration.yaml", "T_shaft_laser:\n  translation: [0, 0, 0]\n  rpy_deg: [0, 0, 0]\n");
+    const std::string path = write(
+        "calibration.yaml", "T_shaft_laser:\n  translation: [0, 0, 0]\n  rpy_deg: [0, 0, 0]\n");
     try {
         loadCalibration(path);
         FAIL() << "no error";
     } catch (const ConfigError& e) {
         EXPECT_EQ(std::string(e.what()).substr(path.size()),
-                  ":1: T_camera_shaftbase: expected a transform {translation, rpy_deg}, got nothing (missing)");
+                  ":1: T_camera_shaftbase: expected a transform {translation, rpy_deg}, got "
+                  "nothing (missing)");
     }
 }
 

@@ -1,8 +1,8 @@
+#include "handscan/core/se3.hpp"
+
 #include <gtest/gtest.h>
 
 #include <random>
-
-#include "handscan/core/se3.hpp"
 
 namespace handscan {
 namespace {
@@ -73,7 +73,8 @@ TEST(Se3, InterpolateEndpointsAndMidpoint) {
     EXPECT_LT((interpolate(a, b, 0.0).matrix() - a.matrix()).norm(), 1e-12);
     EXPECT_LT((interpolate(a, b, 1.0).matrix() - b.matrix()).norm(), 1e-12);
     const Eigen::Isometry3d m = interpolate(a, b, 0.5);
-    EXPECT_NEAR(rotationAngle(a.linear(), m.linear()), rotationAngle(m.linear(), b.linear()), 1e-12);
+    EXPECT_NEAR(rotationAngle(a.linear(), m.linear()), rotationAngle(m.linear(), b.linear()),
+                1e-12);
     EXPECT_LT((m.translation() - 0.5 * (a.translation() + b.translation())).norm(), 1e-12);
 }
 

@@ -1,9 +1,9 @@
 // Two threads hammer the queue; run under the `tsan` preset for ThreadSanitizer.
+#include "handscan/core/spsc_queue.hpp"
+
 #include <gtest/gtest.h>
 
 #include <thread>
-
-#include "handscan/core/spsc_queue.hpp"
 
 namespace handscan {
 namespace {
@@ -27,8 +27,10 @@ TEST(SpscQueue, TwoThreadsHammerInOrderWithoutLoss) {
     SpscQueue<Payload> q(64);
     std::thread producer([&] {
         for (std::uint64_t i = 0; i < kCount;) {
-            if (q.tryPush(Payload{i, {i, i * 3, i * 7}})) ++i;
-            else std::this_thread::yield();
+            if (q.tryPush(Payload{i, {i, i * 3, i * 7}}))
+                ++i;
+            else
+                std::this_thread::yield();
         }
     });
     std::uint64_t expected = 0;

@@ -1,12 +1,14 @@
-#include <gtest/gtest.h>
-
 #include "handscan/core/status.hpp"
+
+#include <gtest/gtest.h>
 
 namespace handscan {
 namespace {
 
 Result<int> parsePositive(int v) {
-    if (v <= 0) return Status(StatusCode::kInvalidArgument, "value must be positive, got " + std::to_string(v));
+    if (v <= 0)
+        return Status(StatusCode::kInvalidArgument,
+                      "value must be positive, got " + std::to_string(v));
     return v;
 }
 

@@ -1,10 +1,11 @@
 // Point-to-triangle distance, the BVH-accelerated mesh distance, PLY reading and the map error.
+#include "handscan/eval/mesh_distance.hpp"
+
 #include <gtest/gtest.h>
 
 #include <cstring>
 #include <random>
 
-#include "handscan/eval/mesh_distance.hpp"
 #include "handscan/eval/ply_reader.hpp"
 
 namespace handscan::eval {
@@ -13,15 +14,15 @@ namespace {
 const Eigen::Vector3d A(0, 0, 0), B(1, 0, 0), C(0, 1, 0);
 
 TEST(PointTriangle, Regions) {
-    EXPECT_NEAR(pointTriangleDistance({0.2, 0.2, 0.7}, A, B, C), 0.7, 1e-12);           // face
-    EXPECT_NEAR(pointTriangleDistance({0.2, 0.2, -0.3}, A, B, C), 0.3, 1e-12);          // face, below
-    EXPECT_NEAR(pointTriangleDistance({0.5, -0.4, 0.3}, A, B, C), 0.5, 1e-12);          // edge AB
-    EXPECT_NEAR(pointTriangleDistance({-0.3, 0.5, 0.4}, A, B, C), 0.5, 1e-12);          // edge AC
-    EXPECT_NEAR(pointTriangleDistance({1, 1, 0}, A, B, C), std::sqrt(0.5), 1e-12);      // edge BC
-    EXPECT_NEAR(pointTriangleDistance({-1, -1, 0}, A, B, C), std::sqrt(2.0), 1e-12);    // vertex A
-    EXPECT_NEAR(pointTriangleDistance({2, -1, 0}, A, B, C), std::sqrt(2.0), 1e-12);     // vertex B
-    EXPECT_NEAR(pointTriangleDistance({-0.5, 2, 1}, A, B, C), 1.5, 1e-12);              // vertex C
-    EXPECT_NEAR(pointTriangleDistance({0.25, 0.25, 0}, A, B, C), 0.0, 1e-15);           // on it
+    EXPECT_NEAR(pointTriangleDistance({0.2, 0.2, 0.7}, A, B, C), 0.7, 1e-12);         // face
+    EXPECT_NEAR(pointTriangleDistance({0.2, 0.2, -0.3}, A, B, C), 0.3, 1e-12);        // face, below
+    EXPECT_NEAR(pointTriangleDistance({0.5, -0.4, 0.3}, A, B, C), 0.5, 1e-12);        // edge AB
+    EXPECT_NEAR(pointTriangleDistance({-0.3, 0.5, 0.4}, A, B, C), 0.5, 1e-12);        // edge AC
+    EXPECT_NEAR(pointTriangleDistance({1, 1, 0}, A, B, C), std::sqrt(0.5), 1e-12);    // edge BC
+    EXPECT_NEAR(pointTriangleDistance({-1, -1, 0}, A, B, C), std::sqrt(2.0), 1e-12);  // vertex A
+    EXPECT_NEAR(pointTriangleDistance({2, -1, 0}, A, B, C), std::sqrt(2.0), 1e-12);   // vertex B
+    EXPECT_NEAR(pointTriangleDistance({-0.5, 2, 1}, A, B, C), 1.5, 1e-12);            // vertex C
+    EXPECT_NEAR(pointTriangleDistance({0.25, 0.25, 0}, A, B, C), 0.0, 1e-15);         // on it
     // Degenerate (collinear) triangle: distance to the segment.
     EXPECT_NEAR(pointTriangleDistance({0.5, 1, 0}, A, B, Eigen::Vector3d(2, 0, 0)), 1.0, 1e-12);
 }
@@ -30,7 +31,8 @@ TEST(PointTriangle, Regions) {
 double bruteForce(const PlyGeometry& m, const Eigen::Vector3d& p) {
     double best = 1e300;
     for (const auto& t : m.triangles) {
-        best = std::min(best, pointTriangleDistance(p, m.vertices[t[0]], m.vertices[t[1]], m.vertices[t[2]]));
+        best = std::min(
+            best, pointTriangleDistance(p, m.vertices[t[0]], m.vertices[t[1]], m.vertices[t[2]]));
     }
     return best;
 }
@@ -41,8 +43,10 @@ TEST(MeshDistance, MatchesBruteForceOnARandomMesh) {
     PlyGeometry m;
     for (int i = 0; i < 300; ++i) {
         const Eigen::Vector3d c(u(rng), u(rng), u(rng));
-        for (int k = 0; k < 3; ++k) m.vertices.push_back(c + 0.3 * Eigen::Vector3d(u(rng), u(rng), u(rng)) / 5.0);
-        m.triangles.push_back({static_cast<std::uint32_t>(3 * i), static_cast<std::uint32_t>(3 * i + 1),
+        for (int k = 0; k < 3; ++k)
+            m.vertices.push_back(c + 0.3 * Eigen::Vector3d(u(rng), u(rng), u(rng)) / 5.0);
+        m.triangles.push_back({static_cast<std::uint32_t>(3 * i),
+                               static_cast<std::uint32_t>(3 * i + 1),
                                static_cast<std::uint32_t>(3 * i + 2)});
     }
     // Plus a huge floor triangle (bounds of centroid-based indexes break on these).
@@ -63,7 +67,8 @@ TEST(MeshDistance, MatchesBruteForceOnARandomMesh) {
 PlyGeometry cube() {
     PlyGeometry m;
     for (int i = 0; i < 8; ++i) m.vertices.emplace_back(i & 1, (i >> 1) & 1, (i >> 2) & 1);
-    const std::uint32_t f[6][4] = {{0, 1, 3, 2}, {4, 6, 7, 5}, {0, 4, 5, 1}, {2, 3, 7, 6}, {0, 2, 6, 4}, {1, 5, 7, 3}};
+    const std::uint32_t f[6][4] = {{0, 1, 3, 2}, {4, 6, 7, 5}, {0, 4, 5, 1},
+                                   {2, 3, 7, 6}, {0, 2, 6, 4}, {1, 5, 7, 3}};
     for (const auto& q : f) {
         m.triangles.push_back({q[0], q[1], q[2]});
         m.triangles.push_back({q[0], q[2], q[3]});
@@ -90,8 +95,10 @@ TEST(MapError, PercentilesOfKnownOffsets) {
 
 TEST(Ply, AsciiWithQuadsAndExtraProperties) {
     const std::string ply =
-        "ply\nformat ascii 1.0\ncomment test\nelement vertex 4\nproperty float x\nproperty float y\n"
-        "property float z\nproperty uchar red\nelement face 1\nproperty list uchar int vertex_indices\n"
+        "ply\nformat ascii 1.0\ncomment test\nelement vertex 4\nproperty float x\nproperty float "
+        "y\n"
+        "property float z\nproperty uchar red\nelement face 1\nproperty list uchar int "
+        "vertex_indices\n"
         "end_header\n0 0 0 255\n1 0 0 0\n1 1 0 0\n0 1 0 0\n4 0 1 2 3\n";
     auto g = parsePly(ply);
     ASSERT_TRUE(g) << g.status().message();
@@ -103,8 +110,10 @@ TEST(Ply, AsciiWithQuadsAndExtraProperties) {
 
 TEST(Ply, BinaryLittleEndianAndTruncation) {
     std::string ply =
-        "ply\nformat binary_little_endian 1.0\nelement vertex 3\nproperty double x\nproperty double y\n"
-        "property double z\nproperty float intensity\nelement face 1\nproperty list uchar uint vertex_indices\n"
+        "ply\nformat binary_little_endian 1.0\nelement vertex 3\nproperty double x\nproperty "
+        "double y\n"
+        "property double z\nproperty float intensity\nelement face 1\nproperty list uchar uint "
+        "vertex_indices\n"
         "end_header\n";
     for (int i = 0; i < 3; ++i) {
         const double xyz[3] = {1.0 * i, 2.0 * i, -0.5 * i};
@@ -127,9 +136,10 @@ TEST(Ply, BinaryLittleEndianAndTruncation) {
     EXPECT_NE(cut.status().message().find("scene.ply: truncated"), std::string::npos);
     EXPECT_FALSE(parsePly("ply\nformat binary_big_endian 1.0\nend_header\n").isOk());
     EXPECT_FALSE(parsePly("not a ply").isOk());
-    auto bad_index = parsePly("ply\nformat ascii 1.0\nelement vertex 1\nproperty float x\nproperty float y\n"
-                              "property float z\nelement face 1\nproperty list uchar int vertex_indices\n"
-                              "end_header\n0 0 0\n3 0 1 2\n");
+    auto bad_index = parsePly(
+        "ply\nformat ascii 1.0\nelement vertex 1\nproperty float x\nproperty float y\n"
+        "property float z\nelement face 1\nproperty list uchar int vertex_indices\n"
+        "end_header\n0 0 0\n3 0 1 2\n");
     EXPECT_FALSE(bad_index.isOk());
 }
 

@@ -1,11 +1,12 @@
 // ATE after SE(3) alignment, segment drift, end-point error, TUM input/output.
+#include "handscan/eval/trajectory_metrics.hpp"
+
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <filesystem>
 
 #include "handscan/core/se3.hpp"
-#include "handscan/eval/trajectory_metrics.hpp"
 #include "handscan/eval/trajectory_plot.hpp"
 
 namespace handscan::eval {
@@ -19,8 +20,10 @@ Trajectory loop(double rate_hz, double t0 = 0.0, double duration = 60.0) {
         const double a = 2 * M_PI * t / 60.0;
         StampedPose p;
         p.t_s = t;
-        p.T.translation() = Eigen::Vector3d(5 * std::cos(a), 3 * std::sin(a), 1.5 + 0.2 * std::sin(3 * a));
-        p.T.linear() = expSO3(Eigen::Vector3d(0.1 * std::sin(2 * a), 0.05 * std::cos(5 * a), a + M_PI / 2));
+        p.T.translation() =
+            Eigen::Vector3d(5 * std::cos(a), 3 * std::sin(a), 1.5 + 0.2 * std::sin(3 * a));
+        p.T.linear() =
+            expSO3(Eigen::Vector3d(0.1 * std::sin(2 * a), 0.05 * std::cos(5 * a), a + M_PI / 2));
         out.push_back(p);
     }
     return out;
@@ -49,7 +52,8 @@ TEST(Ate, StatisticsOfAKnownErrorPattern) {
     const Trajectory gt = loop(10.0);
     Trajectory est = gt;
     // +-5 cm alternating perpendicular to the plane: alignment cannot remove it.
-    for (std::size_t i = 0; i < est.size(); ++i) est[i].T.translation().z() += (i % 2 ? 0.05 : -0.05);
+    for (std::size_t i = 0; i < est.size(); ++i)
+        est[i].T.translation().z() += (i % 2 ? 0.05 : -0.05);
     const AteResult ate = computeAte(associate(gt, est));
     EXPECT_NEAR(ate.translation_m.rmse, 0.05, 2e-3);
     EXPECT_NEAR(ate.translation_m.median, 0.05, 2e-3);
@@ -70,7 +74,7 @@ TEST(Ate, PlanarPathDoesNotFlipUpsideDown) {
     EXPECT_TRUE(a.took_other_branch);
     const AteResult ate = computeAte(pairs);
     EXPECT_TRUE(ate.orientation_chose_branch);
-    EXPECT_LT(ate.rotation_deg.max, 0.01);  // the orientations are the truth's
+    EXPECT_LT(ate.rotation_deg.max, 0.01);   // the orientations are the truth's
     EXPECT_GT(ate.translation_m.rmse, 1.0);  // the positions are not: the error stays visible
     EXPECT_GT((ate.T_gt_est.linear() * Eigen::Vector3d::UnitZ()).z(), 0.999);  // up stays up
 }
@@ -166,7 +170,8 @@ TEST(Plot, WritesATopViewPng) {
     ASSERT_TRUE(plotTopView(path, pairs, Eigen::Isometry3d::Identity(), 400).isOk());
     EXPECT_GT(std::filesystem::file_size(path), 1000u);
     std::filesystem::remove(path);
-    EXPECT_FALSE(plotTopView("/nonexistent/dir/p.png", pairs, Eigen::Isometry3d::Identity()).isOk());
+    EXPECT_FALSE(
+        plotTopView("/nonexistent/dir/p.png", pairs, Eigen::Isometry3d::Identity()).isOk());
 }
 
 }  // namespace

@@ -18,8 +18,9 @@ std::vector<std::uint8_t> readFile(const std::string& path) {
 }
 
 void ExportTest::SetUp() {
-    dir_ = fs::temp_directory_path() / ("handscan_export_" + std::to_string(::getpid()) + "_" +
-                                        ::testing::UnitTest::GetInstance()->current_test_info()->name());
+    dir_ = fs::temp_directory_path() /
+           ("handscan_export_" + std::to_string(::getpid()) + "_" +
+            ::testing::UnitTest::GetInstance()->current_test_info()->name());
     fs::remove_all(dir_);
     fs::create_directories(dir_);
 }
@@ -35,8 +36,9 @@ std::string ExportTest::makeJournal(std::size_t n, const std::string& name) {
     EXPECT_TRUE(w.isOk()) << w.status().message();
     std::vector<journal::MapPoint> pts;
     for (std::size_t i = 0; i < n; ++i) {
-        pts.push_back({static_cast<double>(i), static_cast<float>(i), 0.5f, -1.0f, static_cast<std::uint8_t>(i),
-                       static_cast<std::uint8_t>(2 * i), static_cast<std::uint8_t>(3 * i), static_cast<std::uint16_t>(i)});
+        pts.push_back({static_cast<double>(i), static_cast<float>(i), 0.5f, -1.0f,
+                       static_cast<std::uint8_t>(i), static_cast<std::uint8_t>(2 * i),
+                       static_cast<std::uint8_t>(3 * i), static_cast<std::uint16_t>(i)});
     }
     EXPECT_TRUE((*w)->appendPoints(pts).isOk());
     EXPECT_TRUE((*w)->appendPose({0.0, 0, 0, 0, 0, 0, 0, 1}).isOk());
@@ -49,7 +51,8 @@ std::string ExportTest::mountTmpfs(const std::string& size, bool read_only) {
     fs::create_directories(m);
     if (::mount("tmpfs", m.c_str(), "tmpfs", 0, ("size=" + size).c_str()) != 0) return "";
     mounts_.push_back(m.string());
-    if (read_only && ::mount(nullptr, m.c_str(), nullptr, MS_REMOUNT | MS_RDONLY, nullptr) != 0) return "";
+    if (read_only && ::mount(nullptr, m.c_str(), nullptr, MS_REMOUNT | MS_RDONLY, nullptr) != 0)
+        return "";
     return m.string();
 }
 

@@ -51,23 +51,23 @@ TEST_F(ExportTest, LasHeaderFields) {
     const auto b = readFile((dir_ / "out" / "cloud.las").string());
     ASSERT_EQ(b.size(), 375u + 100u * 36u);
     EXPECT_EQ(std::string(b.begin(), b.begin() + 4), "LASF");
-    EXPECT_EQ(b[24], 1);                             // version major
-    EXPECT_EQ(b[25], 4);                             // version minor
-    EXPECT_EQ(at<std::uint16_t>(b, 94), 375);        // header size
-    EXPECT_EQ(at<std::uint32_t>(b, 96), 375u);       // offset to points
-    EXPECT_EQ(b[104], 7);                            // point data record format
-    EXPECT_EQ(at<std::uint16_t>(b, 105), 36);        // record length
-    EXPECT_EQ(at<std::uint32_t>(b, 107), 0u);        // legacy count must be 0 for format 7
-    EXPECT_EQ(at<double>(b, 131), 1e-4);             // x scale
-    EXPECT_EQ(at<double>(b, 179), 99.0);             // max x
-    EXPECT_EQ(at<double>(b, 187), 0.0);              // min x
-    EXPECT_EQ(at<std::uint64_t>(b, 247), 100u);      // number of point records
-    EXPECT_EQ(at<std::uint64_t>(b, 255), 100u);      // points by return [1]
+    EXPECT_EQ(b[24], 1);                         // version major
+    EXPECT_EQ(b[25], 4);                         // version minor
+    EXPECT_EQ(at<std::uint16_t>(b, 94), 375);    // header size
+    EXPECT_EQ(at<std::uint32_t>(b, 96), 375u);   // offset to points
+    EXPECT_EQ(b[104], 7);                        // point data record format
+    EXPECT_EQ(at<std::uint16_t>(b, 105), 36);    // record length
+    EXPECT_EQ(at<std::uint32_t>(b, 107), 0u);    // legacy count must be 0 for format 7
+    EXPECT_EQ(at<double>(b, 131), 1e-4);         // x scale
+    EXPECT_EQ(at<double>(b, 179), 99.0);         // max x
+    EXPECT_EQ(at<double>(b, 187), 0.0);          // min x
+    EXPECT_EQ(at<std::uint64_t>(b, 247), 100u);  // number of point records
+    EXPECT_EQ(at<std::uint64_t>(b, 255), 100u);  // points by return [1]
     // Point 5: X = (5 - offset) / scale, RGB scaled to 16 bit, GPS time = 5.
     const std::size_t p5 = 375 + 5 * 36;
     const double x_offset = at<double>(b, 155);
     EXPECT_EQ(at<std::int32_t>(b, p5), static_cast<std::int32_t>((5.0 - x_offset) / 1e-4 + 0.5));
-    EXPECT_EQ(b[p5 + 14], 0x11);                     // return 1 of 1
+    EXPECT_EQ(b[p5 + 14], 0x11);  // return 1 of 1
     EXPECT_EQ(at<double>(b, p5 + 22), 5.0);
     EXPECT_EQ(at<std::uint16_t>(b, p5 + 30), 5 * 257);
     EXPECT_EQ(at<std::uint16_t>(b, p5 + 34), 15 * 257);
@@ -100,7 +100,9 @@ TEST_F(ExportTest, TrajectoryAndMetadataFiles) {
     ASSERT_TRUE(r.isOk()) << r.status().message();
     ASSERT_EQ(r->files.size(), 5u);
     const auto tum = readFile((dir_ / "out" / "trajectory.tum").string());
-    EXPECT_EQ(std::string(tum.begin(), tum.end()), "0.000000000 0.000000000 0.000000000 0.000000000 0.000000000 0.000000000 0.000000000 1.000000000\n");
+    EXPECT_EQ(std::string(tum.begin(), tum.end()),
+              "0.000000000 0.000000000 0.000000000 0.000000000 0.000000000 0.000000000 0.000000000 "
+              "1.000000000\n");
     const auto json = readFile((dir_ / "out" / "scan.json").string());
     const std::string js(json.begin(), json.end());
     EXPECT_NE(js.find("\"scan\": {\"device\":\"test\"}"), std::string::npos) << js;
@@ -130,11 +132,13 @@ TEST_F(ExportTest, E57SaysWhyItIsMissing) {
     auto r = exportScan(journal, dir_.string(), {{"e57"}, 0.0, "out", {}, {}});
     ASSERT_FALSE(r.isOk());
     EXPECT_EQ(r.status().message(),
-              "export: E57 is not available: Debian 12 packages no E57 library (libE57Format); export LAS 1.4 or PLY and convert");
+              "export: E57 is not available: Debian 12 packages no E57 library (libE57Format); "
+              "export LAS 1.4 or PLY and convert");
     // ... and every export's scan.json says so too.
     ASSERT_TRUE(exportScan(journal, dir_.string(), {{"ply"}, 0.0, "out", {}, {}}).isOk());
     const auto json = readFile((dir_ / "out" / "scan.json").string());
-    EXPECT_NE(std::string(json.begin(), json.end()).find("\"formats_unavailable\": {\"e57\": \"not available: Debian 12"),
+    EXPECT_NE(std::string(json.begin(), json.end())
+                  .find("\"formats_unavailable\": {\"e57\": \"not available: Debian 12"),
               std::string::npos);
 }
 
@@ -147,7 +151,8 @@ TEST_F(ExportTest, ProgressGrowsThroughTheStagesToDone) {
         ASSERT_TRUE(w.isOk());
         for (int chunk = 0; chunk < 3; ++chunk) {
             std::vector<journal::MapPoint> pts(100'000);  // 2.5 + 3.6 MB of output per chunk
-            for (std::size_t i = 0; i < pts.size(); ++i) pts[i] = {chunk + i * 1e-6, i * 1e-4f, chunk * 1.f, 0.f, 1, 2, 3, 4};
+            for (std::size_t i = 0; i < pts.size(); ++i)
+                pts[i] = {chunk + i * 1e-6, i * 1e-4f, chunk * 1.f, 0.f, 1, 2, 3, 4};
             ASSERT_TRUE((*w)->appendPoints(pts).isOk());
             ASSERT_TRUE((*w)->flush().isOk());
         }
@@ -168,17 +173,23 @@ TEST_F(ExportTest, ProgressGrowsThroughTheStagesToDone) {
         }
         if (stages.empty() || stages.back() != seen[i].second) stages.push_back(seen[i].second);
     }
-    EXPECT_EQ(stages, (std::vector<std::string>{"reading journal", "writing cloud.ply, cloud.las", "verifying cloud.ply",
-                                                "verifying cloud.las", "writing trajectory and metadata", "done"}));
+    EXPECT_EQ(stages, (std::vector<std::string>{"reading journal", "writing cloud.ply, cloud.las",
+                                                "verifying cloud.ply", "verifying cloud.las",
+                                                "writing trajectory and metadata", "done"}));
     // One update per journal chunk while writing.
-    EXPECT_EQ(std::count_if(seen.begin(), seen.end(), [](const auto& s) { return s.second == "writing cloud.ply, cloud.las"; }), 3);
+    EXPECT_EQ(
+        std::count_if(seen.begin(), seen.end(),
+                      [](const auto& s) { return s.second == "writing cloud.ply, cloud.las"; }),
+        3);
     EXPECT_EQ(r->files.size(), 5u);  // the repeated "ply" is written once
 
     seen.clear();
     opt.voxel_m = 2.0;
     ASSERT_TRUE(exportScan(journal, dir_.string(), opt).isOk());
     EXPECT_EQ(seen.front().second, "thinning");
-    EXPECT_TRUE(std::any_of(seen.begin(), seen.end(), [](const auto& s) { return s.second == "thinning" && s.first == 0.3; }));
+    EXPECT_TRUE(std::any_of(seen.begin(), seen.end(), [](const auto& s) {
+        return s.second == "thinning" && s.first == 0.3;
+    }));
     EXPECT_EQ(seen.back().first, 1.0);
 }
 

@@ -32,8 +32,10 @@ TEST_F(ExportTest, StickPulledMidWriteThenRetry) {
     opt.faults.before_write = [](std::uint64_t written) { return written >= (4u << 20) ? EIO : 0; };
     auto r = exportScan(journal, (dir_ / "stick").string(), opt);
     ASSERT_FALSE(r.isOk());
-    EXPECT_NE(r.status().message().find("Input/output error"), std::string::npos) << r.status().message();
-    EXPECT_NE(r.status().message().find("stick pulled?"), std::string::npos) << r.status().message();
+    EXPECT_NE(r.status().message().find("Input/output error"), std::string::npos)
+        << r.status().message();
+    EXPECT_NE(r.status().message().find("stick pulled?"), std::string::npos)
+        << r.status().message();
     EXPECT_NE(r.status().message().find("internal storage is untouched"), std::string::npos);
     EXPECT_TRUE(filesIn(dir_ / "stick").empty()) << "a partial file was left behind";
     EXPECT_EQ(fs::file_size(journal), before);
@@ -44,15 +46,17 @@ TEST_F(ExportTest, StickPulledMidWriteThenRetry) {
     opt.faults = {};
     auto again = exportScan(journal, (dir_ / "stick").string(), opt);
     ASSERT_TRUE(again.isOk()) << again.status().message();
-    EXPECT_EQ(filesIn(dir_ / "stick"), (std::vector<std::string>{"cloud.ply", "scan.json", "trajectory.csv", "trajectory.tum"}));
+    EXPECT_EQ(
+        filesIn(dir_ / "stick"),
+        (std::vector<std::string>{"cloud.ply", "scan.json", "trajectory.csv", "trajectory.tum"}));
 }
 
 TEST_F(ExportTest, TargetDirectoryVanished) {
     const std::string journal = makeJournal(10);
     auto r = exportScan(journal, (dir_ / "not-mounted").string(), {});
     ASSERT_FALSE(r.isOk());
-    EXPECT_EQ(r.status().message(),
-              "export: target " + (dir_ / "not-mounted").string() + " is not a directory (vanished or not mounted?)");
+    EXPECT_EQ(r.status().message(), "export: target " + (dir_ / "not-mounted").string() +
+                                        " is not a directory (vanished or not mounted?)");
 }
 
 TEST_F(ExportTest, FullTargetRefusedBeforeWriting) {
@@ -62,7 +66,8 @@ TEST_F(ExportTest, FullTargetRefusedBeforeWriting) {
     auto r = exportScan(journal, stick, {});
     ASSERT_FALSE(r.isOk());
     EXPECT_EQ(r.status().code(), StatusCode::kNoSpace);
-    EXPECT_NE(r.status().message().find("MiB free but the export needs"), std::string::npos) << r.status().message();
+    EXPECT_NE(r.status().message().find("MiB free but the export needs"), std::string::npos)
+        << r.status().message();
     EXPECT_TRUE(filesIn(stick).empty());
 }
 
@@ -76,7 +81,8 @@ TEST_F(ExportTest, TargetFillsUpDuringWrite) {
         if (written == 0) {  // first write of a file: fill the stick behind our back
             std::FILE* f = std::fopen((stick + "/other.bin").c_str(), "ab");
             std::vector<char> junk(1 << 20, 'x');
-            while (std::fwrite(junk.data(), 1, junk.size(), f) == junk.size()) {}
+            while (std::fwrite(junk.data(), 1, junk.size(), f) == junk.size()) {
+            }
             std::fclose(f);
         }
         return 0;
@@ -84,7 +90,8 @@ TEST_F(ExportTest, TargetFillsUpDuringWrite) {
     auto r = exportScan(journal, stick, opt);
     ASSERT_FALSE(r.isOk());
     EXPECT_EQ(r.status().code(), StatusCode::kNoSpace) << r.status().message();
-    EXPECT_NE(r.status().message().find("the target is full"), std::string::npos) << r.status().message();
+    EXPECT_NE(r.status().message().find("the target is full"), std::string::npos)
+        << r.status().message();
     EXPECT_EQ(filesIn(fs::path(stick) / "scan"), std::vector<std::string>{});
 }
 
@@ -94,7 +101,8 @@ TEST_F(ExportTest, ReadOnlyTarget) {
     const std::string journal = makeJournal(10);
     auto r = exportScan(journal, stick, {});
     ASSERT_FALSE(r.isOk());
-    EXPECT_NE(r.status().message().find("Read-only file system"), std::string::npos) << r.status().message();
+    EXPECT_NE(r.status().message().find("Read-only file system"), std::string::npos)
+        << r.status().message();
 }
 
 }  // namespace

@@ -1,13 +1,14 @@
 // SafeFileWriter on its own: the O_DIRECT and the buffered paths write the same bytes (several
 // I/O buffers, an unaligned tail, a header patched after the data went out), and the read-back
 // catches a file that differs on the medium from what was written.
+#include "handscan/export/safe_file.hpp"
+
 #include <gtest/gtest.h>
 
 #include <fstream>
 #include <numeric>
 
 #include "export_test_support.hpp"
-#include "handscan/export/safe_file.hpp"
 
 namespace handscan::exporter::testing {
 namespace {
@@ -18,7 +19,8 @@ namespace fs = std::filesystem;
 // partial and not a multiple of 4 KiB.
 std::vector<std::uint8_t> pattern() {
     std::vector<std::uint8_t> v((9u << 20) + 1234);
-    for (std::size_t i = 0; i < v.size(); ++i) v[i] = static_cast<std::uint8_t>((i * 2654435761u) >> 13);
+    for (std::size_t i = 0; i < v.size(); ++i)
+        v[i] = static_cast<std::uint8_t>((i * 2654435761u) >> 13);
     return v;
 }
 

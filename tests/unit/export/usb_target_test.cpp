@@ -1,11 +1,12 @@
 // USB stick discovery against a fake /proc/self/mountinfo, sysfs and udev database.
+#include "handscan/export/usb_target.hpp"
+
 #include <gtest/gtest.h>
 
 #include <fstream>
 
 #include "export_test_support.hpp"
 #include "handscan/export/exporter.hpp"
-#include "handscan/export/usb_target.hpp"
 
 namespace handscan::exporter::testing {
 namespace {
@@ -18,7 +19,8 @@ protected:
     // USB disk that says removable=0 but udev knows is on USB at <dir>/media/disk.
     SystemPaths fakeSystem(bool with_stick, bool with_udev_disk) {
         const fs::path sys = dir_ / "sys";
-        auto blockdev = [&](const std::string& majmin, const std::string& disk, const std::string& part, const char* removable) {
+        auto blockdev = [&](const std::string& majmin, const std::string& disk,
+                            const std::string& part, const char* removable) {
             const fs::path devdir = sys / "devices" / "pci0" / "block" / disk;
             fs::create_directories(devdir / part);
             std::ofstream(devdir / "removable") << removable << "\n";
@@ -32,14 +34,17 @@ protected:
         if (with_stick) {
             blockdev("8:17", "sdb", "sdb1", "1");
             fs::create_directories(dir_ / "media" / "stick");
-            mi << "40 22 8:17 / " << (dir_ / "media" / "stick").string() << " rw,nosuid - vfat /dev/sdb1 rw\n";
+            mi << "40 22 8:17 / " << (dir_ / "media" / "stick").string()
+               << " rw,nosuid - vfat /dev/sdb1 rw\n";
         }
         if (with_udev_disk) {
             blockdev("8:33", "sdc", "sdc1", "0");
             fs::create_directories(dir_ / "udev");
-            std::ofstream(dir_ / "udev" / "b8:33") << "S:disk/by-id/usb-Disk\nE:ID_BUS=usb\nE:ID_TYPE=disk\n";
+            std::ofstream(dir_ / "udev" / "b8:33")
+                << "S:disk/by-id/usb-Disk\nE:ID_BUS=usb\nE:ID_TYPE=disk\n";
             fs::create_directories(dir_ / "media" / "my disk");
-            mi << "41 22 8:33 / " << (dir_ / "media").string() << "/my\\040disk rw - exfat /dev/sdc1 rw\n";
+            mi << "41 22 8:33 / " << (dir_ / "media").string()
+               << "/my\\040disk rw - exfat /dev/sdc1 rw\n";
         }
         return {(dir_ / "mountinfo").string(), sys.string(), (dir_ / "udev").string()};
     }
@@ -71,7 +76,8 @@ TEST_F(UsbTargetTest, NoStickMeansAClearErrorAndNoExport) {
     auto r = exportToUsb(journal, {}, paths);
     ASSERT_FALSE(r.isOk());
     EXPECT_EQ(r.status().message(),
-              "no USB stick found: insert a stick (FAT32, exFAT or ext4), wait for it to mount, and try again");
+              "no USB stick found: insert a stick (FAT32, exFAT or ext4), wait for it to mount, "
+              "and try again");
 }
 
 TEST_F(UsbTargetTest, ExportToUsbWritesOntoTheStick) {

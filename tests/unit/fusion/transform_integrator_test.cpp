@@ -1,8 +1,9 @@
 // Transform integration (section 7): scan pose + VIO increment + IMU increment.
+#include "handscan/fusion/transform_integrator.hpp"
+
 #include <gtest/gtest.h>
 
 #include "handscan/core/se3.hpp"
-#include "handscan/fusion/transform_integrator.hpp"
 
 namespace handscan::fusion {
 namespace {

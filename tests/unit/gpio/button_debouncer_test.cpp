@@ -1,6 +1,6 @@
-#include <gtest/gtest.h>
-
 #include "handscan/gpio/button_debouncer.hpp"
+
+#include <gtest/gtest.h>
 
 namespace handscan::gpio {
 namespace {

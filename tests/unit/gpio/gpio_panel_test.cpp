@@ -1,8 +1,9 @@
 // The panel over the fake line layer: debounced buttons, trigger edges, LED blink writes, tap.
+#include "handscan/gpio/gpio_panel.hpp"
+
 #include <gtest/gtest.h>
 
 #include "handscan/gpio/fake_gpio_chip.hpp"
-#include "handscan/gpio/gpio_panel.hpp"
 
 namespace handscan::gpio {
 namespace {
@@ -49,7 +50,7 @@ TEST(GpioPanel, DebouncesButtonsAndKeepsFirstContactTimes) {
     chip.injectBouncyPress(5, 100 * ms, 4, ms, true);   // press with 4 bounces
     chip.injectBouncyPress(5, 600 * ms, 3, ms, false);  // release with 3 bounces
     chip.injectBouncyPress(6, 700 * ms, 0, ms, true);
-    chip.inject(6, 705 * ms, GpioEdgeType::kFalling);   // a 5 ms tap
+    chip.inject(6, 705 * ms, GpioEdgeType::kFalling);  // a 5 ms tap
     const auto ev = runUntil(p, chip, kNsPerSec);
     ASSERT_EQ(ev.size(), 4u);
     EXPECT_EQ(ev[0].role, PanelRole::kScanButton);
@@ -64,7 +65,8 @@ TEST(GpioPanel, DebouncesButtonsAndKeepsFirstContactTimes) {
     EXPECT_EQ(p.stats().bounces, 8u + 6u + 1u);
     // Every raw edge was recorded, before debouncing.
     std::size_t edges = 0;
-    for (const auto& r : tap.records) edges += r.kind == GpioRecordKind::kRisingEdge || r.kind == GpioRecordKind::kFallingEdge;
+    for (const auto& r : tap.records)
+        edges += r.kind == GpioRecordKind::kRisingEdge || r.kind == GpioRecordKind::kFallingEdge;
     EXPECT_EQ(edges, 9u + 7u + 2u);
 }
 
@@ -99,12 +101,14 @@ TEST(GpioPanel, DrivesLedPatternsOnTime) {
         if (w.line == 22) fault_writes.push_back(w.t);
     }
     ASSERT_EQ(fault_writes.size(), 9u);  // on at 0, then a flip every 125 ms up to 1 s
-    for (std::size_t i = 0; i < fault_writes.size(); ++i) EXPECT_EQ(fault_writes[i], static_cast<TimeNs>(i) * 125 * ms);
+    for (std::size_t i = 0; i < fault_writes.size(); ++i)
+        EXPECT_EQ(fault_writes[i], static_cast<TimeNs>(i) * 125 * ms);
     ASSERT_TRUE(p.setLed(PanelRole::kLedFault, LedPattern::kOff));
     EXPECT_FALSE(chip.outputLevel(22));
     EXPECT_EQ(p.led(PanelRole::kLedScanning), LedPattern::kOn);
     std::size_t outputs = 0;
-    for (const auto& r : tap.records) outputs += r.kind == GpioRecordKind::kOutputOn || r.kind == GpioRecordKind::kOutputOff;
+    for (const auto& r : tap.records)
+        outputs += r.kind == GpioRecordKind::kOutputOn || r.kind == GpioRecordKind::kOutputOff;
     EXPECT_EQ(outputs, chip.writes().size());
 }
 

@@ -1,7 +1,8 @@
+#include "handscan/gpio/gpio_record.hpp"
+
 #include <gtest/gtest.h>
 
 #include "handscan/gpio/gpio_lines.hpp"
-#include "handscan/gpio/gpio_record.hpp"
 
 namespace handscan::gpio {
 namespace {
@@ -23,7 +24,8 @@ TEST(GpioRecord, EncodesTheDocumentedLayoutAndRoundTrips) {
 
 TEST(GpioRecord, RejectsBadRecords) {
     auto b = encodeGpioRecord({1, 2, GpioRecordKind::kOutputOn, PanelRole::kLedFault});
-    EXPECT_EQ(decodeGpioRecord(std::span<const std::uint8_t>(b).first(15)).status().code(), StatusCode::kTruncated);
+    EXPECT_EQ(decodeGpioRecord(std::span<const std::uint8_t>(b).first(15)).status().code(),
+              StatusCode::kTruncated);
     auto k = b;
     k[12] = 9;
     EXPECT_FALSE(decodeGpioRecord(k));

@@ -1,6 +1,6 @@
-#include <gtest/gtest.h>
-
 #include "handscan/gpio/led_pattern.hpp"
+
+#include <gtest/gtest.h>
 
 namespace handscan::gpio {
 namespace {
@@ -23,7 +23,8 @@ TEST(LedPattern, LevelsAtKnownInstants) {
 }
 
 TEST(LedPattern, NextChangeIsExactlyWhereTheLevelFlips) {
-    for (LedPattern p : {LedPattern::kBlinkSlow, LedPattern::kBlinkFast, LedPattern::kDoubleFlash}) {
+    for (LedPattern p :
+         {LedPattern::kBlinkSlow, LedPattern::kBlinkFast, LedPattern::kDoubleFlash}) {
         TimeNs t = 0;
         int changes = 0;
         while (t < 3000 * ms) {
@@ -35,7 +36,9 @@ TEST(LedPattern, NextChangeIsExactlyWhereTheLevelFlips) {
             t = next;
             ++changes;
         }
-        const int per_second = p == LedPattern::kBlinkSlow ? 2 : p == LedPattern::kBlinkFast ? 8 : 4;
+        const int per_second = p == LedPattern::kBlinkSlow   ? 2
+                               : p == LedPattern::kBlinkFast ? 8
+                                                             : 4;
         EXPECT_EQ(changes, 3 * per_second) << toString(p);
     }
     EXPECT_EQ(nextLedChange(LedPattern::kOn, 0), INT64_MAX);

@@ -16,17 +16,27 @@
 namespace handscan::hokuyo {
 namespace {
 
-const std::filesystem::path kDir = std::filesystem::path(HANDSCAN_TEST_DATA_DIR) / "hokuyo" / "decode_small";
-const std::filesystem::path kTool = std::filesystem::path(HANDSCAN_BINARY_DIR) / "firmware" / "cli" / "handscan";
+const std::filesystem::path kDir =
+    std::filesystem::path(HANDSCAN_TEST_DATA_DIR) / "hokuyo" / "decode_small";
+const std::filesystem::path kTool =
+    std::filesystem::path(HANDSCAN_BINARY_DIR) / "firmware" / "cli" / "handscan";
 
 std::string makeCapture() {
     const ScanRequest me{'M', ScanEncoding::kThreeCharWithIntensity, 530, 550, 1, 0, 0, ""};
-    std::string raw = encodeReply("SCIP2.0", "0E") +
-                      encodeKeyValueReply("VV", "00", {{"VEND", "Hokuyo Automatic Co.,Ltd."}, {"SERI", "H0000001"}}) +
-                      encodeKeyValueReply("PP", "00", {{"MODL", "UTM-30LX-EW"}, {"DMIN", "23"}, {"DMAX", "60000"},
-                                                       {"ARES", "1440"}, {"AMIN", "0"}, {"AMAX", "1080"},
-                                                       {"AFRT", "540"}, {"SCAN", "2400"}}) +
-                      encodeReply("BM", "00") + encodeScanAck(me);
+    std::string raw =
+        encodeReply("SCIP2.0", "0E") +
+        encodeKeyValueReply("VV", "00",
+                            {{"VEND", "Hokuyo Automatic Co.,Ltd."}, {"SERI", "H0000001"}}) +
+        encodeKeyValueReply("PP", "00",
+                            {{"MODL", "UTM-30LX-EW"},
+                             {"DMIN", "23"},
+                             {"DMAX", "60000"},
+                             {"ARES", "1440"},
+                             {"AMIN", "0"},
+                             {"AMAX", "1080"},
+                             {"AFRT", "540"},
+                             {"SCAN", "2400"}}) +
+        encodeReply("BM", "00") + encodeScanAck(me);
     const std::uint32_t times[] = {1000, 1025, 1050, 1100};
     for (int k = 0; k < 4; ++k) {
         ScanPayload p;
@@ -50,7 +60,8 @@ std::string readFile(const std::filesystem::path& p) {
 }
 
 std::string runTool(const std::filesystem::path& capture) {
-    const std::string cmd = kTool.string() + " decode --device hokuyo " + capture.string() + " 2>/dev/null";
+    const std::string cmd =
+        kTool.string() + " decode --device hokuyo " + capture.string() + " 2>/dev/null";
     FILE* p = ::popen(cmd.c_str(), "r");
     if (p == nullptr) return {};
     std::string out;
@@ -67,7 +78,8 @@ TEST(HokuyoDecodeCli, MatchesTheGoldenJsonLines) {
         std::ofstream(kDir / "capture.scip", std::ios::binary) << makeCapture();
         std::ofstream(kDir / "expected.jsonl", std::ios::binary) << runTool(kDir / "capture.scip");
     }
-    ASSERT_EQ(readFile(kDir / "capture.scip"), makeCapture()) << "capture differs from the codec's output";
+    ASSERT_EQ(readFile(kDir / "capture.scip"), makeCapture())
+        << "capture differs from the codec's output";
     const std::string out = runTool(kDir / "capture.scip");
     EXPECT_EQ(out, readFile(kDir / "expected.jsonl"));
     // Independent of the golden file: what must be in it.

@@ -1,5 +1,7 @@
 // HokuyoDevice over an in-memory link on a simulated host clock: parameters read from PP, the
 // clock mapping of a drifting sensor clock, back-off timing, raw tap.
+#include "handscan/hokuyo/hokuyo_device.hpp"
+
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -8,7 +10,6 @@
 #include <numbers>
 #include <random>
 
-#include "handscan/hokuyo/hokuyo_device.hpp"
 #include "handscan/hokuyo_fake/fake_hokuyo_sensor.hpp"
 
 namespace handscan::hokuyo {
@@ -63,7 +64,8 @@ public:
         return n;
     }
     Status writeAll(std::span<const std::uint8_t> data, TimeNs) override {
-        sensor_.onHostBytes(std::string_view(reinterpret_cast<const char*>(data.data()), data.size()));
+        sensor_.onHostBytes(
+            std::string_view(reinterpret_cast<const char*>(data.data()), data.size()));
         out_ += sensor_.takeReplies();
         now += 200 * kNsPerUs;  // a round trip
         return Status::ok();
@@ -86,8 +88,8 @@ private:
 
 struct SimScans {
     std::vector<SourceScanFrame> frames;
-    std::vector<TimeNs> arrival;       // host time the frame's last byte arrives
-    std::vector<TimeNs> true_first;    // host time of the first value
+    std::vector<TimeNs> arrival;     // host time the frame's last byte arrives
+    std::vector<TimeNs> true_first;  // host time of the first value
 };
 
 // A UTM-30LX-EW whose clock runs `drift_ppm` fast: the scan timestamp is latched when the last
@@ -127,7 +129,8 @@ TEST(HokuyoDevice, TracksADriftingSensorClockAcrossTheWrap) {
     SimScans sim = simulate(4800, 100.0, 2'000 * kNsPerSec, start_ms, kFullMe, step_ns);
     SimulatedLink link(sim.frames, sim.arrival);
     link.now = 2'000 * kNsPerSec - kNsPerSec;
-    HokuyoDevice dev(link, {}, nullptr, [&] { return link.now; }, [&](TimeNs dt) { link.now += dt; });
+    HokuyoDevice dev(
+        link, {}, nullptr, [&] { return link.now; }, [&](TimeNs dt) { link.now += dt; });
     std::vector<LaserScan> scans;
     for (int i = 0; i < 20000 && scans.size() < sim.frames.size(); ++i) {
         (void)dev.poll(scans);
@@ -146,8 +149,9 @@ TEST(HokuyoDevice, TracksADriftingSensorClockAcrossTheWrap) {
         sum_err += err;
         ++counted;
     }
-    std::printf("clock mapping: drift %.1f ppm (true -100), first-step error mean %.3f ms, max %.3f ms\n",
-                dev.clock().driftPpm(), sum_err / counted * 1e-6, max_err * 1e-6);
+    std::printf(
+        "clock mapping: drift %.1f ppm (true -100), first-step error mean %.3f ms, max %.3f ms\n",
+        dev.clock().driftPpm(), sum_err / counted * 1e-6, max_err * 1e-6);
     EXPECT_LT(max_err, 1.3e6) << "ns";
     EXPECT_LT(sum_err / counted, 0.7e6) << "ns";
     EXPECT_EQ(scans[10].step_period_ns, static_cast<TimeNs>(std::llround(step_ns)));
@@ -156,8 +160,8 @@ TEST(HokuyoDevice, TracksADriftingSensorClockAcrossTheWrap) {
 
 TEST(HokuyoDevice, UsesTheSensorsOwnParametersFromPp) {
     FakeHokuyoIdentity other;
-    other.pp = {{"MODL", "UST-10LX"}, {"DMIN", "20"},  {"DMAX", "30000"}, {"ARES", "1440"},
-                {"AMIN", "0"},        {"AMAX", "1080"}, {"AFRT", "540"},  {"SCAN", "2400"}};
+    other.pp = {{"MODL", "UST-10LX"}, {"DMIN", "20"},   {"DMAX", "30000"}, {"ARES", "1440"},
+                {"AMIN", "0"},        {"AMAX", "1080"}, {"AFRT", "540"},   {"SCAN", "2400"}};
     other.pp[4].second = "100";   // AMIN
     other.pp[5].second = "900";   // AMAX
     other.pp[7].second = "1800";  // SCAN rpm
@@ -170,7 +174,8 @@ TEST(HokuyoDevice, UsesTheSensorsOwnParametersFromPp) {
     sim.frames[2].scan.ranges[4] = 30001;  // above DMAX
     sim.frames[2].bytes = encodeScanFrame(req, sim.frames[2].scan);
     SimulatedLink link(sim.frames, sim.arrival, other);
-    HokuyoDevice dev(link, {}, nullptr, [&] { return link.now; }, [&](TimeNs dt) { link.now += dt; });
+    HokuyoDevice dev(
+        link, {}, nullptr, [&] { return link.now; }, [&](TimeNs dt) { link.now += dt; });
     std::vector<LaserScan> scans;
     for (int i = 0; i < 200 && scans.size() < 5; ++i) (void)dev.poll(scans);
     ASSERT_EQ(scans.size(), 5u);
@@ -203,7 +208,8 @@ TEST(HokuyoDevice, BacksOffExponentiallyAndResumesAfterADrop) {
     HokuyoDeviceConfig cfg;
     cfg.backoff_initial_ns = 100 * kNsPerMs;
     cfg.backoff_max_ns = 500 * kNsPerMs;
-    HokuyoDevice dev(link, cfg, nullptr, [&] { return link.now; }, [&](TimeNs dt) { link.now += dt; });
+    HokuyoDevice dev(
+        link, cfg, nullptr, [&] { return link.now; }, [&](TimeNs dt) { link.now += dt; });
     std::vector<LaserScan> scans;
     for (int i = 0; i < 2000 && scans.size() < 29; ++i) (void)dev.poll(scans);
     ASSERT_EQ(scans.size(), 29u);  // all but the frame the link dropped in
@@ -240,7 +246,8 @@ TEST(HokuyoDevice, RawTapSeesEveryByteTheSensorSent) {
     SimScans sim = simulate(6, 0.0, 10 * kNsPerSec, 1000, kFullMe, 60e9 / 2400 / 1440);
     SimulatedLink link(sim.frames, sim.arrival);
     CountingTap tap;
-    HokuyoDevice dev(link, {}, &tap, [&] { return link.now; }, [&](TimeNs dt) { link.now += dt; });
+    HokuyoDevice dev(
+        link, {}, &tap, [&] { return link.now; }, [&](TimeNs dt) { link.now += dt; });
     std::vector<LaserScan> scans;
     for (int i = 0; i < 200 && scans.size() < 6; ++i) (void)dev.poll(scans);
     ASSERT_EQ(scans.size(), 6u);

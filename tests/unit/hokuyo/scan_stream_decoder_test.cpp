@@ -1,11 +1,11 @@
 // The receive side shared by HokuyoDevice and replay: replies and faults come back in stream order
 // for the state machine, the PP reply both sets the geometry and reaches the state machine, and
 // scans become LaserScans as soon as their frame is complete.
+#include "handscan/hokuyo/scan_stream_decoder.hpp"
+
 #include <gtest/gtest.h>
 
 #include <variant>
-
-#include "handscan/hokuyo/scan_stream_decoder.hpp"
 
 namespace handscan::hokuyo {
 namespace {
@@ -26,9 +26,15 @@ ScanPayload scanAt(std::uint32_t t_ms) {
 
 TEST(ScanStreamDecoder, RepliesAndFaultsComeBackInOrderScansAreDecoded) {
     const ScanRequest me;  // ME0000108001000
-    const std::string pp = encodeKeyValueReply("PP", "00", {{"MODL", "UTM-30LX-EW"}, {"DMIN", "23"}, {"DMAX", "60000"},
-                                                           {"ARES", "1440"}, {"AMIN", "0"}, {"AMAX", "1080"},
-                                                           {"AFRT", "540"}, {"SCAN", "2400"}});
+    const std::string pp = encodeKeyValueReply("PP", "00",
+                                               {{"MODL", "UTM-30LX-EW"},
+                                                {"DMIN", "23"},
+                                                {"DMAX", "60000"},
+                                                {"ARES", "1440"},
+                                                {"AMIN", "0"},
+                                                {"AMAX", "1080"},
+                                                {"AFRT", "540"},
+                                                {"SCAN", "2400"}});
     std::string early = encodeScanFrame(me, scanAt(975));  // before the geometry is known
     std::string stream = early + pp + encodeReply("BM", "00") + encodeScanAck(me);
     for (std::uint32_t k = 0; k < 4; ++k) {
@@ -46,7 +52,8 @@ TEST(ScanStreamDecoder, RepliesAndFaultsComeBackInOrderScansAreDecoded) {
     EXPECT_LT(scans[2].stepTime(scans[2].size() - 1), t_rx);
     ASSERT_EQ(events.size(), 4u);
     ASSERT_TRUE(std::holds_alternative<ScipFault>(events[0]));
-    EXPECT_NE(std::get<ScipFault>(events[0]).message.find("before the PP reply"), std::string::npos);
+    EXPECT_NE(std::get<ScipFault>(events[0]).message.find("before the PP reply"),
+              std::string::npos);
     EXPECT_EQ(std::get<ScipFrame>(events[1]).command, "PP");
     EXPECT_EQ(std::get<ScipFrame>(events[2]).command, "BM");
     EXPECT_EQ(std::get<ScipFrame>(events[3]).echo, "ME0000108001000");

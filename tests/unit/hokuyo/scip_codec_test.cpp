@@ -1,5 +1,7 @@
 // SCIP 2.0 codec: the specification's worked examples and a real UTM-30LX-EW PP reply / URG-04LX
 // VV+BM transcript (../shared/data/hokuyo), plus byte-exact layout of the frames we encode.
+#include "handscan/hokuyo/scip_codec.hpp"
+
 #include <gtest/gtest.h>
 
 #include <filesystem>
@@ -7,7 +9,6 @@
 #include <map>
 #include <sstream>
 
-#include "handscan/hokuyo/scip_codec.hpp"
 #include "handscan/hokuyo/scip_stream_parser.hpp"
 
 namespace handscan::hokuyo {
@@ -77,7 +78,8 @@ TEST(ScipGolden, ChecksumAndDecodersFromTheSpecification) {
             EXPECT_EQ(encodeScipChars(want, static_cast<int>(text.size())), text) << d;
             ++checked;
         } else if (kind == "PARAMLINE") {
-            auto kv = parseKeyValueLine(d.substr(d.find('"') + 1, d.find('"', d.find('"') + 1) - d.find('"') - 1));
+            auto kv = parseKeyValueLine(
+                d.substr(d.find('"') + 1, d.find('"', d.find('"') + 1) - d.find('"') - 1));
             ASSERT_TRUE(kv) << kv.status().message();
             EXPECT_EQ(kv->first, "PROT");
             EXPECT_EQ(kv->second, "SCIP 2.0");
@@ -193,9 +195,9 @@ TEST(ScipCodec, CommandsAreByteExact) {
         EXPECT_EQ(*back, r);
     }
     EXPECT_EQ(me.valuesPerScan(), (725 - 44) / 3 + 1);
-    EXPECT_FALSE(parseScanEcho("ME00001080010"));     // too short
-    EXPECT_FALSE(parseScanEcho("ME00X0108001000"));   // not digits
-    EXPECT_FALSE(parseScanEcho("MX0000108001000"));   // not a scan symbol
+    EXPECT_FALSE(parseScanEcho("ME00001080010"));    // too short
+    EXPECT_FALSE(parseScanEcho("ME00X0108001000"));  // not digits
+    EXPECT_FALSE(parseScanEcho("MX0000108001000"));  // not a scan symbol
 }
 
 TEST(ScipCodec, MeFrameLayoutBlocksSumsAndStraddlingValues) {
@@ -203,7 +205,8 @@ TEST(ScipCodec, MeFrameLayoutBlocksSumsAndStraddlingValues) {
     ScanPayload scan;
     scan.timestamp_ms = 0xABCDEF;
     for (std::uint32_t i = 0; i < 1081; ++i) {
-        scan.ranges.push_back(i < 5 ? i + 1 : 100 + i * 53);  // first steps carry error codes < DMIN
+        scan.ranges.push_back(i < 5 ? i + 1
+                                    : 100 + i * 53);  // first steps carry error codes < DMIN
         scan.intensities.push_back(1000 + i);
     }
     const std::string frame = encodeScanFrame(me, scan);
@@ -252,7 +255,8 @@ TEST(ScipCodec, StatusCodesAreExplained) {
     EXPECT_TRUE(isSuccessStatus("SCIP2.0", "0E"));
     EXPECT_FALSE(isSuccessStatus("GD", "99"));
     EXPECT_FALSE(isSuccessStatus("ME", "04"));
-    EXPECT_NE(describeStatus("ME", "04").find("end step out of the sensor's range"), std::string::npos);
+    EXPECT_NE(describeStatus("ME", "04").find("end step out of the sensor's range"),
+              std::string::npos);
     EXPECT_NE(describeStatus("GD", "10").find("send BM"), std::string::npos);
     EXPECT_NE(describeStatus("MD", "55").find("hardware fault"), std::string::npos);
     EXPECT_NE(describeStatus("BM", "01").find("laser malfunction"), std::string::npos);

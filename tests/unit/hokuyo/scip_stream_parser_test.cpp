@@ -1,10 +1,11 @@
 // ScipStreamParser: fragments split at every point, corrupted blocks, dropped bytes, garbage.
+#include "handscan/hokuyo/scip_stream_parser.hpp"
+
 #include <gtest/gtest.h>
 
 #include <random>
 
 #include "handscan/hokuyo/scip_codec.hpp"
-#include "handscan/hokuyo/scip_stream_parser.hpp"
 
 namespace handscan::hokuyo {
 namespace {
@@ -50,22 +51,29 @@ Parsed parse(const std::string& bytes, ScipStreamParser* parser_out = nullptr) {
 
 std::string handshakeReplies() {
     return encodeReply("SCIP2.0", "0E") +
-           encodeKeyValueReply("VV", "00", {{"VEND", "Hokuyo Automatic Co.,Ltd."},
-                                            {"PROD", "SOKUIKI Sensor TOP-URG UTM-30LX-EW"},
-                                            {"FIRM", "1.1.0(2012-12-06)"},
-                                            {"PROT", "SCIP 2.0"},
-                                            {"SERI", "H1234567"}}) +
-           encodeKeyValueReply("PP", "00", {{"MODL", "UTM-30LX-EW"}, {"DMIN", "23"},
-                                            {"DMAX", "60000"}, {"ARES", "1440"}, {"AMIN", "0"},
-                                            {"AMAX", "1080"}, {"AFRT", "540"}, {"SCAN", "2400"}}) +
+           encodeKeyValueReply("VV", "00",
+                               {{"VEND", "Hokuyo Automatic Co.,Ltd."},
+                                {"PROD", "SOKUIKI Sensor TOP-URG UTM-30LX-EW"},
+                                {"FIRM", "1.1.0(2012-12-06)"},
+                                {"PROT", "SCIP 2.0"},
+                                {"SERI", "H1234567"}}) +
+           encodeKeyValueReply("PP", "00",
+                               {{"MODL", "UTM-30LX-EW"},
+                                {"DMIN", "23"},
+                                {"DMAX", "60000"},
+                                {"ARES", "1440"},
+                                {"AMIN", "0"},
+                                {"AMAX", "1080"},
+                                {"AFRT", "540"},
+                                {"SCAN", "2400"}}) +
            encodeReply("BM", "00") + encodeScanAck(kMe);
 }
 
 TEST(ScipStreamParser, HandshakeAndStreamInOneChunk) {
     const ScanPayload s1 = makeScan(1000, 1);
     const ScanPayload s2 = makeScan(1025, 2);
-    const std::string bytes = handshakeReplies() + encodeScanFrame(kMe, s1) + encodeScanFrame(kMe, s2) +
-                              encodeReply("QT", "00");
+    const std::string bytes = handshakeReplies() + encodeScanFrame(kMe, s1) +
+                              encodeScanFrame(kMe, s2) + encodeReply("QT", "00");
     ScipStreamParser parser;
     Parsed p = parse(bytes, &parser);
     ASSERT_TRUE(p.faults.empty()) << p.faults[0].message;

@@ -15,7 +15,8 @@ namespace handscan::imu::testing {
 
 inline std::string eurocDir() { return std::string(HANDSCAN_SHARED_DATA_DIR) + "/imu/euroc"; }
 
-inline std::vector<std::vector<double>> readCsvRows(const std::string& path, std::vector<TimeNs>* times) {
+inline std::vector<std::vector<double>> readCsvRows(const std::string& path,
+                                                    std::vector<TimeNs>* times) {
     std::vector<std::vector<double>> rows;
     std::ifstream f(path);
     std::string line;
@@ -57,7 +58,8 @@ inline std::vector<EurocGroundTruth> readEurocGroundTruth(const std::string& pat
         const auto& r = rows[i];
         out[i].state.t = t[i];
         out[i].state.p_world_imu = {r[0], r[1], r[2]};
-        out[i].state.R_world_imu = Eigen::Quaterniond(r[3], r[4], r[5], r[6]).normalized().toRotationMatrix();
+        out[i].state.R_world_imu =
+            Eigen::Quaterniond(r[3], r[4], r[5], r[6]).normalized().toRotationMatrix();
         out[i].state.v_world_imu = {r[7], r[8], r[9]};
         out[i].biases.gyro_radps = {r[10], r[11], r[12]};
         out[i].biases.accel_mps2 = {r[13], r[14], r[15]};

@@ -21,9 +21,9 @@ using testing::eurocDir;
 constexpr double kDeg = 180.0 / M_PI;
 
 // ADIS16448 noise model from the dataset's imu0/sensor.yaml.
-constexpr double kGyroNoise = 1.6968e-4;   // rad/s/sqrt(Hz)
-constexpr double kAccelNoise = 2.0e-3;     // m/s^2/sqrt(Hz)
-constexpr double kAccelWalk = 3.0e-3;      // m/s^3/sqrt(Hz)
+constexpr double kGyroNoise = 1.6968e-4;  // rad/s/sqrt(Hz)
+constexpr double kAccelNoise = 2.0e-3;    // m/s^2/sqrt(Hz)
+constexpr double kAccelWalk = 3.0e-3;     // m/s^3/sqrt(Hz)
 
 double tiltAngle(const Eigen::Matrix3d& Ra, const Eigen::Matrix3d& Rb) {
     // Angle between the "up" directions seen in {I}: yaw-independent roll/pitch error.
@@ -58,15 +58,18 @@ TEST(Euroc, GravityAlignmentFromStaticStartOfV1_01) {
 
     // Ground-truth attitude at the static interval's end.
     const double t_end = toSeconds(a->t_end);
-    const auto it = std::lower_bound(gt->begin(), gt->end(), t_end,
-                                     [](const eval::StampedPose& p, double t) { return p.t_s < t; });
+    const auto it =
+        std::lower_bound(gt->begin(), gt->end(), t_end,
+                         [](const eval::StampedPose& p, double t) { return p.t_s < t; });
     ASSERT_NE(it, gt->end());
     ASSERT_LT(it->t_s - t_end, 1.5);
     const double tilt = tiltAngle(a->R_world_imu, it->T.linear());
-    std::printf("V1_01 static start: %zu samples over %.2f s, |f|-g = %.3f m/s^2, gyro bias (%.4f %.4f %.4f) "
-                "rad/s, roll/pitch error vs Vicon %.3f deg\n",
-                a->samples, toSeconds(a->t_end - a->t_start), a->accel_norm_error_mps2, a->biases.gyro_radps.x(),
-                a->biases.gyro_radps.y(), a->biases.gyro_radps.z(), tilt * kDeg);
+    std::printf(
+        "V1_01 static start: %zu samples over %.2f s, |f|-g = %.3f m/s^2, gyro bias (%.4f %.4f "
+        "%.4f) "
+        "rad/s, roll/pitch error vs Vicon %.3f deg\n",
+        a->samples, toSeconds(a->t_end - a->t_start), a->accel_norm_error_mps2,
+        a->biases.gyro_radps.x(), a->biases.gyro_radps.y(), a->biases.gyro_radps.z(), tilt * kDeg);
     // Bound: an accelerometer bias b tilts the estimate by ~|b_perp|/g; EuRoC's V1 accel biases are
     // ~0.1 m/s^2 (V1_02 ground truth: |b_a| = 0.14) -> 0.8 deg, plus the Vicon world frame's own
     // levelling; white noise over 200 samples adds only 2e-3/sqrt(1)/9.81 rad = 0.01 deg.
@@ -94,8 +97,8 @@ double rms(const std::vector<double>& v) {
 }
 
 // Predicts from `start` with `biases` over the IMU samples up to t_end.
-NavState predictWindow(const std::vector<ImuSample>& imu, const NavState& start, const ImuBiases& biases,
-                       TimeNs t_end) {
+NavState predictWindow(const std::vector<ImuSample>& imu, const NavState& start,
+                       const ImuBiases& biases, TimeNs t_end) {
     ImuPredictor predictor({}, Eigen::Isometry3d::Identity());
     predictor.initialize(start, biases);
     auto first = std::lower_bound(imu.begin(), imu.end(), start.t,
@@ -114,7 +117,8 @@ NavState predictWindow(const std::vector<ImuSample>& imu, const NavState& start,
 //   gyro white noise through gravity  g sigma_g T^2.5 / sqrt(20) = 0.37 mm
 //   accel bias walk     sigma_ba_rw T^2.5 / sqrt(20)  = 0.67 mm       -> 1.4 mm together;
 //  start state taken from the ground truth (not sensor noise, but it dominates):
-//   velocity error sigma_v T, attitude error g sigma_att T^2 / 2, accel-bias error sigma_ba T^2 / 2.
+//   velocity error sigma_v T, attitude error g sigma_att T^2 / 2, accel-bias error sigma_ba T^2
+//   / 2.
 double positionBudgetPerAxis(double sigma_v, double sigma_att_rad, double sigma_ba) {
     const double T = 1.0, g = 9.81;
     const double sensor2 = std::pow(kAccelNoise * std::pow(T, 1.5) / std::sqrt(3.0), 2) +
@@ -125,8 +129,10 @@ double positionBudgetPerAxis(double sigma_v, double sigma_att_rad, double sigma_
     return std::sqrt(sensor2 + start2);
 }
 
-// Disjoint 1 s windows [gt[i], gt[j]] whose end is exactly 1 s after the start and inside the IMU log.
-std::vector<std::pair<std::size_t, std::size_t>> oneSecondWindows(const std::vector<TimeNs>& t, TimeNs imu_end) {
+// Disjoint 1 s windows [gt[i], gt[j]] whose end is exactly 1 s after the start and inside the IMU
+// log.
+std::vector<std::pair<std::size_t, std::size_t>> oneSecondWindows(const std::vector<TimeNs>& t,
+                                                                  TimeNs imu_end) {
     std::vector<std::pair<std::size_t, std::size_t>> out;
     std::size_t i = 0;
     while (i < t.size()) {
@@ -140,10 +146,12 @@ std::vector<std::pair<std::size_t, std::size_t>> oneSecondWindows(const std::vec
 }
 
 void printStats(const char* what, const WindowStats& s) {
-    std::printf("%s: %zu windows of 1 s: position rms %.4f p95 %.4f max %.4f m; rotation rms %.3f max %.3f deg\n",
-                what, s.pos_m.size(), rms(s.pos_m), percentile(s.pos_m, 0.95),
-                *std::max_element(s.pos_m.begin(), s.pos_m.end()), rms(s.rot_deg),
-                *std::max_element(s.rot_deg.begin(), s.rot_deg.end()));
+    std::printf(
+        "%s: %zu windows of 1 s: position rms %.4f p95 %.4f max %.4f m; rotation rms %.3f max %.3f "
+        "deg\n",
+        what, s.pos_m.size(), rms(s.pos_m), percentile(s.pos_m, 0.95),
+        *std::max_element(s.pos_m.begin(), s.pos_m.end()), rms(s.rot_deg),
+        *std::max_element(s.rot_deg.begin(), s.rot_deg.end()));
 }
 
 TEST(Euroc, OneSecondPredictionFromGroundTruthStatesOfV1_02) {
@@ -171,11 +179,12 @@ TEST(Euroc, OneSecondPredictionFromGroundTruthStatesOfV1_02) {
     // rotation error, which the gyro's own noise (0.01 deg) cannot explain, measures it), biases
     // 0.02 m/s^2 -> 24 mm per axis, 42 mm as 3D rms; the sensor alone contributes 1.4 mm per axis.
     const double sigma = positionBudgetPerAxis(0.02, 0.1 / kDeg, 0.02);
-    std::printf("V1_02 budget: %.4f m per axis, 3D rms %.4f m, 3D p95 %.4f m\n", sigma, std::sqrt(3.0) * sigma,
-                2.8 * sigma);
+    std::printf("V1_02 budget: %.4f m per axis, 3D rms %.4f m, 3D p95 %.4f m\n", sigma,
+                std::sqrt(3.0) * sigma, 2.8 * sigma);
     EXPECT_LT(rms(with_bias.pos_m), std::sqrt(3.0) * sigma);
     EXPECT_LT(percentile(with_bias.pos_m, 0.95), 2.8 * sigma);  // chi(3) 95 % = 2.8 sigma
-    // Rotation: gyro white noise 0.01 deg + GT bias error (1e-3 rad/s -> 0.06 deg) + GT attitude 0.1 deg.
+    // Rotation: gyro white noise 0.01 deg + GT bias error (1e-3 rad/s -> 0.06 deg) + GT attitude
+    // 0.1 deg.
     EXPECT_LT(rms(with_bias.rot_deg), std::sqrt(3.0) * std::hypot(0.1, 0.06));
     // The test discriminates: ignoring the biases is several times worse.
     EXPECT_GT(rms(without_bias.pos_m), 3.0 * rms(with_bias.pos_m));
@@ -222,8 +231,8 @@ TEST(Euroc, OneSecondPredictionFromDifferentiatedGroundTruthOfV1_01) {
     // difference's truncation under the MAV's jerk (~1 cm/s): 2.5 cm/s; the gyro bias from the
     // static start drifts over the 145 s (0.1 deg attitude), accel bias borrowed (0.03 m/s^2).
     const double sigma = positionBudgetPerAxis(0.025, 0.1 / kDeg, 0.03);
-    std::printf("V1_01 budget: %.4f m per axis, 3D rms %.4f m, 3D p95 %.4f m\n", sigma, std::sqrt(3.0) * sigma,
-                2.8 * sigma);
+    std::printf("V1_01 budget: %.4f m per axis, 3D rms %.4f m, 3D p95 %.4f m\n", sigma,
+                std::sqrt(3.0) * sigma, 2.8 * sigma);
     EXPECT_LT(rms(stats.pos_m), std::sqrt(3.0) * sigma);
     EXPECT_LT(percentile(stats.pos_m, 0.95), 2.8 * sigma);
 }
@@ -254,22 +263,29 @@ TEST(Euroc, BiasesFromOneHertzPoseFeedbackOnV1_02) {
         if (g.state.t + 300 * kNsPerMs > imu.back().t_host) break;
         feedUntil(g.state.t + 300 * kNsPerMs);
         if (corrections >= 20) {  // after convergence: how good is the 1 s prediction now?
-            pred_err.push_back((predictor.stateAt(g.state.t)->p_world_imu - g.state.p_world_imu).norm());
+            pred_err.push_back(
+                (predictor.stateAt(g.state.t)->p_world_imu - g.state.p_world_imu).norm());
         }
         const Status s = predictor.correct(g.state.t, g.state.T_world_imu(), kAllDofs);
         ASSERT_TRUE(s.isOk()) << s.message();
         ++corrections;
-        if (corrections > 20) v_err.push_back((predictor.stateAt(g.state.t)->v_world_imu - g.state.v_world_imu).norm());
+        if (corrections > 20)
+            v_err.push_back(
+                (predictor.stateAt(g.state.t)->v_world_imu - g.state.v_world_imu).norm());
         next_feedback = g.state.t + kNsPerSec;
     }
     ASSERT_GE(corrections, 30);
     const ImuBiases& b = predictor.biases();
     const ImuBiases& truth = gt.back().biases;  // constant over the file
-    std::printf("V1_02 biases from 1 Hz feedback (%d): gyro (%.4f %.4f %.4f) vs GT (%.4f %.4f %.4f) rad/s; accel "
-                "(%.3f %.3f %.3f) vs GT (%.3f %.3f %.3f) m/s^2; 1 s prediction error after convergence rms %.4f m; velocity error after feedback (converged) rms %.4f m/s\n",
-                corrections, b.gyro_radps.x(), b.gyro_radps.y(), b.gyro_radps.z(), truth.gyro_radps.x(),
-                truth.gyro_radps.y(), truth.gyro_radps.z(), b.accel_mps2.x(), b.accel_mps2.y(), b.accel_mps2.z(),
-                truth.accel_mps2.x(), truth.accel_mps2.y(), truth.accel_mps2.z(), rms(pred_err), rms(v_err));
+    std::printf(
+        "V1_02 biases from 1 Hz feedback (%d): gyro (%.4f %.4f %.4f) vs GT (%.4f %.4f %.4f) rad/s; "
+        "accel "
+        "(%.3f %.3f %.3f) vs GT (%.3f %.3f %.3f) m/s^2; 1 s prediction error after convergence rms "
+        "%.4f m; velocity error after feedback (converged) rms %.4f m/s\n",
+        corrections, b.gyro_radps.x(), b.gyro_radps.y(), b.gyro_radps.z(), truth.gyro_radps.x(),
+        truth.gyro_radps.y(), truth.gyro_radps.z(), b.accel_mps2.x(), b.accel_mps2.y(),
+        b.accel_mps2.z(), truth.accel_mps2.x(), truth.accel_mps2.y(), truth.accel_mps2.z(),
+        rms(pred_err), rms(v_err));
     // Gyro: the window sees ~6 s of rotation with ~0.1 deg feedback noise -> ~3e-4 rad/s.
     EXPECT_LT((b.gyro_radps - truth.gyro_radps).norm(), 2e-3);
     // Accel: 6 s window, 1 mm / 0.1 deg feedback; the GT estimator's own bias is uncertain too.

@@ -1,8 +1,9 @@
 // Mechanization (eqs. (3)-(4)), the lever arm to the body frame and the preintegration Jacobians
 // against an analytic motion with exact IMU readings.
+#include "handscan/imu/mechanization.hpp"
+
 #include <gtest/gtest.h>
 
-#include "handscan/imu/mechanization.hpp"
 #include "handscan/imu/preintegration.hpp"
 #include "synthetic_motion.hpp"
 
@@ -65,9 +66,11 @@ TEST(LeverArm, BodyPoseVelocityAndSpecificForceMatchTheRigidBody) {
         const Eigen::Vector3d a_num = (p2 - 2 * p1 + p0) / (h * h);
         EXPECT_LT((bodyVelocity(m.state(t), m.omega(t), T_imu_body) - v_num).norm(), 1e-6);
         // Eq. (4) at the body origin, in {C}: what an IMU there would read.
-        const Eigen::Vector3d f_body_expected = bodyAt(t).linear().transpose() * (a_num - gravityWorld(g));
+        const Eigen::Vector3d f_body_expected =
+            bodyAt(t).linear().transpose() * (a_num - gravityWorld(g));
         const Eigen::Vector3d f_imu = m.sample(t, {}, g).accel_mps2_imu;
-        const Eigen::Vector3d f_body = specificForceAtBody(f_imu, m.omega(t), m.omegaDot(t), T_imu_body);
+        const Eigen::Vector3d f_body =
+            specificForceAtBody(f_imu, m.omega(t), m.omegaDot(t), T_imu_body);
         EXPECT_LT((f_body - f_body_expected).norm(), 1e-3) << "t=" << t;
         // Without the lever-arm terms the error is of the size of omega^2 r: the test sees it.
         const Eigen::Vector3d f_naive = T_imu_body.linear().transpose() * f_imu;

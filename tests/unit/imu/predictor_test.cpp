@@ -19,7 +19,8 @@ constexpr double kDt = 0.005;  // 200 Hz
 
 Eigen::Isometry3d camchainTCamImu() {
     // The rig's Kalibr camchain (config/camchain.yaml via calibration.yaml).
-    return loadCalibration(std::string(HANDSCAN_SOURCE_DIR) + "/config/calibration.yaml").tracking.T_cam_imu;
+    return loadCalibration(std::string(HANDSCAN_SOURCE_DIR) + "/config/calibration.yaml")
+        .tracking.T_cam_imu;
 }
 
 ImuBiases trueBiases() {
@@ -32,9 +33,11 @@ ImuBiases trueBiases() {
 TEST(ImuPredictor, AlignsFromAStaticStartAndThenPredicts) {
     const Eigen::Matrix3d R0 = expSO3(Eigen::Vector3d(0.2, -0.15, 0.7));
     const ImuBiases b = trueBiases();
-    const Calibration calibration = loadCalibration(std::string(HANDSCAN_SOURCE_DIR) + "/config/calibration.yaml");
+    const Calibration calibration =
+        loadCalibration(std::string(HANDSCAN_SOURCE_DIR) + "/config/calibration.yaml");
     ImuPredictor predictor({}, calibration);
-    EXPECT_TRUE((predictor.T_imu_body() * calibration.tracking.T_cam_imu).matrix().isIdentity(1e-12));
+    EXPECT_TRUE(
+        (predictor.T_imu_body() * calibration.tracking.T_cam_imu).matrix().isIdentity(1e-12));
     // 1.5 s held still (tilted), then moving.
     for (int k = 0; k < 300; ++k) {
         ImuSample s;
@@ -72,9 +75,12 @@ protected:
         T_cam_imu_ = camchainTCamImu();
         predictor_ = std::make_unique<ImuPredictor>(ImuPredictorConfig{}, T_cam_imu_);
     }
-    Eigen::Isometry3d trueBody(double t) const { return m_.state(t).T_world_imu() * T_cam_imu_.inverse(); }
+    Eigen::Isometry3d trueBody(double t) const {
+        return m_.state(t).T_world_imu() * T_cam_imu_.inverse();
+    }
     void feed(int from, int to, const ImuBiases& b = {}) {
-        for (int k = from; k < to; ++k) ASSERT_TRUE(predictor_->addImu(m_.sample(k * kDt, b)).isOk());
+        for (int k = from; k < to; ++k)
+            ASSERT_TRUE(predictor_->addImu(m_.sample(k * kDt, b)).isOk());
     }
     SyntheticMotion m_;
     Eigen::Isometry3d T_cam_imu_;
@@ -125,7 +131,8 @@ TEST_F(PredictorOnMotion, FeedbackConvergesToTheTrueBiases) {
     predictor_->initialize(m_.state(0.0), {});  // biases unknown
     int next = 0;
     auto feedUntil = [&](double t) {
-        for (; next * kDt <= t + 1e-9; ++next) ASSERT_TRUE(predictor_->addImu(m_.sample(next * kDt, b)).isOk());
+        for (; next * kDt <= t + 1e-9; ++next)
+            ASSERT_TRUE(predictor_->addImu(m_.sample(next * kDt, b)).isOk());
     };
     // A scan match every second (its pose refers to the sweep time, which falls between IMU
     // samples), arriving 0.3 s later.
@@ -135,19 +142,23 @@ TEST_F(PredictorOnMotion, FeedbackConvergesToTheTrueBiases) {
         const Status s = predictor_->correct(fromSeconds(t), trueBody(t), kAllDofs);
         ASSERT_TRUE(s.isOk()) << s.message();
         // The pose at the feedback time is now the feedback.
-        EXPECT_LT((predictor_->poseAt(fromSeconds(t))->translation() - trueBody(t).translation()).norm(), 1e-9);
+        EXPECT_LT(
+            (predictor_->poseAt(fromSeconds(t))->translation() - trueBody(t).translation()).norm(),
+            1e-9);
     }
     const ImuBiases& e = predictor_->biases();
     // The accelerometer bias (body frame) and the horizontal gravity correction (world frame) are
     // told apart only by rotation, so what must converge is the acceleration error they make
     // together at the current attitude: R (b_true - b_est) + (g_est - g_true).
     const double t_last = 30.0021;
-    const Eigen::Vector3d accel_err = m_.R(t_last) * (b.accel_mps2 - e.accel_mps2) +
-                                      (predictor_->gravity() - gravityWorld(9.81));
-    std::printf("biases after 30 feedbacks: gyro err %.2e rad/s, accel bias err %.2e m/s^2, gravity err %.2e m/s^2, "
-                "acceleration err %.2e m/s^2\n",
-                (e.gyro_radps - b.gyro_radps).norm(), (e.accel_mps2 - b.accel_mps2).norm(),
-                (predictor_->gravity() - gravityWorld(9.81)).norm(), accel_err.norm());
+    const Eigen::Vector3d accel_err =
+        m_.R(t_last) * (b.accel_mps2 - e.accel_mps2) + (predictor_->gravity() - gravityWorld(9.81));
+    std::printf(
+        "biases after 30 feedbacks: gyro err %.2e rad/s, accel bias err %.2e m/s^2, gravity err "
+        "%.2e m/s^2, "
+        "acceleration err %.2e m/s^2\n",
+        (e.gyro_radps - b.gyro_radps).norm(), (e.accel_mps2 - b.accel_mps2).norm(),
+        (predictor_->gravity() - gravityWorld(9.81)).norm(), accel_err.norm());
     EXPECT_LT((e.gyro_radps - b.gyro_radps).norm(), 2e-4);
     EXPECT_LT(accel_err.norm(), 5e-3);
     EXPECT_LT((e.accel_mps2 - b.accel_mps2).norm(), 0.05);  // the split itself: within the tilt
@@ -170,7 +181,8 @@ TEST_F(PredictorOnMotion, FeedbackOnlyActsInTheSolvedDofs) {
     predictor_->initialize(m_.state(0.0), {});
     int next = 0;
     auto feedUntil = [&](double t) {
-        for (; next * kDt <= t + 1e-9; ++next) ASSERT_TRUE(predictor_->addImu(m_.sample(next * kDt, trueBiases())).isOk());
+        for (; next * kDt <= t + 1e-9; ++next)
+            ASSERT_TRUE(predictor_->addImu(m_.sample(next * kDt, trueBiases())).isOk());
     };
     // A matcher degenerate in tz and rz (e.g. a long flat floor seen from above... in world
     // axes) returns garbage there: +1 m in z and +10 deg of yaw.
@@ -207,7 +219,8 @@ TEST_F(PredictorOnMotion, AMatcherSlipDoesNotRingTheVelocity) {
     predictor_->initialize(m_.state(0.0), {});
     int next = 0;
     auto feedUntil = [&](double t) {
-        for (; next * kDt <= t + 1e-9; ++next) ASSERT_TRUE(predictor_->addImu(m_.sample(next * kDt, trueBiases())).isOk());
+        for (; next * kDt <= t + 1e-9; ++next)
+            ASSERT_TRUE(predictor_->addImu(m_.sample(next * kDt, trueBiases())).isOk());
     };
     double worst_v = 0.0, worst_after = 0.0;
     for (int sweep = 1; sweep <= 40; ++sweep) {
@@ -216,11 +229,13 @@ TEST_F(PredictorOnMotion, AMatcherSlipDoesNotRingTheVelocity) {
         Eigen::Isometry3d fed = trueBody(t);
         if (sweep == 30) fed.translation() += Eigen::Vector3d(0.15, 0.0, 0.0);  // the slip
         ASSERT_TRUE(predictor_->correct(fromSeconds(t), fed, kAllDofs).isOk());
-        const double v_err = (predictor_->stateAt(fromSeconds(t))->v_world_imu - m_.state(t).v_world_imu).norm();
+        const double v_err =
+            (predictor_->stateAt(fromSeconds(t))->v_world_imu - m_.state(t).v_world_imu).norm();
         if (sweep >= 20 && sweep < 30) worst_v = std::max(worst_v, v_err);
         if (sweep >= 30) worst_after = std::max(worst_after, v_err);
     }
-    std::printf("velocity error before the slip %.4f m/s, from the slip on %.4f m/s\n", worst_v, worst_after);
+    std::printf("velocity error before the slip %.4f m/s, from the slip on %.4f m/s\n", worst_v,
+                worst_after);
     EXPECT_LT(worst_v, 0.01);      // still converging from zero biases: 6 mm/s
     EXPECT_LT(worst_after, 0.02);  // 4 mm/s (the unweighted estimator: 0.26 m/s)
     // And the biases were not thrown off.
@@ -278,7 +293,8 @@ public:
     // One feedback 0.5 s later; the IMU integrated the true acceleration plus the tilt error.
     void step(double true_accel, bool x_solved = false) {
         t += 0.5;
-        Eigen::Vector3d imu = v + Eigen::Vector3d(true_accel + tilt_ + gravity_correction.x(), 0.0, 0.0) * 0.5;
+        Eigen::Vector3d imu =
+            v + Eigen::Vector3d(true_accel + tilt_ + gravity_correction.x(), 0.0, 0.0) * 0.5;
         imu.y() = 0.05;  // a solved direction: passes
         v = prior.apply(fromSeconds(t), imu, x_solved ? Eigen::Matrix3d::Zero() : along_x_);
         gravity_correction += prior.gravityStep();
@@ -378,7 +394,8 @@ TEST(DofProjector, MaskAndEigenvectorForms) {
     for (int i = 0; i < 6; ++i) V(i, order[i]) = 1.0;
     EXPECT_EQ(maskFromProjector(projectorFromEigenvectors(V, 4)), 0x2D);
     // A rotated basis: the projector is idempotent of rank h and leaves its span unchanged.
-    const Eigen::Matrix<double, 6, 6> Q = Eigen::HouseholderQR<Matrix6d>(Matrix6d::Random()).householderQ();
+    const Eigen::Matrix<double, 6, 6> Q =
+        Eigen::HouseholderQR<Matrix6d>(Matrix6d::Random()).householderQ();
     const Matrix6d Pq = projectorFromEigenvectors(Q.transpose(), 3);
     EXPECT_LT((Pq * Pq - Pq).norm(), 1e-9);
     EXPECT_NEAR(Pq.trace(), 3.0, 1e-9);

@@ -48,7 +48,8 @@ protected:
         x.t = fromSeconds(t);
         x.R_world_imu = T_wi.linear();
         x.p_world_imu = T_wi.translation();
-        x.v_world_imu = s.v_world + s.T_world_body.linear() * s.omega_body.cross(T_cam_imu().translation());
+        x.v_world_imu =
+            s.v_world + s.T_world_body.linear() * s.omega_body.cross(T_cam_imu().translation());
         return x;
     }
 
@@ -70,7 +71,8 @@ TEST_F(ImuOnSimulatedWalk, OneSecondFromTheTrueStateStaysWithinMillimetres) {
         worst_p = std::max(worst_p, (T->translation() - truth.translation()).norm());
         worst_r = std::max(worst_r, logSO3(T->linear().transpose() * truth.linear()).norm());
     }
-    std::printf("1 s from the true state on the office walk: worst %.2e m, %.2e rad\n", worst_p, worst_r);
+    std::printf("1 s from the true state on the office walk: worst %.2e m, %.2e rad\n", worst_p,
+                worst_r);
     // Midpoint integration at 200 Hz of a walk (peak ~100 deg/s): sub-millimetre. A frame or
     // lever-arm mistake shows up as centimetres within the second.
     EXPECT_LT(worst_p, 1e-3);
@@ -101,7 +103,9 @@ TEST_F(ImuOnSimulatedWalk, FeedbackInTheTiltedMapFrameKeepsSweepPredictionsWithi
     for (double t = 2.5; t <= 27.0; t += 0.5) {
         feedUntil(t + 0.5);
         const Eigen::Isometry3d truth = T_map_world * trueBody(t);
-        if (t > 15.0) pred_err.push_back((p.poseAt(fromSeconds(t))->translation() - truth.translation()).norm());
+        if (t > 15.0)
+            pred_err.push_back(
+                (p.poseAt(fromSeconds(t))->translation() - truth.translation()).norm());
         ASSERT_TRUE(p.correct(fromSeconds(t), truth, kAllDofs).isOk());
         if (t > 15.0) {
             const Eigen::Vector3d v_true = T_map_world.linear() * trueImuState(t).v_world_imu;
@@ -112,10 +116,14 @@ TEST_F(ImuOnSimulatedWalk, FeedbackInTheTiltedMapFrameKeepsSweepPredictionsWithi
     for (double e : pred_err) pmax = std::max(pmax, e);
     for (double e : vel_err) vmax = std::max(vmax, e);
     const Eigen::Vector3d g_map = T_map_world.linear() * Eigen::Vector3d(0, 0, -noise_.gravity);
-    const double g_err = std::acos(std::clamp(p.gravity().normalized().dot(g_map.normalized()), -1.0, 1.0));
-    std::printf("map tilt %.3f deg; after convergence: prediction error over a sweep max %.4f m, velocity error "
-                "max %.4f m/s, gravity direction error %.3f deg; accel bias error %.4f m/s^2\n",
-                tilt * 180 / M_PI, pmax, vmax, g_err * 180 / M_PI, (p.biases().accel_mps2 - b.accel_mps2).norm());
+    const double g_err =
+        std::acos(std::clamp(p.gravity().normalized().dot(g_map.normalized()), -1.0, 1.0));
+    std::printf(
+        "map tilt %.3f deg; after convergence: prediction error over a sweep max %.4f m, velocity "
+        "error "
+        "max %.4f m/s, gravity direction error %.3f deg; accel bias error %.4f m/s^2\n",
+        tilt * 180 / M_PI, pmax, vmax, g_err * 180 / M_PI,
+        (p.biases().accel_mps2 - b.accel_mps2).norm());
     // Measured < 0.1 mm: the 8 s window spans the turns that tell the tilt from the bias. With a
     // 4 s window 8.7 mm / 1.3 cm/s (after the 70 deg/s turn at 21 s, the part of the tilt the
     // body-frame bias had absorbed turns with the device); without the gravity refinement
@@ -124,7 +132,6 @@ TEST_F(ImuOnSimulatedWalk, FeedbackInTheTiltedMapFrameKeepsSweepPredictionsWithi
     EXPECT_LT(vmax, 0.005);
     EXPECT_LT(g_err, 0.1 * tilt);
 }
-
 
 // The tunnel of the simulator (sim scene "tunnel"): a scan matcher solves everything but the
 // translation along the tunnel axis. The noisy IMU (turn-on biases, the static start's tilt) is
@@ -160,7 +167,8 @@ TunnelRun runTunnel(const Calibration& cal, bool motion_prior) {
     };
     feedUntil(3.0);
     EXPECT_TRUE(p.initialized());
-    const Eigen::Isometry3d T_map_world = *p.poseAt(fromSeconds(3.0)) * plan.trajectory.at(3.0).T_world_body.inverse();
+    const Eigen::Isometry3d T_map_world =
+        *p.poseAt(fromSeconds(3.0)) * plan.trajectory.at(3.0).T_world_body.inverse();
     const Eigen::Vector3d axis = T_map_world.linear() * Eigen::Vector3d::UnitX();  // the tunnel's
     Matrix6d solved = Matrix6d::Identity();
     solved.bottomRightCorner<3, 3>() -= axis * axis.transpose();
@@ -171,14 +179,16 @@ TunnelRun runTunnel(const Calibration& cal, bool motion_prior) {
         const Eigen::Vector3d p_true = T_map_world * truth.T_world_body.translation();
         const Eigen::Vector3d err = p.poseAt(fromSeconds(t))->translation() - p_true;
         run.max_axis_error_m = std::max(run.max_axis_error_m, std::abs(axis.dot(err)));
-        run.max_across_error_m = std::max(run.max_across_error_m, (err - axis * axis.dot(err)).norm());
+        run.max_across_error_m =
+            std::max(run.max_across_error_m, (err - axis * axis.dot(err)).norm());
         // The matcher's pose: the truth in the solved DOFs, 5 m off along the axis (ignored).
         Eigen::Isometry3d fed = T_map_world * truth.T_world_body;
         fed.translation() += 5.0 * axis;
         EXPECT_TRUE(p.correct(fromSeconds(t), fed, solved).isOk());
         const Eigen::Vector3d v_true = T_map_world.linear() * truth.v_world;
         const Eigen::Vector3d v_est = p.stateAt(fromSeconds(t))->v_world_imu;
-        run.max_axis_velocity_error_mps = std::max(run.max_axis_velocity_error_mps, std::abs(axis.dot(v_est - v_true)));
+        run.max_axis_velocity_error_mps =
+            std::max(run.max_axis_velocity_error_mps, std::abs(axis.dot(v_est - v_true)));
     }
     return run;
 }
@@ -186,10 +196,12 @@ TunnelRun runTunnel(const Calibration& cal, bool motion_prior) {
 TEST_F(ImuOnSimulatedWalk, TunnelAxisUnsolvedStaysBoundedWithTheMotionPrior) {
     const TunnelRun with = runTunnel(cal_, true);
     const TunnelRun without = runTunnel(cal_, false);
-    std::printf("tunnel, 3 min unsolved along the axis: max error along it %.2f m (IMU alone %.2f m), velocity "
-                "%.2f m/s (IMU alone %.2f m/s); across %.4f m\n",
-                with.max_axis_error_m, without.max_axis_error_m, with.max_axis_velocity_error_mps,
-                without.max_axis_velocity_error_mps, with.max_across_error_m);
+    std::printf(
+        "tunnel, 3 min unsolved along the axis: max error along it %.2f m (IMU alone %.2f m), "
+        "velocity "
+        "%.2f m/s (IMU alone %.2f m/s); across %.4f m\n",
+        with.max_axis_error_m, without.max_axis_error_m, with.max_axis_velocity_error_mps,
+        without.max_axis_velocity_error_mps, with.max_across_error_m);
     // Three minutes walking the 55 m racetrack in the tunnel (~250 m). The speed along the axis is
     // not observable, so the prior bounds the error by the walk, no better: measured 0.60 m/s and
     // 46 m; the IMU alone ran to 5.2 m/s and 516 m (and grows quadratically).

@@ -15,14 +15,17 @@ struct SyntheticMotion {
     double scale = 1.0;  // amplitude multiplier
 
     Eigen::Matrix3d R(double t) const {
-        return expSO3(scale * Eigen::Vector3d(0.4 * std::sin(1.3 * t), 0.3 * std::sin(0.9 * t + 0.5),
+        return expSO3(scale * Eigen::Vector3d(0.4 * std::sin(1.3 * t),
+                                              0.3 * std::sin(0.9 * t + 0.5),
                                               0.6 * std::sin(0.5 * t)));
     }
     Eigen::Vector3d p(double t) const {
-        return scale * Eigen::Vector3d(1.5 * std::sin(0.6 * t), 0.8 * std::sin(1.1 * t), 0.3 * std::sin(0.8 * t));
+        return scale * Eigen::Vector3d(1.5 * std::sin(0.6 * t), 0.8 * std::sin(1.1 * t),
+                                       0.3 * std::sin(0.8 * t));
     }
     Eigen::Vector3d v(double t) const {
-        return scale * Eigen::Vector3d(0.9 * std::cos(0.6 * t), 0.88 * std::cos(1.1 * t), 0.24 * std::cos(0.8 * t));
+        return scale * Eigen::Vector3d(0.9 * std::cos(0.6 * t), 0.88 * std::cos(1.1 * t),
+                                       0.24 * std::cos(0.8 * t));
     }
     Eigen::Vector3d a(double t) const {
         return scale * Eigen::Vector3d(-0.54 * std::sin(0.6 * t), -0.968 * std::sin(1.1 * t),

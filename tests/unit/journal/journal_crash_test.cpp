@@ -42,7 +42,8 @@ namespace fs = std::filesystem;
 }
 
 TEST(JournalCrash, KillNineAtRandomMomentsLosesAtMostTheLastSecond) {
-    const fs::path dir = fs::temp_directory_path() / ("handscan_journal_crash_" + std::to_string(::getpid()));
+    const fs::path dir =
+        fs::temp_directory_path() / ("handscan_journal_crash_" + std::to_string(::getpid()));
     fs::remove_all(dir);
     fs::create_directories(dir);
     std::mt19937 rng(12345);
@@ -70,19 +71,24 @@ TEST(JournalCrash, KillNineAtRandomMomentsLosesAtMostTheLastSecond) {
 
         auto recovered = recoverJournal(path);
         ASSERT_TRUE(recovered.isOk()) << recovered.status().message();
-        EXPECT_GE(recovered->points, committed) << "round " << round << ": a committed chunk was lost";
-        EXPECT_GE(recovered->t_last_s, killed_at - 1.0) << "round " << round << ": more than the last second lost";
+        EXPECT_GE(recovered->points, committed)
+            << "round " << round << ": a committed chunk was lost";
+        EXPECT_GE(recovered->t_last_s, killed_at - 1.0)
+            << "round " << round << ": more than the last second lost";
         // The points are exactly 0..n-1: no hole, no duplicate, no garbage.
         auto reader = JournalReader::open(path);
         ASSERT_TRUE(reader.isOk());
         EXPECT_TRUE(reader->summary().damage.empty()) << reader->summary().damage;
         std::uint64_t next = 0;
-        ASSERT_TRUE(reader->forEachPoints([&](std::span<const MapPoint> pts) {
-                              for (const MapPoint& p : pts) {
-                                  if (p.x != static_cast<float>(next)) ADD_FAILURE() << "point " << next << " damaged";
-                                  ++next;
-                              }
-                          }).isOk());
+        ASSERT_TRUE(reader
+                        ->forEachPoints([&](std::span<const MapPoint> pts) {
+                            for (const MapPoint& p : pts) {
+                                if (p.x != static_cast<float>(next))
+                                    ADD_FAILURE() << "point " << next << " damaged";
+                                ++next;
+                            }
+                        })
+                        .isOk());
         EXPECT_EQ(next, recovered->points);
     }
     fs::remove_all(dir);

@@ -9,9 +9,9 @@
 
 #include <filesystem>
 
+#include "../common/scratch_dir.hpp"
 #include "handscan/journal/journal_reader.hpp"
 #include "handscan/journal/journal_writer.hpp"
-#include "../common/scratch_dir.hpp"
 
 namespace handscan::journal {
 namespace {
@@ -24,7 +24,8 @@ protected:
     std::string smallDisk() { return scratch_.mountSmallDisk("8m").string(); }
     static std::vector<MapPoint> batch(std::uint64_t first, std::size_t n) {
         std::vector<MapPoint> v(n);
-        for (std::size_t i = 0; i < n; ++i) v[i] = {(first + i) * 1e-5, static_cast<float>(first + i), 0, 0, 1, 2, 3, 4};
+        for (std::size_t i = 0; i < n; ++i)
+            v[i] = {(first + i) * 1e-5, static_cast<float>(first + i), 0, 0, 1, 2, 3, 4};
         return v;
     }
     // Every point is there exactly once, in order: 0, 1, 2, ...
@@ -36,7 +37,8 @@ protected:
         std::uint64_t next = 0;
         ASSERT_TRUE(r->forEachPoints([&](std::span<const MapPoint> pts) {
                          for (const MapPoint& p : pts) {
-                             if (p.x != static_cast<float>(next)) ADD_FAILURE() << "point " << next << " damaged";
+                             if (p.x != static_cast<float>(next))
+                                 ADD_FAILURE() << "point " << next << " damaged";
                              ++next;
                          }
                      }).isOk());
@@ -69,10 +71,12 @@ TEST_F(JournalDiskFull, WarnsFirstThenStopsAtTheReserveWithEverythingReadable) {
     }
     ASSERT_GE(stopped_at, 0) << "the writer never stopped on an 8 MiB disk";
     EXPECT_EQ(stop.code(), StatusCode::kNoSpace);
-    EXPECT_NE(stop.message().find("scan stopped; everything up to chunk"), std::string::npos) << stop.message();
+    EXPECT_NE(stop.message().find("scan stopped; everything up to chunk"), std::string::npos)
+        << stop.message();
     // The UI had at least two chunks' time of warning before the stop.
     ASSERT_GE(first_warning, 0);
-    EXPECT_LE(first_warning + 2, stopped_at) << "warned at chunk " << first_warning << ", stopped at " << stopped_at;
+    EXPECT_LE(first_warning + 2, stopped_at)
+        << "warned at chunk " << first_warning << ", stopped at " << stopped_at;
     EXPECT_TRUE((*w)->stopped());
     EXPECT_EQ((*w)->appendPoints(batch(appended, 1)).code(), StatusCode::kNoSpace);
     // The reserve was kept: the rest of the system can still write.
@@ -107,7 +111,8 @@ TEST_F(JournalDiskFull, WriteFailingMidChunkLeavesWholeChunksOnly) {
             s = (*w)->flush();
         }
         const std::uint64_t committed = (*w)->committedPoints();
-        const bool ok = !s.isOk() && s.message().find("write failed at byte") != std::string::npos &&
+        const bool ok = !s.isOk() &&
+                        s.message().find("write failed at byte") != std::string::npos &&
                         fs::file_size(path) < 1'500'000;
         if (::write(fds[1], &committed, sizeof committed) != sizeof committed) _exit(4);
         _exit(ok ? 0 : 5);

@@ -1,6 +1,6 @@
-#include <gtest/gtest.h>
-
 #include "handscan/journal/journal_format.hpp"
+
+#include <gtest/gtest.h>
 
 namespace handscan::journal {
 namespace {
@@ -29,11 +29,13 @@ TEST(JournalFormat, HeaderRoundTripAndCorruptionDetected) {
 
 TEST(JournalFormat, CrcMatchesTheStandardCheckValue) {
     const std::string s = "123456789";
-    EXPECT_EQ(crc32(std::span(reinterpret_cast<const std::uint8_t*>(s.data()), s.size())), 0xCBF43926u);
+    EXPECT_EQ(crc32(std::span(reinterpret_cast<const std::uint8_t*>(s.data()), s.size())),
+              0xCBF43926u);
 }
 
 TEST(JournalFormat, PointsAndPosesRoundTrip) {
-    std::vector<MapPoint> pts{{1.5, 1.f, -2.f, 3.5f, 10, 20, 30, 400}, {2.0, 0.f, 0.f, 0.f, 255, 0, 1, 65535}};
+    std::vector<MapPoint> pts{{1.5, 1.f, -2.f, 3.5f, 10, 20, 30, 400},
+                              {2.0, 0.f, 0.f, 0.f, 255, 0, 1, 65535}};
     std::vector<std::uint8_t> bytes;
     encodePoints(pts, bytes);
     ASSERT_EQ(bytes.size(), 2 * kPointRecordBytes);

@@ -15,8 +15,9 @@ namespace fs = std::filesystem;
 class JournalTest : public ::testing::Test {
 protected:
     void SetUp() override {
-        dir_ = fs::temp_directory_path() / ("handscan_journal_" + std::to_string(::getpid()) + "_" +
-                                            ::testing::UnitTest::GetInstance()->current_test_info()->name());
+        dir_ = fs::temp_directory_path() /
+               ("handscan_journal_" + std::to_string(::getpid()) + "_" +
+                ::testing::UnitTest::GetInstance()->current_test_info()->name());
         fs::remove_all(dir_);
         fs::create_directories(dir_);
         path_ = (dir_ / "scan.hsj").string();
@@ -26,7 +27,8 @@ protected:
     static std::vector<MapPoint> makePoints(std::size_t first, std::size_t n) {
         std::vector<MapPoint> v;
         for (std::size_t i = first; i < first + n; ++i) {
-            v.push_back({static_cast<double>(i) * 1e-3, static_cast<float>(i), 0.f, 1.f, 1, 2, 3, static_cast<std::uint16_t>(i)});
+            v.push_back({static_cast<double>(i) * 1e-3, static_cast<float>(i), 0.f, 1.f, 1, 2, 3,
+                         static_cast<std::uint16_t>(i)});
         }
         return v;
     }
@@ -54,8 +56,8 @@ TEST_F(JournalTest, WriteFinishReadBack) {
     EXPECT_EQ(r->summary().metadata_json, R"({"device":"test"})");
     std::size_t next = 0;
     ASSERT_TRUE(r->forEachPoints([&](std::span<const MapPoint> pts) {
-                    for (const MapPoint& p : pts) EXPECT_EQ(p.x, static_cast<float>(next++));
-                }).isOk());
+                     for (const MapPoint& p : pts) EXPECT_EQ(p.x, static_cast<float>(next++));
+                 }).isOk());
     EXPECT_EQ(next, 5000u);
 }
 
@@ -76,7 +78,8 @@ TEST_F(JournalTest, TruncatedAtEveryOffsetKeepsEveryCompleteChunk) {
     std::ifstream(path_, std::ios::binary).read(bytes.data(), static_cast<std::streamsize>(full));
     for (std::uint64_t cut = chunk_ends[0]; cut <= full; cut += 7) {
         const std::string p = (dir_ / "cut.hsj").string();
-        std::ofstream(p, std::ios::binary | std::ios::trunc).write(bytes.data(), static_cast<std::streamsize>(cut));
+        std::ofstream(p, std::ios::binary | std::ios::trunc)
+            .write(bytes.data(), static_cast<std::streamsize>(cut));
         auto r = JournalReader::open(p);
         ASSERT_TRUE(r.isOk()) << "cut " << cut;
         std::size_t complete = 0;
@@ -104,7 +107,8 @@ TEST_F(JournalTest, CorruptPayloadStopsAtThatChunkAndRecoveryResumes) {
     auto r = JournalReader::open(path_);
     ASSERT_TRUE(r.isOk());
     EXPECT_EQ(r->summary().points, 200u);
-    EXPECT_NE(r->summary().damage.find("payload CRC mismatch"), std::string::npos) << r->summary().damage;
+    EXPECT_NE(r->summary().damage.find("payload CRC mismatch"), std::string::npos)
+        << r->summary().damage;
     // Resume appends after the intact prefix.
     auto w = JournalWriter::resume(path_);
     ASSERT_TRUE(w.isOk()) << w.status().message();
@@ -149,7 +153,8 @@ TEST_F(JournalTest, MissingAndEmptyFilesGetClearErrors) {
     std::ofstream((dir_ / "empty.hsj").string()).put('x');
     auto empty = JournalReader::open((dir_ / "empty.hsj").string());
     ASSERT_FALSE(empty.isOk());
-    EXPECT_NE(empty.status().message().find("no intact chunk"), std::string::npos) << empty.status().message();
+    EXPECT_NE(empty.status().message().find("no intact chunk"), std::string::npos)
+        << empty.status().message();
 }
 
 }  // namespace

@@ -1,7 +1,7 @@
 // Byte-exact candump text formats (can-utils lib.c conventions).
-#include <gtest/gtest.h>
-
 #include "handscan/motor/candump_format.hpp"
+
+#include <gtest/gtest.h>
 
 namespace handscan::motor {
 namespace {
@@ -23,12 +23,14 @@ TEST(CandumpLogLine, ParsesTheClassicExample) {
 }
 
 TEST(CandumpLogLine, RoundTripsByteForByte) {
-    for (const char* line : {"(1700000000.123456) can0 181#11223344", "(0000000001.000001) vcan1 000#0103",
-                             "(1700000000.000000) can0 080#", "(1700000000.000000) can0 12345678#DEADBEEF",
-                             "(1700000000.000000) can0 123#R", "(1700000000.000000) can0 123#R4",
-                             "(1700000000.000000) can0 123##1112233", "(1700000000.000000) can0 20000004#0004000000000000",
-                             "(1700000000.000000) can0 123#1122334455667788_C", "(1700000000.000000) can0 123#R8_9",
-                             "(1700000000.000000) can0 181#00 R"}) {
+    for (const char* line :
+         {"(1700000000.123456) can0 181#11223344", "(0000000001.000001) vcan1 000#0103",
+          "(1700000000.000000) can0 080#", "(1700000000.000000) can0 12345678#DEADBEEF",
+          "(1700000000.000000) can0 123#R", "(1700000000.000000) can0 123#R4",
+          "(1700000000.000000) can0 123##1112233",
+          "(1700000000.000000) can0 20000004#0004000000000000",
+          "(1700000000.000000) can0 123#1122334455667788_C", "(1700000000.000000) can0 123#R8_9",
+          "(1700000000.000000) can0 181#00 R"}) {
         auto r = parseCandumpLogLine(line);
         ASSERT_TRUE(r) << line << ": " << r.status().message();
         EXPECT_EQ(formatCandumpLogLine(*r), line);
@@ -50,7 +52,9 @@ TEST(CandumpLogLine, DecodesFlags) {
     EXPECT_TRUE(err->error);
     EXPECT_FALSE(err->extended);
     EXPECT_EQ(err->id, 0x80u);
-    auto fd = parseCanFrameText("123##3" "000102030405060708090A0B");
+    auto fd = parseCanFrameText(
+        "123##3"
+        "000102030405060708090A0B");
     ASSERT_TRUE(fd) << fd.status().message();
     EXPECT_TRUE(fd->fd);
     EXPECT_EQ(fd->fd_flags, 3);
@@ -63,13 +67,14 @@ TEST(CandumpLogLine, DecodesFlags) {
 }
 
 TEST(CandumpLogLine, RejectsMalformedInputWithAClearMessage) {
-    for (const char* bad : {"", "can0 181#11", "(1700000000.12345) can0 181#11", "(1700000000.123456) can0 18#11",
-                            "(1700000000.123456) can0 181#1", "(1700000000.123456) can0 181#112233445566778899",
-                            "(1700000000.123456) can0 181#GG", "(1700000000.123456) can0 181", "(x.123456) can0 181#00",
-                            "(1700000000.123456) can0 123##", "(1700000000.123456) can0 123##0112233445566778899",
-                            "(1700000000.123456) can0 123#R9", "(1700000000.123456) can0 C0000000#00",
-                            "(1700000000.123456) can0 123#11_9", "(1700000000.123456) can0 981#FF0F0000",
-                            "(17000000000.000000) can0 181#00"}) {
+    for (const char* bad :
+         {"", "can0 181#11", "(1700000000.12345) can0 181#11", "(1700000000.123456) can0 18#11",
+          "(1700000000.123456) can0 181#1", "(1700000000.123456) can0 181#112233445566778899",
+          "(1700000000.123456) can0 181#GG", "(1700000000.123456) can0 181",
+          "(x.123456) can0 181#00", "(1700000000.123456) can0 123##",
+          "(1700000000.123456) can0 123##0112233445566778899", "(1700000000.123456) can0 123#R9",
+          "(1700000000.123456) can0 C0000000#00", "(1700000000.123456) can0 123#11_9",
+          "(1700000000.123456) can0 981#FF0F0000", "(17000000000.000000) can0 181#00"}) {
         auto r = parseCandumpLogLine(bad);
         EXPECT_FALSE(r) << "accepted: '" << bad << "'";
         if (!r) {
@@ -106,7 +111,8 @@ TEST(CandumpDefaultLine, ParsesAndFormatsTheScreenFormat) {
     EXPECT_EQ(rtr->frame.len, 2);
 
     EXPECT_FALSE(parseCandumpDefaultLine("  can0  609   [8]  40 77"));
-    EXPECT_FALSE(parseCandumpDefaultLine("  can0  21184922   [2]  remote request"));  // error frame bit + RTR (fuzzer)
+    EXPECT_FALSE(parseCandumpDefaultLine(
+        "  can0  21184922   [2]  remote request"));  // error frame bit + RTR (fuzzer)
     EXPECT_FALSE(parseCandumpDefaultLine("  can0  609   [9]  00 00 00 00 00 00 00 00 00"));
 }
 

@@ -1,8 +1,9 @@
 // CANopen byte vectors (CiA 301 / 402 / 406), checked against the values PROTOCOLS.md quotes.
+#include "handscan/motor/canopen.hpp"
+
 #include <gtest/gtest.h>
 
 #include "handscan/motor/candump_format.hpp"
-#include "handscan/motor/canopen.hpp"
 
 namespace handscan::motor {
 namespace {
@@ -27,13 +28,15 @@ TEST(CanOpen, EncodesTheTypicalEncoderBringUp) {
     EXPECT_EQ(text(encodeSdoRead(9, od::kTorqueActual, 0)), "609#4077600000000000");
     EXPECT_EQ(text(encodeSdoReadResponse(9, od::kErrorRegister, 0, 0, 1)), "589#4F01100000000000");
     EXPECT_EQ(text(encodeSdoReadResponse(9, od::kVelocityActual, 0, 0, 4)), "589#436C600000000000");
-    EXPECT_EQ(text(encodeSdoReadResponse(9, od::kTorqueActual, 0, 0x10000, 2)), "589#4B77600000000000");
+    EXPECT_EQ(text(encodeSdoReadResponse(9, od::kTorqueActual, 0, 0x10000, 2)),
+              "589#4B77600000000000");
     EXPECT_EQ(text(encodeSdoAbort(1, 0x6004, 0, 0x06010002, true)), "581#8004600002000106");
     EXPECT_EQ(text(encodeEncoderPositionTpdo(1, 0x12345678)), "181#78563412");
     EXPECT_EQ(text(encodeSync()), "080#");
     EXPECT_EQ(text(encodeSync(7)), "080#07");
     EXPECT_EQ(text(encodeEmergency({1, 0x8130, 0x11, {1, 2, 3, 4, 5}})), "081#3081110102030405");
-    EXPECT_EQ(text(encodeDriveVelocityRpdo(1, 3, controlword::kEnableOperation, -2000)), "203#0F0030F8FFFF");
+    EXPECT_EQ(text(encodeDriveVelocityRpdo(1, 3, controlword::kEnableOperation, -2000)),
+              "203#0F0030F8FFFF");
 }
 
 TEST(CanOpen, DecodesSdoCommandsBothWays) {
@@ -75,7 +78,7 @@ TEST(CanOpen, DecodesSdoCommandsBothWays) {
     ASSERT_TRUE(seg);
     EXPECT_EQ(seg->kind, SdoKind::kSegmented);
 
-    EXPECT_FALSE(decodeSdo(parse("581#60006200")));       // short
+    EXPECT_FALSE(decodeSdo(parse("581#60006200")));          // short
     EXPECT_FALSE(decodeSdo(parse("181#6000620000000000")));  // not an SDO id
 }
 
@@ -135,9 +138,12 @@ TEST(Cia402, DecodesStatewordStates) {
     EXPECT_EQ(cia402StateFromStatusword(0x0208), Cia402State::kFault);
     EXPECT_EQ(cia402StateFromStatusword(0x020F), Cia402State::kFaultReactionActive);
     EXPECT_EQ(cia402StateFromStatusword(0x0000), Cia402State::kNotReadyToSwitchOn);
-    EXPECT_EQ(controlwordTowardsOperationEnabled(Cia402State::kSwitchOnDisabled), controlword::kShutdown);
-    EXPECT_EQ(controlwordTowardsOperationEnabled(Cia402State::kReadyToSwitchOn), controlword::kSwitchOn);
-    EXPECT_EQ(controlwordTowardsOperationEnabled(Cia402State::kSwitchedOn), controlword::kEnableOperation);
+    EXPECT_EQ(controlwordTowardsOperationEnabled(Cia402State::kSwitchOnDisabled),
+              controlword::kShutdown);
+    EXPECT_EQ(controlwordTowardsOperationEnabled(Cia402State::kReadyToSwitchOn),
+              controlword::kSwitchOn);
+    EXPECT_EQ(controlwordTowardsOperationEnabled(Cia402State::kSwitchedOn),
+              controlword::kEnableOperation);
     EXPECT_EQ(controlwordTowardsOperationEnabled(Cia402State::kFault), controlword::kFaultReset);
     EXPECT_FALSE(controlwordTowardsOperationEnabled(Cia402State::kOperationEnabled));
 }

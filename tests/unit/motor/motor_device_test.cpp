@@ -1,11 +1,12 @@
 // The motor state machine against emulated CiA 406 / CiA 402 nodes on a virtual-time bus.
+#include "handscan/motor/motor_device.hpp"
+
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <numbers>
 #include <vector>
 
-#include "handscan/motor/motor_device.hpp"
 #include "handscan/motor/virtual_can_buses.hpp"
 
 namespace handscan::motor {
@@ -190,7 +191,8 @@ TEST(MotorDevice, NoEncoderOnTheBusFailsWithAClearMessage) {
     Status s = rig.device().start();
     ASSERT_FALSE(s);
     EXPECT_EQ(s.code(), StatusCode::kTimeout);
-    EXPECT_NE(s.message().find("encoder node 1 boot-up (701#00)"), std::string::npos) << s.message();
+    EXPECT_NE(s.message().find("encoder node 1 boot-up (701#00)"), std::string::npos)
+        << s.message();
     EXPECT_NE(s.message().find("node id"), std::string::npos) << s.message();
 }
 
@@ -201,7 +203,8 @@ TEST(MotorDevice, ReportsAnSdoAbortInPlainWords) {
     Status s = rig.device().start();
     ASSERT_FALSE(s);
     EXPECT_EQ(s.code(), StatusCode::kDeviceError);
-    EXPECT_NE(s.message().find("SDO write node 1 object 1800h:02 aborted by the device: 0x06090030 (invalid value for parameter)"),
+    EXPECT_NE(s.message().find("SDO write node 1 object 1800h:02 aborted by the device: 0x06090030 "
+                               "(invalid value for parameter)"),
               std::string::npos)
         << s.message();
 }
@@ -223,7 +226,8 @@ TEST(MotorDevice, ARebootOrAnEmergencyDuringTheScanIsAFault) {
         rig.enc.sendEmergency(rig.bus.now() + 10 * kNsPerMs, 0x5530, 0x81);
         Status s = rig.run(rig.bus.now() + kNsPerSec, samples);
         ASSERT_FALSE(s);
-        EXPECT_NE(s.message().find("error code 0x5530, error register 0x81"), std::string::npos) << s.message();
+        EXPECT_NE(s.message().find("error code 0x5530, error register 0x81"), std::string::npos)
+            << s.message();
         EXPECT_EQ(rig.device().stats().emergencies, 1u);
     }
 }
@@ -245,17 +249,22 @@ TEST(MotorDevice, ATransportFailureIsReported) {
 
 TEST(MotorDevice, HandsRawCandumpLinesToTheRecordingTap) {
     struct Tap : RawTap {
-        void onRaw(TimeNs, std::span<const std::uint8_t> b) override { lines.emplace_back(b.begin(), b.end()); }
+        void onRaw(TimeNs, std::span<const std::uint8_t> b) override {
+            lines.emplace_back(b.begin(), b.end());
+        }
         std::vector<std::string> lines;
     } tap;
     Rig rig;
-    MotorDevice dev(rig.bus, rig.cfg, [&] { return rig.bus.now(); }, &tap);
+    MotorDevice dev(
+        rig.bus, rig.cfg, [&] { return rig.bus.now(); }, &tap);
     ASSERT_TRUE(dev.start());
     ASSERT_GE(tap.lines.size(), 10u);
     auto first = parseCandumpLogLine(tap.lines.front());
     ASSERT_TRUE(first) << tap.lines.front();
     EXPECT_EQ(formatCanFrameText(first->frame), "701#00");
-    EXPECT_NE(std::find(tap.lines.begin(), tap.lines.end(), "(0000000000.020000) can0 601#4001600000000000"), tap.lines.end());
+    EXPECT_NE(std::find(tap.lines.begin(), tap.lines.end(),
+                        "(0000000000.020000) can0 601#4001600000000000"),
+              tap.lines.end());
 }
 
 }  // namespace

@@ -1,8 +1,8 @@
+#include "handscan/motor/position_unwrapper.hpp"
+
 #include <gtest/gtest.h>
 
 #include <numbers>
-
-#include "handscan/motor/position_unwrapper.hpp"
 
 namespace handscan::motor {
 namespace {
@@ -49,7 +49,8 @@ TEST(PositionUnwrapper, EstimatesConstantSpeedExactlyAndReversesSign) {
         // 2 rev/s = 8192 counts/s: 8.192 counts per ms; quantised to whole counts.
         EncoderSample last;
         for (int i = 0; i < 100; ++i) {
-            const auto raw = static_cast<std::uint32_t>(static_cast<std::int64_t>(i * 8192LL / 1000) % (4096 * 16));
+            const auto raw = static_cast<std::uint32_t>(
+                static_cast<std::int64_t>(i * 8192LL / 1000) % (4096 * 16));
             auto s = u.update(i * kNsPerMs, raw);
             ASSERT_TRUE(s);
             last = *s;

@@ -64,17 +64,26 @@ TEST(RealCanTrace, Ros2CanopenCiA402BringUp) {
             case CanOpenFunction::kSdoResponse: {
                 auto sdo = decodeSdo(rec.frame);
                 ASSERT_TRUE(sdo) << sdo.status().message();
-                if (sdo->kind == SdoKind::kDownloadRequest && sdo->index == od::kControlword) controlwords.push_back(static_cast<std::uint16_t>(sdo->value));
-                if (sdo->kind == SdoKind::kDownloadRequest && sdo->index == od::kModesOfOperation) mode = static_cast<int>(sdo->value);
-                if (sdo->kind == SdoKind::kDownloadRequest && sdo->index == od::kTargetVelocity) target_velocity = sdo->value;
-                if (sdo->kind == SdoKind::kUploadResponse && sdo->index == od::kDeviceType) device_type = sdo->value;
-                if (sdo->kind == SdoKind::kUploadResponse && sdo->index == od::kIdentity && sdo->subindex == 1) vendor = sdo->value;
-                if (sdo->kind == SdoKind::kUploadResponse && sdo->index == od::kModesOfOperationDisplay) mode_display = static_cast<int>(sdo->value);
+                if (sdo->kind == SdoKind::kDownloadRequest && sdo->index == od::kControlword)
+                    controlwords.push_back(static_cast<std::uint16_t>(sdo->value));
+                if (sdo->kind == SdoKind::kDownloadRequest && sdo->index == od::kModesOfOperation)
+                    mode = static_cast<int>(sdo->value);
+                if (sdo->kind == SdoKind::kDownloadRequest && sdo->index == od::kTargetVelocity)
+                    target_velocity = sdo->value;
+                if (sdo->kind == SdoKind::kUploadResponse && sdo->index == od::kDeviceType)
+                    device_type = sdo->value;
+                if (sdo->kind == SdoKind::kUploadResponse && sdo->index == od::kIdentity &&
+                    sdo->subindex == 1)
+                    vendor = sdo->value;
+                if (sdo->kind == SdoKind::kUploadResponse &&
+                    sdo->index == od::kModesOfOperationDisplay)
+                    mode_display = static_cast<int>(sdo->value);
                 break;
             }
             case CanOpenFunction::kTpdo:
                 ASSERT_EQ(rec.frame.len, 2);
-                statusword = static_cast<std::uint16_t>(rec.frame.data[0] | (rec.frame.data[1] << 8));
+                statusword =
+                    static_cast<std::uint16_t>(rec.frame.data[0] | (rec.frame.data[1] << 8));
                 break;
             default:
                 ADD_FAILURE() << "unexpected frame " << formatCanFrameText(rec.frame);

@@ -1,7 +1,7 @@
 // SocketCAN needs a kernel with CAN (and a vcan0 for the loopback test): skipped otherwise.
-#include <gtest/gtest.h>
-
 #include "handscan/transport/socketcan.hpp"
+
+#include <gtest/gtest.h>
 
 namespace handscan::transport {
 namespace {
@@ -9,7 +9,8 @@ namespace {
 TEST(SocketCan, LoopsBackFramesThroughVcanWithFilters) {
     SocketCanBus rx("vcan0"), tx("vcan0");
     Status s = rx.open();
-    if (s.code() == StatusCode::kUnsupported || s.code() == StatusCode::kNotFound) GTEST_SKIP() << s.message();
+    if (s.code() == StatusCode::kUnsupported || s.code() == StatusCode::kNotFound)
+        GTEST_SKIP() << s.message();
     ASSERT_TRUE(s) << s.message();
     ASSERT_TRUE(tx.open());
     const CanFilter only181 = exactSffFilter(0x181);

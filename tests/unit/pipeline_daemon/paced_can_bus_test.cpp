@@ -1,11 +1,12 @@
 // PacedCanBus: the emulated CiA 406 encoder delivered at wall-clock pace on the host clock, so
 // the live motor driver runs on it exactly as on SocketCAN.
+#include "handscan/motor/paced_can_bus.hpp"
+
 #include <gtest/gtest.h>
 
 #include <numbers>
 
 #include "handscan/motor/motor_device.hpp"
-#include "handscan/motor/paced_can_bus.hpp"
 #include "handscan/motor/virtual_can_buses.hpp"
 
 namespace handscan::motor {
@@ -46,7 +47,8 @@ TEST(PacedCanBus, EmulatedEncoderStreamsInRealTimeOnTheHostClock) {
     EXPECT_LE(samples.back().t_host, monotonicNow());
     EXPECT_GE(samples.front().t_host, wall_start);
     // The shaft turns at 1 rev/s.
-    const double rate = (samples.back().angle_rad - samples.front().angle_rad) / toSeconds(samples.back().t_host - samples.front().t_host);
+    const double rate = (samples.back().angle_rad - samples.front().angle_rad) /
+                        toSeconds(samples.back().t_host - samples.front().t_host);
     EXPECT_NEAR(rate, 2.0 * std::numbers::pi, 0.05);
 }
 

@@ -1,13 +1,14 @@
 // ScanSession: the scan state machine and its journal (idle -> scanning -> stopped -> resumed /
 // new scan), what is journaled when, and a full disk refusing a scan with a clear error while
 // what was written stays intact.
+#include "handscan/pipeline_daemon/scan_session.hpp"
+
 #include <gtest/gtest.h>
 #include <unistd.h>
 
 #include <filesystem>
 
 #include "handscan/journal/journal_reader.hpp"
-#include "handscan/pipeline_daemon/scan_session.hpp"
 
 namespace handscan::pipeline_daemon {
 namespace {
@@ -15,7 +16,9 @@ namespace {
 namespace fs = std::filesystem;
 
 struct TempDir {
-    TempDir() : path(fs::temp_directory_path() / ("handscan-session-" + std::to_string(::getpid()) + "-" + std::to_string(counter++))) {
+    TempDir()
+        : path(fs::temp_directory_path() / ("handscan-session-" + std::to_string(::getpid()) + "-" +
+                                            std::to_string(counter++))) {
         fs::remove_all(path);
     }
     ~TempDir() { fs::remove_all(path); }
@@ -90,11 +93,13 @@ TEST(ScanSession, RecoversTheNewestUnfinishedScanForExport) {
     fs::create_directories(dir.path / "scan-20260101-000000");
     fs::create_directories(dir.path / "scan-20260102-000000");
     {
-        auto done = journal::JournalWriter::create((dir.path / "scan-20260101-000000/journal.hsj").string(), "{}");
+        auto done = journal::JournalWriter::create(
+            (dir.path / "scan-20260101-000000/journal.hsj").string(), "{}");
         ASSERT_TRUE(done.isOk());
         ASSERT_TRUE((*done)->appendPoints(points(10, 0.0)).isOk());
         ASSERT_TRUE((*done)->finish().isOk());
-        auto cut = journal::JournalWriter::create((dir.path / "scan-20260102-000000/journal.hsj").string(), "{}");
+        auto cut = journal::JournalWriter::create(
+            (dir.path / "scan-20260102-000000/journal.hsj").string(), "{}");
         ASSERT_TRUE(cut.isOk());
         ASSERT_TRUE((*cut)->appendPoints(points(70, 0.0)).isOk());
         ASSERT_TRUE((*cut)->flush().isOk());
@@ -120,7 +125,8 @@ TEST(ScanSession, UnwritableJournalDirectoryIsAClearError) {
     ScanSession s("/proc/handscan-no-such-dir");
     auto r = s.start();
     ASSERT_FALSE(r.isOk());
-    EXPECT_NE(r.status().message().find("/proc/handscan-no-such-dir"), std::string::npos) << r.status().message();
+    EXPECT_NE(r.status().message().find("/proc/handscan-no-such-dir"), std::string::npos)
+        << r.status().message();
     EXPECT_EQ(s.state(), shm::ScanState::kIdle);
 }
 

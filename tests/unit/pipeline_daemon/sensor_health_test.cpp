@@ -1,8 +1,8 @@
 // SensorHealth: measured rate over one-second windows, "lost" with its error text, and a device
 // that stops delivering shown as not connected even before its driver notices.
-#include <gtest/gtest.h>
-
 #include "handscan/pipeline_daemon/sensor_health.hpp"
+
+#include <gtest/gtest.h>
 
 namespace handscan::pipeline_daemon {
 namespace {

@@ -1,11 +1,12 @@
 // The channel table and our record layouts: exact sizes, golden bytes, round trips, and clear
 // errors for messages of the wrong size.
+#include "handscan/recording/channels.hpp"
+
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <set>
 
-#include "handscan/recording/channels.hpp"
 #include "handscan/recording/mcap_reader.hpp"
 #include "handscan/recording/mcap_writer.hpp"
 
@@ -20,8 +21,8 @@ TEST(Channels, TopicsAreUniqueAndRawStreamsAreTheDeviceStreams) {
         EXPECT_FALSE(c.message_encoding.empty());
         if (c.raw) raw.insert(c.topic);
     }
-    EXPECT_EQ(raw, (std::set<std::string_view>{"/hokuyo/raw", "/xsens/raw", "/motor/can", "/camera/track",
-                                               "/camera/colour", "/gpio/events"}));
+    EXPECT_EQ(raw, (std::set<std::string_view>{"/hokuyo/raw", "/xsens/raw", "/motor/can",
+                                               "/camera/track", "/camera/colour", "/gpio/events"}));
     ASSERT_NE(findChannel("/groundtruth/pose"), nullptr);
     EXPECT_EQ(findChannel("/groundtruth/pose")->message_encoding, "handscan.groundtruth_pose.v1");
     EXPECT_EQ(findChannel("/motor/can")->message_encoding, "handscan.candump_line");
@@ -37,9 +38,11 @@ TEST(Channels, GroundTruthPoseGoldenBytes) {
     std::vector<std::uint8_t> b;
     encodeGroundTruthPose(p, b);
     ASSERT_EQ(b.size(), 64u);
-    // f64 little-endian: 1.5 = 0x3FF8000000000000, 1.0 = 0x3FF0..., -2.0 = 0xC000..., 0.5 = 0x3FE0...
-    const std::vector<std::uint8_t> head = {0, 0, 0, 0, 0, 0, 0xF8, 0x3F, 0, 0, 0, 0, 0, 0, 0xF0, 0x3F,
-                                            0, 0, 0, 0, 0, 0, 0x00, 0xC0, 0, 0, 0, 0, 0, 0, 0xE0, 0x3F};
+    // f64 little-endian: 1.5 = 0x3FF8000000000000, 1.0 = 0x3FF0..., -2.0 = 0xC000..., 0.5 =
+    // 0x3FE0...
+    const std::vector<std::uint8_t> head = {0,    0,    0, 0,    0,    0, 0xF8, 0x3F, 0,    0,   0,
+                                            0,    0,    0, 0xF0, 0x3F, 0, 0,    0,    0,    0,   0,
+                                            0x00, 0xC0, 0, 0,    0,    0, 0,    0,    0xE0, 0x3F};
     EXPECT_TRUE(std::equal(head.begin(), head.end(), b.begin()));
     // qx qy qz = 0, qw = 1 last.
     EXPECT_EQ(b[62], 0xF0);
@@ -53,7 +56,8 @@ TEST(Channels, GroundTruthPoseGoldenBytes) {
     b.pop_back();
     auto bad = decodeGroundTruthPose(b);
     ASSERT_FALSE(bad);
-    EXPECT_EQ(bad.status().message(), "handscan.groundtruth_pose.v1 message of 63 bytes: expected exactly 64");
+    EXPECT_EQ(bad.status().message(),
+              "handscan.groundtruth_pose.v1 message of 63 bytes: expected exactly 64");
 }
 
 TEST(Channels, ImuSampleRoundTrip) {
@@ -86,7 +90,8 @@ TEST(Channels, LaserScanRoundTripKeepsNaNsAndLists) {
     s.first_step = 0;
     s.angle_min_rad = -2.356194490192345;
     s.angle_increment_rad = 0.004363323129985824;
-    for (int i = 0; i < 1081; ++i) s.ranges_m.push_back(i % 100 == 0 ? NAN : 0.023f + 0.01f * static_cast<float>(i));
+    for (int i = 0; i < 1081; ++i)
+        s.ranges_m.push_back(i % 100 == 0 ? NAN : 0.023f + 0.01f * static_cast<float>(i));
     s.intensities.assign(1081, 1234);
     s.error_codes.assign(1081, 0);
     s.error_codes[500] = 7;
@@ -114,7 +119,8 @@ TEST(Channels, LaserScanRoundTripKeepsNaNsAndLists) {
     b.resize(40);
     auto bad = decodeLaserScan(b);
     ASSERT_FALSE(bad);
-    EXPECT_EQ(bad.status().message(), "handscan.laser_scan.v1 message of 40 bytes: shorter than the 44-byte header");
+    EXPECT_EQ(bad.status().message(),
+              "handscan.laser_scan.v1 message of 40 bytes: shorter than the 44-byte header");
 }
 
 TEST(Channels, EncoderGpioAndPoseRoundTrip) {
@@ -135,11 +141,13 @@ TEST(Channels, EncoderGpioAndPoseRoundTrip) {
     ASSERT_TRUE(dg);
     EXPECT_EQ(dg->edge, GpioEdgeType::kFalling);
     b[12] = 3;
-    EXPECT_EQ(decodeGpioEdge(b).status().message(), "handscan.gpio_edge message of 13 bytes: edge 3 is not 1 or 2");
+    EXPECT_EQ(decodeGpioEdge(b).status().message(),
+              "handscan.gpio_edge message of 13 bytes: edge 3 is not 1 or 2");
 
     PoseEstimate p;
     p.t_host = 5;
-    p.T_world_body.linear() = Eigen::AngleAxisd(0.3, Eigen::Vector3d(1, 2, 3).normalized()).toRotationMatrix();
+    p.T_world_body.linear() =
+        Eigen::AngleAxisd(0.3, Eigen::Vector3d(1, 2, 3).normalized()).toRotationMatrix();
     p.T_world_body.translation() = Eigen::Vector3d(1, 2, 3);
     p.covariance(2, 4) = 0.25;
     p.solved_dof_mask = 0x2B;
@@ -160,7 +168,8 @@ TEST(Channels, AddChannelWritesEncodingAndDescription) {
     auto id = addChannel(**w, channels::kMotorCan);
     ASSERT_TRUE(id);
     const std::string line = "(1700000000.123456) can0 181#11223344";
-    ASSERT_TRUE((*w)->write(*id, 1000, std::span(reinterpret_cast<const std::uint8_t*>(line.data()), line.size())));
+    ASSERT_TRUE((*w)->write(
+        *id, 1000, std::span(reinterpret_cast<const std::uint8_t*>(line.data()), line.size())));
     ASSERT_TRUE((*w)->close());
     auto r = McapReader::fromBuffer((*w)->takeBuffer());
     ASSERT_TRUE(r);

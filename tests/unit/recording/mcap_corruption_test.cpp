@@ -57,7 +57,9 @@ TEST_P(Corruption, FlippedByteInChunkLosesOnlyThatChunk) {
     EXPECT_EQ((*r)->dropped()[0].offset, victim.offset);
     EXPECT_EQ((*r)->dropped()[0].length, victim.size);
     const std::string& reason = (*r)->dropped()[0].reason;
-    EXPECT_NE(reason.find("rec.mcap: chunk at byte " + std::to_string(victim.offset)), std::string::npos) << reason;
+    EXPECT_NE(reason.find("rec.mcap: chunk at byte " + std::to_string(victim.offset)),
+              std::string::npos)
+        << reason;
     if (GetParam().empty()) {
         EXPECT_NE(reason.find("CRC32 mismatch (stored 0x"), std::string::npos) << reason;
     }
@@ -65,7 +67,8 @@ TEST_P(Corruption, FlippedByteInChunkLosesOnlyThatChunk) {
     const Status v = (*r)->verify();
     EXPECT_FALSE(v);
     EXPECT_EQ(v.code(), StatusCode::kChecksumError);
-    EXPECT_NE(v.message().find("chunk at byte " + std::to_string(victim.offset)), std::string::npos) << v.message();
+    EXPECT_NE(v.message().find("chunk at byte " + std::to_string(victim.offset)), std::string::npos)
+        << v.message();
 }
 
 TEST_P(Corruption, CorruptChunkFoundByLinearScanToo) {
@@ -73,7 +76,8 @@ TEST_P(Corruption, CorruptChunkFoundByLinearScanToo) {
     auto bytes = makeFile(GetParam(), sent);
     const auto chunks = test::recordsWithOp(bytes, 0x06);
     bytes[chunks[5].offset + chunks[5].size - 3] ^= 0x01;
-    bytes.resize(test::recordsWithOp(bytes, 0x0F).at(0).offset);  // cut at Data End: no summary, no footer
+    bytes.resize(
+        test::recordsWithOp(bytes, 0x0F).at(0).offset);  // cut at Data End: no summary, no footer
     auto r = McapReader::fromBuffer(bytes);
     ASSERT_TRUE(r);
     EXPECT_TRUE((*r)->truncated());
@@ -89,11 +93,13 @@ TEST_P(Corruption, ChunkStartTimeLaterThanItsMessagesKeepsOrder) {
     std::vector<Msg> sent;
     auto bytes = makeFile(GetParam(), sent);
     const auto chunks = test::recordsWithOp(bytes, 0x06);
-    bytes.resize(test::recordsWithOp(bytes, 0x0F).at(0).offset);  // no summary: times from the chunk headers
+    bytes.resize(
+        test::recordsWithOp(bytes, 0x0F).at(0).offset);  // no summary: times from the chunk headers
     // Chunk 3 holds messages 90..119; claim it starts at message 100's time.
     const TimeNs claimed = sent[100].t;
     for (int i = 0; i < 8; ++i) {
-        bytes[chunks[3].offset + 9 + static_cast<std::size_t>(i)] = static_cast<std::uint8_t>(static_cast<std::uint64_t>(claimed) >> (8 * i));
+        bytes[chunks[3].offset + 9 + static_cast<std::size_t>(i)] =
+            static_cast<std::uint8_t>(static_cast<std::uint64_t>(claimed) >> (8 * i));
     }
     auto r = McapReader::fromBuffer(bytes, "rec.mcap");
     ASSERT_TRUE(r) << r.status().message();
@@ -102,11 +108,14 @@ TEST_P(Corruption, ChunkStartTimeLaterThanItsMessagesKeepsOrder) {
     EXPECT_EQ(test::readAll(**r), expected);
     ASSERT_EQ((*r)->dropped().size(), 1u);
     EXPECT_EQ((*r)->dropped()[0].offset, chunks[3].offset);
-    EXPECT_NE((*r)->dropped()[0].reason.find("10 message(s) logged before the chunk's stated start time"), std::string::npos)
+    EXPECT_NE(
+        (*r)->dropped()[0].reason.find("10 message(s) logged before the chunk's stated start time"),
+        std::string::npos)
         << (*r)->dropped()[0].reason;
 }
 
-INSTANTIATE_TEST_SUITE_P(Compressions, Corruption, ::testing::Values(std::string(""), std::string("zstd")));
+INSTANTIATE_TEST_SUITE_P(Compressions, Corruption,
+                         ::testing::Values(std::string(""), std::string("zstd")));
 
 // A power cut on a file system with delayed allocation can leave a block of zeros where data
 // was: the scan loses the chunks the zeros touch and resumes at the next intact chunk.
@@ -117,7 +126,8 @@ TEST(Corruption, ZeroedBlockInTheMiddleIsSkippedAndTheScanResumes) {
     const std::size_t from = chunks[3].offset + chunks[3].size / 2;
     const std::size_t to = chunks[4].offset + 20;  // chunk 4's header is gone too
     const std::size_t data_end = test::recordsWithOp(bytes, 0x0F).at(0).offset;
-    std::fill(bytes.begin() + static_cast<std::ptrdiff_t>(from), bytes.begin() + static_cast<std::ptrdiff_t>(to), 0);
+    std::fill(bytes.begin() + static_cast<std::ptrdiff_t>(from),
+              bytes.begin() + static_cast<std::ptrdiff_t>(to), 0);
     bytes.resize(data_end);  // and the summary never made it
     auto r = McapReader::fromBuffer(bytes);
     ASSERT_TRUE(r) << r.status().message();
@@ -128,7 +138,8 @@ TEST(Corruption, ZeroedBlockInTheMiddleIsSkippedAndTheScanResumes) {
     EXPECT_EQ((*r)->dropped()[0].offset, chunks[3].offset);  // its content fails to decode
     EXPECT_EQ((*r)->dropped()[1].offset, chunks[3].end());   // zeros up to chunk 5
     EXPECT_EQ((*r)->dropped()[1].length, chunks[5].offset - chunks[3].end());
-    EXPECT_NE((*r)->dropped()[1].reason.find("resumed at the chunk at byte " + std::to_string(chunks[5].offset)),
+    EXPECT_NE((*r)->dropped()[1].reason.find("resumed at the chunk at byte " +
+                                             std::to_string(chunks[5].offset)),
               std::string::npos)
         << (*r)->dropped()[1].reason;
 }
@@ -154,20 +165,23 @@ TEST(Corruption, DamagedSummaryFallsBackToScan) {
     auto bytes = makeFile("zstd", sent);
     const auto chunk_indexes = test::recordsWithOp(bytes, 0x08);
     ASSERT_EQ(chunk_indexes.size(), 8u);
-    bytes[chunk_indexes[3].offset + 12] ^= 0xFF;  // a chunk's start offset, covered by the summary CRC
+    bytes[chunk_indexes[3].offset + 12] ^=
+        0xFF;  // a chunk's start offset, covered by the summary CRC
     auto r = McapReader::fromBuffer(bytes);
     ASSERT_TRUE(r) << r.status().message();
     EXPECT_FALSE((*r)->indexed());
     EXPECT_FALSE((*r)->truncated());
     ASSERT_EQ((*r)->dropped().size(), 1u);
-    EXPECT_NE((*r)->dropped()[0].reason.find("summary CRC32 mismatch"), std::string::npos) << (*r)->dropped()[0].reason;
+    EXPECT_NE((*r)->dropped()[0].reason.find("summary CRC32 mismatch"), std::string::npos)
+        << (*r)->dropped()[0].reason;
     EXPECT_EQ(test::readAll(**r), sent);
 }
 
 TEST(Corruption, ByteOutsideChunksFailsDataSectionCrc) {
     std::vector<Msg> sent;
     auto bytes = makeFile("zstd", sent);
-    const auto indexes = test::recordsWithOp(bytes, 0x07);  // Message Index: not covered by chunk CRCs
+    const auto indexes =
+        test::recordsWithOp(bytes, 0x07);  // Message Index: not covered by chunk CRCs
     ASSERT_FALSE(indexes.empty());
     bytes[indexes[0].offset + 9 + 2 + 4] ^= 0x01;
     auto r = McapReader::fromBuffer(bytes);
@@ -190,7 +204,8 @@ TEST(Corruption, NotAnMcapFileIsRefused) {
     auto r = McapReader::fromBuffer(std::vector<std::uint8_t>(100, 0x42), "scan.bin");
     ASSERT_FALSE(r);
     EXPECT_EQ(r.status().code(), StatusCode::kProtocolError);
-    EXPECT_EQ(r.status().message(), "scan.bin: not an MCAP file (the first 8 bytes are not the MCAP0 magic)");
+    EXPECT_EQ(r.status().message(),
+              "scan.bin: not an MCAP file (the first 8 bytes are not the MCAP0 magic)");
 }
 
 TEST(Corruption, MissingFileNamesThePath) {

@@ -28,10 +28,14 @@ std::vector<std::uint8_t> payload(std::mt19937& rng, std::size_t n) {
 std::vector<Sent> makeStreams(std::mt19937& rng, int seconds) {
     std::vector<Sent> out;
     const TimeNs t0 = 1'000 * kNsPerSec;
-    for (TimeNs t = 0; t < seconds * kNsPerSec; t += 5 * kNsPerMs) out.push_back({0, t0 + t, payload(rng, 40)});
-    for (TimeNs t = 0; t < seconds * kNsPerSec; t += 25 * kNsPerMs) out.push_back({1, t0 + t + 3, payload(rng, 3000)});
-    for (TimeNs t = 0; t < seconds * kNsPerSec; t += 20 * kNsPerMs) out.push_back({2, t0 + t + 7, payload(rng, 20000)});
-    std::stable_sort(out.begin(), out.end(), [](const Sent& a, const Sent& b) { return a.t < b.t; });
+    for (TimeNs t = 0; t < seconds * kNsPerSec; t += 5 * kNsPerMs)
+        out.push_back({0, t0 + t, payload(rng, 40)});
+    for (TimeNs t = 0; t < seconds * kNsPerSec; t += 25 * kNsPerMs)
+        out.push_back({1, t0 + t + 3, payload(rng, 3000)});
+    for (TimeNs t = 0; t < seconds * kNsPerSec; t += 20 * kNsPerMs)
+        out.push_back({2, t0 + t + 7, payload(rng, 20000)});
+    std::stable_sort(out.begin(), out.end(),
+                     [](const Sent& a, const Sent& b) { return a.t < b.t; });
     return out;
 }
 
@@ -78,7 +82,9 @@ TEST_P(RoundTrip, EveryMessageBackInOrder) {
         EXPECT_EQ(m.log_time, msgs[i].t);
         EXPECT_EQ(m.channel->id, msgs[i].channel);
         EXPECT_EQ(m.sequence, seq[m.channel->id]++);
-        ASSERT_TRUE(std::equal(m.data.begin(), m.data.end(), msgs[i].data.begin(), msgs[i].data.end())) << "message " << i;
+        ASSERT_TRUE(
+            std::equal(m.data.begin(), m.data.end(), msgs[i].data.begin(), msgs[i].data.end()))
+            << "message " << i;
         ++i;
     }
     EXPECT_TRUE(it.status());
@@ -121,7 +127,9 @@ TEST(RoundTrip, OutOfOrderArrivalsComeBackSorted) {
     for (TimeNs t = 0; t < 100; ++t) {
         ASSERT_TRUE((*w)->write(a, 1000 + t * 10, std::vector<std::uint8_t>(40, 1)));
         if (t % 10 == 9) {  // /b arrives in bursts, 95 ns late
-            for (TimeNs k = 9; k >= 0; --k) ASSERT_TRUE((*w)->write(b, 1000 + (t - k) * 10 + 5, std::vector<std::uint8_t>(40, 2)));
+            for (TimeNs k = 9; k >= 0; --k)
+                ASSERT_TRUE(
+                    (*w)->write(b, 1000 + (t - k) * 10 + 5, std::vector<std::uint8_t>(40, 2)));
         }
     }
     ASSERT_TRUE((*w)->close());
@@ -129,7 +137,8 @@ TEST(RoundTrip, OutOfOrderArrivalsComeBackSorted) {
     ASSERT_TRUE(r);
     const auto got = test::readAll(**r);
     ASSERT_EQ(got.size(), 200u);
-    for (std::size_t i = 0; i < got.size(); ++i) EXPECT_EQ(got[i].t, 1000 + static_cast<TimeNs>(i) * 5) << i;
+    for (std::size_t i = 0; i < got.size(); ++i)
+        EXPECT_EQ(got[i].t, 1000 + static_cast<TimeNs>(i) * 5) << i;
 }
 
 TEST(RoundTrip, EmptyRecordingAndSchemas) {
@@ -174,14 +183,16 @@ TEST(RoundTrip, ChunksCloseAtTheConfiguredDuration) {
     opts.chunk_duration_ns = 100 * kNsPerMs;
     auto w = McapWriter::inMemory(opts);
     const auto ch = *(*w)->addChannel("/imu", "x-test");
-    for (int i = 0; i < 200; ++i) ASSERT_TRUE((*w)->write(ch, i * 5 * kNsPerMs, std::vector<std::uint8_t>(70, 0)));
+    for (int i = 0; i < 200; ++i)
+        ASSERT_TRUE((*w)->write(ch, i * 5 * kNsPerMs, std::vector<std::uint8_t>(70, 0)));
     ASSERT_TRUE((*w)->close());
     EXPECT_EQ((*w)->chunkCount(), 10u);  // 1 s of 200 Hz samples, a chunk per 100 ms
 }
 
 INSTANTIATE_TEST_SUITE_P(Compressions, RoundTrip,
                          ::testing::Combine(::testing::Values(std::string(""), std::string("zstd")),
-                                            ::testing::Values(std::size_t{4096}, std::size_t{1} << 20)));
+                                            ::testing::Values(std::size_t{4096},
+                                                              std::size_t{1} << 20)));
 
 }  // namespace
 }  // namespace handscan::recording

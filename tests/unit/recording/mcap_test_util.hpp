@@ -38,7 +38,8 @@ inline std::vector<TopRecord> topLevelRecords(const std::vector<std::uint8_t>& b
     return out;
 }
 
-inline std::vector<TopRecord> recordsWithOp(const std::vector<std::uint8_t>& bytes, std::uint8_t op) {
+inline std::vector<TopRecord> recordsWithOp(const std::vector<std::uint8_t>& bytes,
+                                            std::uint8_t op) {
     std::vector<TopRecord> out;
     for (const auto& r : topLevelRecords(bytes)) {
         if (r.op == op) out.push_back(r);
@@ -56,7 +57,8 @@ struct Msg {
 inline std::vector<Msg> readAll(McapReader& reader, const ReadOptions& options = {}) {
     std::vector<Msg> out;
     const Status s = reader.forEachMessage(options, [&](const RecordedMessage& m) {
-        out.push_back({m.channel->topic, m.log_time, std::vector<std::uint8_t>(m.data.begin(), m.data.end())});
+        out.push_back({m.channel->topic, m.log_time,
+                       std::vector<std::uint8_t>(m.data.begin(), m.data.end())});
     });
     EXPECT_TRUE(s) << s.message();
     return out;

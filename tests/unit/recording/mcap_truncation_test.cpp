@@ -36,7 +36,8 @@ Written writeGroups(const std::string& compression, int groups) {
         for (int i = 0; i < n; ++i, t += 5 * kNsPerMs) {
             const auto ch = static_cast<std::uint16_t>((g + i) % 3);
             std::vector<std::uint8_t> data(20 + 13 * i);
-            for (std::size_t k = 0; k < data.size(); ++k) data[k] = static_cast<std::uint8_t>(k * 31 + g);
+            for (std::size_t k = 0; k < data.size(); ++k)
+                data[k] = static_cast<std::uint8_t>(k * 31 + g);
             EXPECT_TRUE((*w)->write(ch, t, data));
             out.sent.push_back({topics[ch], t, data});
         }
@@ -55,7 +56,8 @@ std::set<std::size_t> cutPoints(const std::vector<std::uint8_t>& bytes) {
     std::set<std::size_t> cuts;
     for (std::size_t c = 0; c <= bytes.size(); c += 7) cuts.insert(c);
     for (const auto& r : test::topLevelRecords(bytes)) {
-        for (std::size_t d : {r.offset, r.offset + 1, r.offset + 9, r.offset + 10, r.end() - 1}) cuts.insert(d);
+        for (std::size_t d : {r.offset, r.offset + 1, r.offset + 9, r.offset + 10, r.end() - 1})
+            cuts.insert(d);
     }
     cuts.insert(bytes.size() - 1);
     cuts.insert(bytes.size());
@@ -71,8 +73,10 @@ TEST_P(Truncation, EveryCompleteChunkReadsBackAtAnyCut) {
     const std::size_t first_chunk = test::recordsWithOp(w.bytes, 0x06).front().offset;
     int checked = 0;
     for (std::size_t cut : cutPoints(w.bytes)) {
-        SCOPED_TRACE("cut at byte " + std::to_string(cut) + " of " + std::to_string(w.bytes.size()));
-        std::vector<std::uint8_t> part(w.bytes.begin(), w.bytes.begin() + static_cast<std::ptrdiff_t>(cut));
+        SCOPED_TRACE("cut at byte " + std::to_string(cut) + " of " +
+                     std::to_string(w.bytes.size()));
+        std::vector<std::uint8_t> part(w.bytes.begin(),
+                                       w.bytes.begin() + static_cast<std::ptrdiff_t>(cut));
         auto r = McapReader::fromBuffer(part);
         if (cut < header_end) {
             ASSERT_FALSE(r);  // nothing was recorded yet
@@ -88,7 +92,8 @@ TEST_P(Truncation, EveryCompleteChunkReadsBackAtAnyCut) {
         EXPECT_EQ((*r)->truncated(), cut != w.bytes.size());
         // A cut inside a chunk is reported at that chunk's offset; nothing else goes missing.
         if (complete < w.chunk_end.size() && cut > first_chunk) {
-            const std::size_t chunk_start = complete == 0 ? first_chunk : test::recordsWithOp(w.bytes, 0x06)[complete].offset;
+            const std::size_t chunk_start =
+                complete == 0 ? first_chunk : test::recordsWithOp(w.bytes, 0x06)[complete].offset;
             if (cut > chunk_start) {
                 ASSERT_FALSE((*r)->dropped().empty());
                 EXPECT_EQ((*r)->dropped().back().offset, chunk_start);
@@ -101,18 +106,21 @@ TEST_P(Truncation, EveryCompleteChunkReadsBackAtAnyCut) {
     EXPECT_GT(checked, 300);
 }
 
-INSTANTIATE_TEST_SUITE_P(Compressions, Truncation, ::testing::Values(std::string(""), std::string("zstd")));
+INSTANTIATE_TEST_SUITE_P(Compressions, Truncation,
+                         ::testing::Values(std::string(""), std::string("zstd")));
 
 TEST(Truncation, CutInsideSummaryKeepsEveryMessage) {
     const Written w = writeGroups("zstd", 6);
     const auto data_end = test::recordsWithOp(w.bytes, 0x0F).front();
     for (std::size_t cut = data_end.end(); cut < w.bytes.size(); ++cut) {
-        std::vector<std::uint8_t> part(w.bytes.begin(), w.bytes.begin() + static_cast<std::ptrdiff_t>(cut));
+        std::vector<std::uint8_t> part(w.bytes.begin(),
+                                       w.bytes.begin() + static_cast<std::ptrdiff_t>(cut));
         auto r = McapReader::fromBuffer(part);
         ASSERT_TRUE(r);
         EXPECT_TRUE((*r)->truncated());
         EXPECT_FALSE((*r)->indexed());
-        EXPECT_TRUE((*r)->dropped().empty()) << "cut " << cut << ": " << (*r)->dropped().front().reason;
+        EXPECT_TRUE((*r)->dropped().empty())
+            << "cut " << cut << ": " << (*r)->dropped().front().reason;
         ASSERT_EQ(test::readAll(**r), w.sent) << "cut " << cut;
     }
 }
@@ -120,7 +128,8 @@ TEST(Truncation, CutInsideSummaryKeepsEveryMessage) {
 TEST(Truncation, RealFileCutShortOnDisk) {
     const std::string path = ::testing::TempDir() + "/truncated.mcap";
     const Written w = writeGroups("zstd", 4);
-    const std::size_t cut = (w.chunk_end[2] + w.chunk_end[3]) / 2;  // power cut while writing chunk 3
+    const std::size_t cut =
+        (w.chunk_end[2] + w.chunk_end[3]) / 2;  // power cut while writing chunk 3
     {
         std::FILE* f = std::fopen(path.c_str(), "wb");
         ASSERT_NE(f, nullptr);
@@ -132,7 +141,8 @@ TEST(Truncation, RealFileCutShortOnDisk) {
     EXPECT_TRUE((*r)->truncated());
     EXPECT_EQ(test::readAll(**r).size(), w.chunk_messages[2]);
     ASSERT_EQ((*r)->dropped().size(), 1u);
-    EXPECT_EQ((*r)->dropped()[0].reason.rfind(path + ": Chunk record at byte ", 0), 0u) << (*r)->dropped()[0].reason;
+    EXPECT_EQ((*r)->dropped()[0].reason.rfind(path + ": Chunk record at byte ", 0), 0u)
+        << (*r)->dropped()[0].reason;
     std::remove(path.c_str());
 }
 

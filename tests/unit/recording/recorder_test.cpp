@@ -1,12 +1,13 @@
 // The Recorder under load from several driver threads: every message offered is either in the
 // file (per channel in order, bytes intact) or counted as dropped, and a full queue drops
 // instead of blocking the driver.
+#include "handscan/recording/recorder.hpp"
+
 #include <gtest/gtest.h>
 
 #include <thread>
 
 #include "handscan/recording/mcap_reader.hpp"
-#include "handscan/recording/recorder.hpp"
 #include "mcap_test_util.hpp"
 
 namespace handscan::recording {
@@ -24,7 +25,8 @@ TEST(Recorder, ThreeDriverThreadsEveryMessageWrittenOrCounted) {
     o.mcap.chunk_size_bytes = 64 * 1024;
     auto rec = Recorder::create(path, o);
     ASSERT_TRUE(rec) << rec.status().message();
-    const ChannelSpec* specs[] = {&channels::kXsensRaw, &channels::kHokuyoRaw, &channels::kCameraTrack};
+    const ChannelSpec* specs[] = {&channels::kXsensRaw, &channels::kHokuyoRaw,
+                                  &channels::kCameraTrack};
     const std::size_t sizes[] = {60, 3300, 40000};
     const int counts[] = {4000, 800, 200};
     std::vector<RawTap*> taps;
@@ -129,7 +131,8 @@ TEST(Recorder, UnwritableDirectoryIsAClearError) {
     auto rec = Recorder::create("/nonexistent-dir/rec.mcap");
     ASSERT_FALSE(rec);
     EXPECT_EQ(rec.status().code(), StatusCode::kIoError);
-    EXPECT_NE(rec.status().message().find("/nonexistent-dir/rec.mcap: cannot create the recording"), std::string::npos);
+    EXPECT_NE(rec.status().message().find("/nonexistent-dir/rec.mcap: cannot create the recording"),
+              std::string::npos);
 }
 
 TEST(Recorder, ChannelsMustBeAddedBeforeStart) {

@@ -5,8 +5,8 @@
 // usage: recording_from_capture CAPTURE TOPIC OUT.mcap [zstd|none]
 #include <cstdio>
 #include <fstream>
-#include <string>
 #include <iterator>
+#include <string>
 
 #include "handscan/recording/channels.hpp"
 #include "handscan/recording/mcap_writer.hpp"
@@ -21,7 +21,8 @@ int main(int argc, char** argv) {
     }
     std::ifstream in(argv[1], std::ios::binary);
     const bool opened = static_cast<bool>(in);
-    const std::vector<std::uint8_t> bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    const std::vector<std::uint8_t> bytes((std::istreambuf_iterator<char>(in)),
+                                          std::istreambuf_iterator<char>());
     const ChannelSpec* spec = findChannel(argv[2]);
     if (!opened || bytes.empty() || spec == nullptr) {
         std::fprintf(stderr, "%s: cannot read, or %s is not a known channel\n", argv[1], argv[2]);

@@ -1,12 +1,13 @@
 // `handscan info`'s numbers: counts, rates, durations and gaps of each channel, computed from a
 // recording with known rates and known holes, and the truncation flag.
+#include "handscan/recording/recording_summary.hpp"
+
 #include <gtest/gtest.h>
 
 #include <sstream>
 
 #include "handscan/recording/mcap_reader.hpp"
 #include "handscan/recording/mcap_writer.hpp"
-#include "handscan/recording/recording_summary.hpp"
 #include "mcap_test_util.hpp"
 
 namespace handscan::recording {
@@ -25,7 +26,8 @@ std::vector<std::uint8_t> makeRecording() {
     std::vector<std::uint8_t> data(70, 1);
     for (int i = 0; i < 2000; ++i) {
         if (i % 5 == 0) {
-            EXPECT_TRUE((*w)->write(laser, t0 + i * 5 * kNsPerMs + kNsPerMs, std::vector<std::uint8_t>(500, 2)));
+            EXPECT_TRUE((*w)->write(laser, t0 + i * 5 * kNsPerMs + kNsPerMs,
+                                    std::vector<std::uint8_t>(500, 2)));
         }
         if (i >= 1000 && i <= 1002) continue;
         EXPECT_TRUE((*w)->write(imu, t0 + i * 5 * kNsPerMs, data));
@@ -71,7 +73,9 @@ TEST(RecordingSummary, CountsRatesAndGaps) {
 
     std::ostringstream json;
     printSummaryJson(*s, json);
-    EXPECT_NE(json.str().find("\"topic\":\"/imu/samples\",\"message_encoding\":\"handscan.imu_sample.v1\",\"messages\":1997,"),
+    EXPECT_NE(json.str().find(
+                  "\"topic\":\"/imu/"
+                  "samples\",\"message_encoding\":\"handscan.imu_sample.v1\",\"messages\":1997,"),
               std::string::npos)
         << json.str();
     EXPECT_NE(json.str().find("\"truncated\":false,\"recovered\":false"), std::string::npos);
@@ -101,7 +105,8 @@ TEST(RecordingSummary, TruncatedFileIsFlaggedAndCountsWhatSurvived) {
     EXPECT_EQ(s->dropped[0].offset, chunks[3].offset);
     ASSERT_TRUE(checkRecordingCrcs(**r, *s));
     EXPECT_TRUE(s->crc_checked);
-    EXPECT_NE(s->crc_problems.find("no Data End record (file cut short)"), std::string::npos) << s->crc_problems;
+    EXPECT_NE(s->crc_problems.find("no Data End record (file cut short)"), std::string::npos)
+        << s->crc_problems;
     std::ostringstream text;
     printSummaryText(*s, text);
     EXPECT_NE(text.str().find("TRUNCATED"), std::string::npos);

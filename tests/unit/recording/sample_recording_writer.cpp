@@ -33,8 +33,9 @@ int main(int argc, char** argv) {
     }
     McapWriter& writer = **w;
     std::map<std::string, std::uint16_t> id;
-    for (const auto* spec : {&channels::kImuSamples, &channels::kHokuyoRaw, &channels::kGroundTruthPose,
-                             &channels::kEncoderAngle, &channels::kCameraTrack}) {
+    for (const auto* spec :
+         {&channels::kImuSamples, &channels::kHokuyoRaw, &channels::kGroundTruthPose,
+          &channels::kEncoderAngle, &channels::kCameraTrack}) {
         auto c = addChannel(writer, *spec);
         if (!c) return 1;
         id[std::string(spec->topic)] = *c;
@@ -82,7 +83,8 @@ int main(int argc, char** argv) {
             put(channels::kEncoderAngle.topic, t + 2, buf);
         }
         if (ms % 500 == 250) {
-            // Two frames back to back: the second fills a chunk of its own, which does not compress.
+            // Two frames back to back: the second fills a chunk of its own, which does not
+            // compress.
             for (TimeNs k = 0; k < 2; ++k) {
                 buf.resize(300 * 1024);
                 for (auto& b : buf) b = static_cast<std::uint8_t>(rng());
@@ -101,8 +103,9 @@ int main(int argc, char** argv) {
         js << (first ? "" : ",") << "\"" << topic << "\":" << n;
         first = false;
     }
-    js << "},\"messages\":" << writer.messageCount() << ",\"chunks\":" << writer.chunkCount() << "}\n";
-    std::printf("%s: %llu messages in %u chunks\n", out.c_str(), static_cast<unsigned long long>(writer.messageCount()),
-                writer.chunkCount());
+    js << "},\"messages\":" << writer.messageCount() << ",\"chunks\":" << writer.chunkCount()
+       << "}\n";
+    std::printf("%s: %llu messages in %u chunks\n", out.c_str(),
+                static_cast<unsigned long long>(writer.messageCount()), writer.chunkCount());
     return 0;
 }

@@ -1,11 +1,11 @@
 // The replay's per-module timing keeps constant memory and still reports what sorting every
 // duration would: exact count, mean, total and maximum; median and 99th percentile within 0.25 %.
-#include <algorithm>
-#include <random>
+#include "handscan/replay/call_timer.hpp"
 
 #include <gtest/gtest.h>
 
-#include "handscan/replay/call_timer.hpp"
+#include <algorithm>
+#include <random>
 
 namespace handscan::replay {
 namespace {

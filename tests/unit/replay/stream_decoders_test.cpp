@@ -1,5 +1,7 @@
 // The recorded-stream decoders give back what the codecs' encode side (what the devices and the
 // simulator send) put in, with host times from the devices' clocks.
+#include "handscan/replay/stream_decoders.hpp"
+
 #include <gtest/gtest.h>
 
 #include <random>
@@ -7,7 +9,6 @@
 #include "handscan/hokuyo/scip_codec.hpp"
 #include "handscan/motor/candump_format.hpp"
 #include "handscan/motor/canopen.hpp"
-#include "handscan/replay/stream_decoders.hpp"
 #include "handscan/xsens/mtdata2.hpp"
 
 namespace handscan::replay {
@@ -18,9 +19,15 @@ std::span<const std::uint8_t> bytesOf(const std::string& s) {
 }
 
 std::string utm30PpReply() {
-    return hokuyo::encodeKeyValueReply("PP", "00", {{"MODL", "UTM-30LX-EW"}, {"DMIN", "23"}, {"DMAX", "60000"},
-                                                    {"ARES", "1440"}, {"AMIN", "0"}, {"AMAX", "1080"},
-                                                    {"AFRT", "540"}, {"SCAN", "2400"}});
+    return hokuyo::encodeKeyValueReply("PP", "00",
+                                       {{"MODL", "UTM-30LX-EW"},
+                                        {"DMIN", "23"},
+                                        {"DMAX", "60000"},
+                                        {"ARES", "1440"},
+                                        {"AMIN", "0"},
+                                        {"AMAX", "1080"},
+                                        {"AFRT", "540"},
+                                        {"SCAN", "2400"}});
 }
 
 TEST(HokuyoStreamDecoder, ScansFromAStreamSplitAnywhere) {
@@ -31,7 +38,8 @@ TEST(HokuyoStreamDecoder, ScansFromAStreamSplitAnywhere) {
         hokuyo::ScanPayload p;
         p.timestamp_ms = 1000 + 25 * static_cast<std::uint32_t>(k);
         for (int i = 0; i < 1081; ++i) {
-            p.ranges.push_back(i == 7 ? 5 : static_cast<std::uint32_t>(1000 + i + k));  // 5 < DMIN: error code
+            p.ranges.push_back(
+                i == 7 ? 5 : static_cast<std::uint32_t>(1000 + i + k));  // 5 < DMIN: error code
             p.intensities.push_back(static_cast<std::uint32_t>(2000 + i));
         }
         sent.push_back(p);
@@ -107,12 +115,17 @@ TEST(XsensStreamDecoder, SamplesOnTheHostClockWithGapsAndADroppedByte) {
     for (std::uint16_t k = 0; k < 400; ++k) {
         if (k == 100) continue;  // a packet lost on the device side: counter gap
         xsens::MtData2Builder b;
-        b.packetCounter(k).sampleTimeFine(50'000u + 50u * k).acceleration({0.1, 0.2, 9.81}).rateOfTurn({0.01, -0.02, 0.03}).statusWord(3);
+        b.packetCounter(k)
+            .sampleTimeFine(50'000u + 50u * k)
+            .acceleration({0.1, 0.2, 9.81})
+            .rateOfTurn({0.01, -0.02, 0.03})
+            .statusWord(3);
         const auto f = b.frame();
         frame_starts.push_back(stream.size());
         stream.insert(stream.end(), f.begin(), f.end());
     }
-    stream.erase(stream.begin() + static_cast<std::ptrdiff_t>(frame_starts[200] + 10));  // a byte lost on the wire
+    stream.erase(stream.begin() +
+                 static_cast<std::ptrdiff_t>(frame_starts[200] + 10));  // a byte lost on the wire
     XsensStreamDecoder dec;
     std::vector<ImuSample> out;
     // Received in 8-packet bursts 1-3 ms after the sample instants.
@@ -148,7 +161,11 @@ TEST(XsensStreamDecoder, SampleTimesFreeOfTheFramesLatencyAndWireTime) {
     TimeNs wire_ns = 0;
     for (std::uint32_t k = 0; k < 2000; ++k) {
         xsens::MtData2Builder b;
-        b.packetCounter(static_cast<std::uint16_t>(k)).sampleTimeFine(123'000u + 50u * k).acceleration({0.1, 0.2, 9.81}).rateOfTurn({1.0, -2.0, 3.0}).statusWord(3);
+        b.packetCounter(static_cast<std::uint16_t>(k))
+            .sampleTimeFine(123'000u + 50u * k)
+            .acceleration({0.1, 0.2, 9.81})
+            .rateOfTurn({1.0, -2.0, 3.0})
+            .statusWord(3);
         const auto f = b.frame();
         wire_ns = static_cast<TimeNs>(static_cast<double>(f.size()) * 10.0 * 1e9 / 921600.0);
         const TimeNs t_k = t0 + static_cast<TimeNs>(k) * 5 * kNsPerMs;
@@ -183,14 +200,16 @@ TEST(EncoderStreamDecoder, CyclicTimerRemovesReceiveJitter) {
     EncoderStreamDecoder dec_calibrated(calibrated);
     std::vector<EncoderSample> out_calibrated;
     std::mt19937 rng(9);
-    std::uniform_real_distribution<double> jitter_ms(0.0, 2.0);  // arbitration + USB adapter polling
+    std::uniform_real_distribution<double> jitter_ms(0.0,
+                                                     2.0);  // arbitration + USB adapter polling
     std::vector<EncoderSample> out;
     std::vector<TimeNs> sent;
     const double rev_per_s = 1.0;
     for (int k = 0; k < 4000; ++k) {
         if (k == 1000) continue;  // a lost frame
         const TimeNs t_sent = 50 * kNsPerSec + static_cast<TimeNs>(k) * 5 * kNsPerMs;
-        const auto counts = static_cast<std::uint32_t>(std::llround(toSeconds(t_sent) * rev_per_s * 16384)) % 16384;
+        const auto counts =
+            static_cast<std::uint32_t>(std::llround(toSeconds(t_sent) * rev_per_s * 16384)) % 16384;
         motor::CandumpRecord rec;
         rec.has_time = true;
         rec.interface = "can0";
@@ -216,7 +235,8 @@ TEST(EncoderStreamDecoder, CyclicTimerRemovesReceiveJitter) {
     EXPECT_LT(max_err_ms, 0.1) << "receive jitter (0-2 ms) left in the encoder times";
     ASSERT_EQ(out_calibrated.size(), sent.size());
     for (std::size_t i = 500; i < out_calibrated.size(); ++i) {
-        ASSERT_NEAR(toSeconds(out_calibrated[i].t_host - sent[i]) * 1e3, 0.0, 0.1) << "sample " << i;
+        ASSERT_NEAR(toSeconds(out_calibrated[i].t_host - sent[i]) * 1e3, 0.0, 0.1)
+            << "sample " << i;
     }
     EXPECT_NEAR(out.back().speed_radps, 2 * M_PI * rev_per_s, 0.05);
 }

@@ -1,6 +1,9 @@
 // The out-of-core map equals the in-memory voxel filter byte for byte (on a stream that leaves
 // and revisits tiles under a budget that forces flushing), stays within its budget, and leaves no
 // scratch file behind, whether it succeeds or fails.
+#include "handscan/replay/tiled_voxel_map.hpp"
+
+#include <gtest/gtest.h>
 #include <sys/resource.h>
 #include <unistd.h>
 
@@ -9,11 +12,8 @@
 #include <filesystem>
 #include <random>
 
-#include <gtest/gtest.h>
-
-#include "handscan/export/voxel_filter.hpp"
-#include "handscan/replay/tiled_voxel_map.hpp"
 #include "../common/scratch_dir.hpp"
+#include "handscan/export/voxel_filter.hpp"
 
 namespace handscan::replay {
 namespace {
@@ -42,14 +42,17 @@ std::vector<Step> loopWalk(int laps, int steps_per_lap, int points_per_step, std
             s.sensor = {30.0 * std::cos(a), 20.0 * std::sin(a), 1.5};
             for (int i = 0; i < points_per_step; ++i) {
                 t += 1.7e-5;
-                // Walls and floor around the sensor, on a coarse lattice so that voxels get many hits
-                // from several laps (exact sums are what is tested), plus noise.
-                const double dx = std::round(u(rng) * 120.0) / 10.0, dy = std::round(u(rng) * 120.0) / 10.0;
+                // Walls and floor around the sensor, on a coarse lattice so that voxels get many
+                // hits from several laps (exact sums are what is tested), plus noise.
+                const double dx = std::round(u(rng) * 120.0) / 10.0,
+                             dy = std::round(u(rng) * 120.0) / 10.0;
                 const double z = (i % 3 == 0) ? 0.0 : std::round((u(rng) + 1.0) * 15.0) / 10.0;
-                s.points.push_back({t, static_cast<float>(s.sensor.x() + dx + 0.01 * u(rng)),
-                                    static_cast<float>(s.sensor.y() + dy + 0.01 * u(rng)), static_cast<float>(z + 0.01 * u(rng)),
-                                    static_cast<std::uint8_t>(colour(rng)), static_cast<std::uint8_t>(colour(rng)),
-                                    static_cast<std::uint8_t>(colour(rng)), static_cast<std::uint16_t>(colour(rng) * 100)});
+                s.points.push_back(
+                    {t, static_cast<float>(s.sensor.x() + dx + 0.01 * u(rng)),
+                     static_cast<float>(s.sensor.y() + dy + 0.01 * u(rng)),
+                     static_cast<float>(z + 0.01 * u(rng)), static_cast<std::uint8_t>(colour(rng)),
+                     static_cast<std::uint8_t>(colour(rng)), static_cast<std::uint8_t>(colour(rng)),
+                     static_cast<std::uint16_t>(colour(rng) * 100)});
             }
             steps.push_back(std::move(s));
         }
@@ -61,11 +64,14 @@ void expectSamePoints(const std::vector<MapPoint>& a, const std::vector<MapPoint
     ASSERT_EQ(a.size(), b.size());
     for (std::size_t i = 0; i < a.size(); ++i) {
         // Every field, bit for bit (the padding of the struct is not compared).
-        const bool same = std::memcmp(&a[i].t_s, &b[i].t_s, 8) == 0 && std::memcmp(&a[i].x, &b[i].x, 4) == 0 &&
-                          std::memcmp(&a[i].y, &b[i].y, 4) == 0 && std::memcmp(&a[i].z, &b[i].z, 4) == 0 &&
-                          a[i].r == b[i].r && a[i].g == b[i].g && a[i].b == b[i].b && a[i].intensity == b[i].intensity;
-        ASSERT_TRUE(same) << "point " << i << ": (" << a[i].t_s << ", " << a[i].x << ", " << a[i].y << ", " << a[i].z
-                          << ") vs (" << b[i].t_s << ", " << b[i].x << ", " << b[i].y << ", " << b[i].z << ")";
+        const bool same = std::memcmp(&a[i].t_s, &b[i].t_s, 8) == 0 &&
+                          std::memcmp(&a[i].x, &b[i].x, 4) == 0 &&
+                          std::memcmp(&a[i].y, &b[i].y, 4) == 0 &&
+                          std::memcmp(&a[i].z, &b[i].z, 4) == 0 && a[i].r == b[i].r &&
+                          a[i].g == b[i].g && a[i].b == b[i].b && a[i].intensity == b[i].intensity;
+        ASSERT_TRUE(same) << "point " << i << ": (" << a[i].t_s << ", " << a[i].x << ", " << a[i].y
+                          << ", " << a[i].z << ") vs (" << b[i].t_s << ", " << b[i].x << ", "
+                          << b[i].y << ", " << b[i].z << ")";
     }
 }
 
@@ -76,11 +82,16 @@ protected:
     static Result<std::vector<MapPoint>> drainAll(TiledVoxelMap& map) {
         std::vector<MapPoint> out;
         std::uint64_t announced = 0;
-        auto n = map.drain([&](std::uint64_t total) { announced = total; out.reserve(total); return Status::ok(); },
-                           [&](std::span<const MapPoint> pts) {
-                               out.insert(out.end(), pts.begin(), pts.end());
-                               return Status::ok();
-                           });
+        auto n = map.drain(
+            [&](std::uint64_t total) {
+                announced = total;
+                out.reserve(total);
+                return Status::ok();
+            },
+            [&](std::span<const MapPoint> pts) {
+                out.insert(out.end(), pts.begin(), pts.end());
+                return Status::ok();
+            });
         if (!n.isOk()) return n.status();
         EXPECT_EQ(*n, announced);
         EXPECT_EQ(out.size(), announced);
@@ -98,8 +109,9 @@ TEST(VoxelFilterExactSums, OrderAndGroupingDoNotChangeTheResult) {
     std::uniform_real_distribution<float> u(-1.0f, 1.0f);
     std::vector<MapPoint> all;
     for (int i = 0; i < 60000; ++i) {
-        all.push_back({1.0e6 + i * 1.3e-4, u(rng), u(rng) * 1e-3f, 100.0f + u(rng), static_cast<std::uint8_t>(i % 256),
-                       static_cast<std::uint8_t>(i % 7), 3, static_cast<std::uint16_t>(i % 6000)});
+        all.push_back({1.0e6 + i * 1.3e-4, u(rng), u(rng) * 1e-3f, 100.0f + u(rng),
+                       static_cast<std::uint8_t>(i % 256), static_cast<std::uint8_t>(i % 7), 3,
+                       static_cast<std::uint16_t>(i % 6000)});
     }
     VoxelFilter forward(0.5);
     forward.add(all);
@@ -154,7 +166,8 @@ TEST_F(TiledVoxelMapTest, EqualsTheInMemoryFilterWithRevisitsAndFlushing) {
     }
     const TiledMapStats st = map.stats();
     EXPECT_GT(reference.memoryBytes(), 4 * cfg.memory_budget_bytes);
-    EXPECT_GT(st.fragments_flushed, st.tiles) << "tiles must have been flushed more than once (revisited)";
+    EXPECT_GT(st.fragments_flushed, st.tiles)
+        << "tiles must have been flushed more than once (revisited)";
     auto out = drainAll(map);
     ASSERT_TRUE(out.isOk()) << out.status().message();
     expectSamePoints(*out, reference.take());
@@ -178,7 +191,8 @@ TEST_F(TiledVoxelMapTest, RepeatedFlushesAreConsolidatedAndTheScratchFileStaysNe
     EXPECT_GT(st.consolidations, 0u);
     EXPECT_GT(st.compactions, 0u);
     const std::uint64_t map_bytes = reference.size() * sizeof(VoxelFilter::Cell);
-    EXPECT_GT(st.spill_written_bytes, 3 * map_bytes) << "the test must flush the map several times over";
+    EXPECT_GT(st.spill_written_bytes, 3 * map_bytes)
+        << "the test must flush the map several times over";
     // Live fragments hold each voxel at most kMaxFragments (4) times; dead ones at most as much
     // again (plus the slack) before a rewrite.
     EXPECT_LE(st.peak_spill_bytes, 2 * 4 * map_bytes + 2 * cfg.spill_slack_bytes);
@@ -221,7 +235,9 @@ TEST_F(TiledVoxelMapTest, AFailingSinkLeavesNoScratchFile) {
     for (const Step& s : steps) ASSERT_TRUE(map.add(s.points, s.sensor).isOk());
     ASSERT_GT(map.stats().fragments_flushed, 0u);
     auto r = map.drain([](std::uint64_t) { return Status::ok(); },
-                       [](std::span<const MapPoint>) { return Status(StatusCode::kIoError, "map.ply: disk gone"); });
+                       [](std::span<const MapPoint>) {
+                           return Status(StatusCode::kIoError, "map.ply: disk gone");
+                       });
     ASSERT_FALSE(r.isOk());
     EXPECT_EQ(r.status().message(), "map.ply: disk gone");
     EXPECT_TRUE(dirEmpty(dir_));
@@ -237,7 +253,9 @@ TEST_F(TiledVoxelMapTest, AMissingSpillDirectoryIsAClearError) {
         if (!s.isOk()) break;
     }
     ASSERT_FALSE(s.isOk());
-    EXPECT_NE(s.message().find("map spill file " + missing + "/.map-fragments.spill"), std::string::npos) << s.message();
+    EXPECT_NE(s.message().find("map spill file " + missing + "/.map-fragments.spill"),
+              std::string::npos)
+        << s.message();
     EXPECT_NE(s.message().find("cannot create"), std::string::npos) << s.message();
 }
 
@@ -253,7 +271,8 @@ TEST_F(TiledVoxelMapTest, AFullDiskIsAnErrorNamingTheSpillFile) {
     }
     ASSERT_FALSE(s.isOk()) << "1 MiB of disk cannot hold the flushed tiles";
     EXPECT_EQ(s.code(), StatusCode::kNoSpace);
-    EXPECT_NE(s.message().find(disk.string() + "/.map-fragments.spill"), std::string::npos) << s.message();
+    EXPECT_NE(s.message().find(disk.string() + "/.map-fragments.spill"), std::string::npos)
+        << s.message();
     EXPECT_NE(s.message().find("No space left on device"), std::string::npos) << s.message();
     EXPECT_TRUE(dirEmpty(disk));
 }
@@ -276,7 +295,8 @@ TEST_F(TiledVoxelMapTest, AFileSizeLimitFailsTheWriteWithTheFileNamed) {
     ::setrlimit(RLIMIT_FSIZE, &old);
     std::signal(SIGXFSZ, previous);
     ASSERT_FALSE(s.isOk());
-    EXPECT_NE(s.message().find((dir_ / ".map-fragments.spill").string()), std::string::npos) << s.message();
+    EXPECT_NE(s.message().find((dir_ / ".map-fragments.spill").string()), std::string::npos)
+        << s.message();
     EXPECT_NE(s.message().find("File too large"), std::string::npos) << s.message();
     EXPECT_TRUE(dirEmpty(dir_));
 }

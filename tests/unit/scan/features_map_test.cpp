@@ -26,7 +26,8 @@ double distanceToBoxEdge(const testing::Scene& scene, const Eigen::Vector3d& p) 
                 for (double cv : {b.lo[v], b.hi[v]}) {
                     const double du = p[u] - cu;
                     const double dv = p[v] - cv;
-                    const double along = std::max({b.lo[axis] - p[axis], 0.0, p[axis] - b.hi[axis]});
+                    const double along =
+                        std::max({b.lo[axis] - p[axis], 0.0, p[axis] - b.hi[axis]});
                     best = std::min(best, std::sqrt(du * du + dv * dv + along * along));
                 }
             }
@@ -52,8 +53,8 @@ TEST(Features, SmoothnessIsZeroOnAPlaneAndLargeAtACorner) {
     const auto c = lineSmoothness(s, s.lines[0], 5);
     EXPECT_TRUE(std::isnan(c[0]));
     EXPECT_TRUE(std::isnan(c[40]));
-    EXPECT_LT(c[10], 1e-9);   // on the first wall
-    EXPECT_LT(c[30], 1e-9);   // on the second
+    EXPECT_LT(c[10], 1e-9);       // on the first wall
+    EXPECT_LT(c[30], 1e-9);       // on the second
     EXPECT_GT(c[20], 1.5 * inc);  // at the corner
     EXPECT_GT(c[20], 100 * c[10] + 1e-6);
 }
@@ -67,7 +68,8 @@ TEST(Features, EdgesOnBoxEdgesPlanarsOnSurfaces) {
     ASSERT_GT(f.planars.size(), 1000U);
     int on_edges = 0;
     for (const auto& p : f.edges) on_edges += distanceToBoxEdge(scene, T * p) < 0.1 ? 1 : 0;
-    EXPECT_GT(on_edges, static_cast<int>(0.8 * f.edges.size())) << on_edges << " of " << f.edges.size();
+    EXPECT_GT(on_edges, static_cast<int>(0.8 * f.edges.size()))
+        << on_edges << " of " << f.edges.size();
     int off_edges = 0;
     for (const auto& p : f.planars) off_edges += distanceToBoxEdge(scene, T * p) > 0.05 ? 1 : 0;
     EXPECT_GT(off_edges, static_cast<int>(0.97 * f.planars.size()));

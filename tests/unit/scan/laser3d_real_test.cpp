@@ -59,7 +59,8 @@ Eigen::Isometry3d load3dtkPose(const std::string& path) {
     for (double& d : v) in >> d;
     Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
     const double k = M_PI / 180.0;
-    T.linear() = (Eigen::AngleAxisd(v[3] * k, Eigen::Vector3d::UnitX()) * Eigen::AngleAxisd(v[4] * k, Eigen::Vector3d::UnitY()) *
+    T.linear() = (Eigen::AngleAxisd(v[3] * k, Eigen::Vector3d::UnitX()) *
+                  Eigen::AngleAxisd(v[4] * k, Eigen::Vector3d::UnitY()) *
                   Eigen::AngleAxisd(v[5] * k, Eigen::Vector3d::UnitZ()))
                      .toRotationMatrix();
     T.translation() = Eigen::Vector3d(v[0], v[1], v[2]) / 100.0;
@@ -93,24 +94,27 @@ Eigen::Isometry3d load3dtkFinalFrame(const std::string& path) {
 // disagree by up to 4 deg. The last one (595b8e1d = svn r66, 2009-09-30; its lines below) is
 // slam6D run with its defaults: point-to-point ICP on every point, pairs within 25 cm, scan002
 // against the metascan of scan000 + scan001 (Tilting3dtkPublishedPosesAreSlam6dIcp reproduces
-// it to 0.1 deg; 0.00 deg offline with every point). Its scan001 pose is that ICP's converged minimum. Its scan002 pose is NOT a
-// registration: slam6D writes a frame after the first iteration and on convergence only, and
-// its scan002 ICP did not converge in 50 iterations, so the last line is the pose after one
-// iteration from the odometry (its 50-iteration pose lies 0.8 deg and 3.6 cm further on). The
-// shared .frames (d24c9ed6) is the README's "slam6D --max=500 -r 10.2 -i 20": points within 5 m,
-// 10 cm octree cells; it lands 3 deg lower in pitch (reproduced offline to 0.02 deg / 0.1 cm with
-// the ICP of point_icp.hpp on octree-cell centres, returns under 0.3 m dropped).
+// it to 0.1 deg; 0.00 deg offline with every point). Its scan001 pose is that ICP's converged
+// minimum. Its scan002 pose is NOT a registration: slam6D writes a frame after the first iteration
+// and on convergence only, and its scan002 ICP did not converge in 50 iterations, so the last line
+// is the pose after one iteration from the odometry (its 50-iteration pose lies 0.8 deg and 3.6 cm
+// further on). The shared .frames (d24c9ed6) is the README's "slam6D --max=500 -r 10.2 -i 20":
+// points within 5 m, 10 cm octree cells; it lands 3 deg lower in pitch (reproduced offline to 0.02
+// deg / 0.1 cm with the ICP of point_icp.hpp on octree-cell centres, returns under 0.3 m dropped).
 const char* const kPublished595b8e1d[3] = {
     "1 0 0 0 0 1 0 0 0 0 1 0 0 0 0 1 2",
-    "0.999913 -0.00438033 0.0124237 0 0.00421739 0.999905 0.0131114 0 -0.0124799 -0.0130579 0.999837 0 "
+    "0.999913 -0.00438033 0.0124237 0 0.00421739 0.999905 0.0131114 0 -0.0124799 -0.0130579 "
+    "0.999837 0 "
     "-3.6331 -9.08315 156.796 1 2",
-    "0.999981 -0.00239338 0.0057155 0 0.00235041 0.999969 0.00751323 0 -0.0057333 -0.00749966 0.999955 0 "
+    "0.999981 -0.00239338 0.0057155 0 0.00235041 0.999969 0.00751323 0 -0.0057333 -0.00749966 "
+    "0.999955 0 "
     "-8.05008 -15.6539 337.786 1 1",
 };
 
 // Dense alignment of `cloud` (posed by T) against `map_cloud`: median point-to-plane distance to
 // planar 8-point patches of the full-resolution reference scan.
-double densePointToPlaneMedian(const std::vector<Eigen::Vector3d>& map_cloud, const std::vector<Eigen::Vector3d>& cloud,
+double densePointToPlaneMedian(const std::vector<Eigen::Vector3d>& map_cloud,
+                               const std::vector<Eigen::Vector3d>& cloud,
                                const Eigen::Isometry3d& T) {
     VoxelMapConfig vc;
     vc.planar_leaf_m = 0.02;
@@ -140,7 +144,8 @@ double densePointToPlaneMedian(const std::vector<Eigen::Vector3d>& map_cloud, co
 // Registers `scan`'s features against `map` with the matcher's default configuration, starting
 // from the odometry pose. The odometry of these stop-and-go scans is centimetres and a degree
 // off and comes with no covariance: it is a weak prior.
-MatchResult register3dtk(const FeatureCloud& scan, const VoxelMap& map, const Eigen::Isometry3d& odom) {
+MatchResult register3dtk(const FeatureCloud& scan, const VoxelMap& map,
+                         const Eigen::Isometry3d& odom) {
     PosePrior prior;
     prior.T_world_body = odom;
     prior.information.setZero();
@@ -160,7 +165,7 @@ struct Case3dtk {
     const char* name;
     std::vector<int> map_scans;  // placed at their published poses (scan000 is the identity)
     int scan;
-    double max_trans_m;           // measured (see below) plus a margin
+    double max_trans_m;  // measured (see below) plus a margin
     double max_rot_deg;
 };
 
@@ -170,17 +175,17 @@ struct Case3dtk {
 // minimum, for scan002 its pose after one ICP iteration (see above), i.e. near the odometry.
 //
 // Why scan001 lands 1.1 deg from the published pose (measured offline with PointIcp and a dense
-// point-to-plane ICP on the same points): not the start (12 starts 1 deg / 5 cm around the odometry, and the published pose itself, all
-// converge to the same pose within 0.03 deg), not a bug of the matcher, but the objective. The
-// scans are not rigid copies of one scene: this scanner pitches its 2D laser about x (each
-// profile is a half-plane through the x axis), and the surfaces disagree in that direction -
-// point-to-plane ICP on the walls alone lands 1.3 deg from the published pose, mostly pitch.
-// Which pitch wins then depends on how the objective weighs the points, and the minima of
-// reasonable objectives spread over two degrees, mostly in pitch (x): dense point-to-point is
-// the published pose (0.07 deg from it with every 3rd scan point), dense point-to-plane 0.38
-// deg from it, point-to-plane and point-to-point at constant density (one point per 5, 10,
-// 20 cm, as the paper's maps keep them) 0.9-1.3 deg from it (pitch +0.9 to +1.2 deg), walls
-// only 1.3 deg the other way (pitch -1.2 deg). Ours: 1.08 deg (pitch +0.6, roll -0.9 deg),
+// point-to-plane ICP on the same points): not the start (12 starts 1 deg / 5 cm around the
+// odometry, and the published pose itself, all converge to the same pose within 0.03 deg), not a
+// bug of the matcher, but the objective. The scans are not rigid copies of one scene: this scanner
+// pitches its 2D laser about x (each profile is a half-plane through the x axis), and the surfaces
+// disagree in that direction - point-to-plane ICP on the walls alone lands 1.3 deg from the
+// published pose, mostly pitch. Which pitch wins then depends on how the objective weighs the
+// points, and the minima of reasonable objectives spread over two degrees, mostly in pitch (x):
+// dense point-to-point is the published pose (0.07 deg from it with every 3rd scan point), dense
+// point-to-plane 0.38 deg from it, point-to-plane and point-to-point at constant density (one point
+// per 5, 10, 20 cm, as the paper's maps keep them) 0.9-1.3 deg from it (pitch +0.9 to +1.2 deg),
+// walls only 1.3 deg the other way (pitch -1.2 deg). Ours: 1.08 deg (pitch +0.6, roll -0.9 deg),
 // 0.6-0.9 deg from the constant-density minima. Raw density weighs the floor next to the robot
 // most (points fall off with 1/r^2). Across that range the costs change by a few percent: at
 // raw density the published pose costs 2-6% less than ours (point-to-plane truncated at 5 cm:
@@ -238,24 +243,31 @@ TEST(Laser3dReal, Tilting3dtkScansFromOdometry) {
         const Eigen::Isometry3d file_rel = shared_file[a].inverse() * shared_file[c.scan];
         const auto t0 = std::chrono::steady_clock::now();
         const MatchResult r = register3dtk(features[c.scan], map, odom_rel);
-        const double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+        const double ms =
+            std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0)
+                .count();
 
         std::vector<Eigen::Vector3d> cloud;
-        for (std::size_t k = 0; k < sweeps[c.scan].points.size(); k += 5) cloud.push_back(sweeps[c.scan].points[k].p_start);
+        for (std::size_t k = 0; k < sweeps[c.scan].points.size(); k += 5)
+            cloud.push_back(sweeps[c.scan].points[k].p_start);
         const double d_odom = densePointToPlaneMedian(ref, cloud, odom_rel);
         const double d_pub = densePointToPlaneMedian(ref, cloud, pub_rel);
         const double d_ours = densePointToPlaneMedian(ref, cloud, r.T_world_body);
         const PoseError before = poseError(pub_rel, odom_rel);
         const PoseError after = poseError(pub_rel, r.T_world_body);
         const PoseError vs_file = poseError(file_rel, r.T_world_body);
-        std::printf("3dtk %s: odometry %.1f cm %.2f deg from the published registration -> matched %.1f cm %.2f deg "
-                    "(%.1f cm %.2f deg from the shared .frames; %zu/%zu features, %d/%d matches, mask 0x%02x, %.0f ms); "
-                    "dense point-to-plane median: odometry %.2f cm, published %.2f cm, ours %.2f cm; eigenvalues %s\n",
-                    c.name, before.trans_m * 100, before.rot_deg, after.trans_m * 100, after.rot_deg,
-                    vs_file.trans_m * 100, vs_file.rot_deg, features[c.scan].edges.size(),
-                    features[c.scan].planars.size(), r.edge_matches, r.plane_matches, r.degeneracy.solved_dof_mask, ms,
-                    d_odom * 100, d_pub * 100, d_ours * 100,
-                    (std::ostringstream() << r.degeneracy.eigenvalues.transpose()).str().c_str());
+        std::printf(
+            "3dtk %s: odometry %.1f cm %.2f deg from the published registration -> matched %.1f cm "
+            "%.2f deg "
+            "(%.1f cm %.2f deg from the shared .frames; %zu/%zu features, %d/%d matches, mask "
+            "0x%02x, %.0f ms); "
+            "dense point-to-plane median: odometry %.2f cm, published %.2f cm, ours %.2f cm; "
+            "eigenvalues %s\n",
+            c.name, before.trans_m * 100, before.rot_deg, after.trans_m * 100, after.rot_deg,
+            vs_file.trans_m * 100, vs_file.rot_deg, features[c.scan].edges.size(),
+            features[c.scan].planars.size(), r.edge_matches, r.plane_matches,
+            r.degeneracy.solved_dof_mask, ms, d_odom * 100, d_pub * 100, d_ours * 100,
+            (std::ostringstream() << r.degeneracy.eigenvalues.transpose()).str().c_str());
         EXPECT_EQ(r.degeneracy.solved_dof_mask, kAllDof) << c.name;
         EXPECT_LT(after.trans_m, c.max_trans_m) << c.name;
         EXPECT_LT(after.rot_deg, c.max_rot_deg) << c.name;
@@ -305,11 +317,15 @@ TEST(Laser3dReal, Tilting3dtkPublishedPosesAreSlam6dIcp) {
     const PoseError e2_first = poseError(published[2], r2.steps.front());
     const PoseError e2_start = poseError(published[2], start2);
     const PoseError e2_50 = poseError(published[2], r2.T);
-    std::printf("3dtk slam6D redone: scan001 %.2f cm %.3f deg from the published pose (%zu iterations, %s); scan002 "
-                "start %.2f cm %.3f deg, first iteration %.2f cm %.3f deg, after %zu iterations %.2f cm %.3f deg (%s)\n",
-                e1.trans_m * 100, e1.rot_deg, r1.steps.size(), r1.converged ? "converged" : "not converged",
-                e2_start.trans_m * 100, e2_start.rot_deg, e2_first.trans_m * 100, e2_first.rot_deg, r2.steps.size(),
-                e2_50.trans_m * 100, e2_50.rot_deg, r2.converged ? "converged" : "not converged");
+    std::printf(
+        "3dtk slam6D redone: scan001 %.2f cm %.3f deg from the published pose (%zu iterations, "
+        "%s); scan002 "
+        "start %.2f cm %.3f deg, first iteration %.2f cm %.3f deg, after %zu iterations %.2f cm "
+        "%.3f deg (%s)\n",
+        e1.trans_m * 100, e1.rot_deg, r1.steps.size(), r1.converged ? "converged" : "not converged",
+        e2_start.trans_m * 100, e2_start.rot_deg, e2_first.trans_m * 100, e2_first.rot_deg,
+        r2.steps.size(), e2_50.trans_m * 100, e2_50.rot_deg,
+        r2.converged ? "converged" : "not converged");
     EXPECT_LT(e1.rot_deg, 0.15);
     EXPECT_LT(e1.trans_m, 0.005);
     EXPECT_LT(e2_first.rot_deg, 0.15);
@@ -325,13 +341,19 @@ TEST(Laser3dReal, Tilting3dtkPublishedPosesAreSlam6dIcp) {
     std::vector<Eigen::Vector3d> thinned;
     std::unordered_set<std::uint64_t> cells;
     for (const auto& p : pts[1]) {
-        const auto q = [](double v) { return static_cast<std::uint64_t>(std::floor(v / 0.1) + (1 << 20)) & 0x1FFFFF; };
-        if (cells.insert((q(p.x()) << 42) | (q(p.y()) << 21) | q(p.z())).second) thinned.push_back(p);
+        const auto q = [](double v) {
+            return static_cast<std::uint64_t>(std::floor(v / 0.1) + (1 << 20)) & 0x1FFFFF;
+        };
+        if (cells.insert((q(p.x()) << 42) | (q(p.y()) << 21) | q(p.z())).second)
+            thinned.push_back(p);
     }
     const auto r1c = icp0.align(thinned, odom[0].inverse() * odom[1], kMaxPair, 100, kEps);
     const PoseError e1c = poseError(published[1], r1c.T);
-    std::printf("3dtk scan001 by point-to-point ICP at constant density (%zu points): %.2f cm %.3f deg from the published "
-                "pose\n", thinned.size(), e1c.trans_m * 100, e1c.rot_deg);
+    std::printf(
+        "3dtk scan001 by point-to-point ICP at constant density (%zu points): %.2f cm %.3f deg "
+        "from the published "
+        "pose\n",
+        thinned.size(), e1c.trans_m * 100, e1c.rot_deg);
     EXPECT_GT(e1c.rot_deg, 0.8);
 }
 
@@ -364,7 +386,8 @@ TEST(Laser3dReal, RotatingLongarmBoardIsPlanar) {
     axes.col(0) = Eigen::Vector3d::UnitZ();  // laser x (front beam) -> shaft z
     axes.col(1) = Eigen::Vector3d::UnitX();  // laser y -> shaft x
     axes.col(2) = Eigen::Vector3d::UnitY();
-    g.T_shaft_laser.linear() = axes * Eigen::AngleAxisd(dtheta, Eigen::Vector3d::UnitZ()).toRotationMatrix();
+    g.T_shaft_laser.linear() =
+        axes * Eigen::AngleAxisd(dtheta, Eigen::Vector3d::UnitZ()).toRotationMatrix();
     g.T_shaft_laser.translation() = Eigen::Vector3d(0, R, 0);
 
     SweepAssemblerConfig cfg;
@@ -409,9 +432,11 @@ TEST(Laser3dReal, RotatingLongarmBoardIsPlanar) {
     const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> es(cov);
     const double rms = std::sqrt(es.eigenvalues()[0]);
     const Eigen::Vector3d n = es.eigenvectors().col(0);
-    std::printf("longarm board: %zu points, plane rms %.2f mm, extent %.2f x %.2f m, normal (%.3f %.3f %.3f)\n",
-                sweep.points.size(), rms * 1000, 2 * std::sqrt(es.eigenvalues()[2]) * 1.732,
-                2 * std::sqrt(es.eigenvalues()[1]) * 1.732, n.x(), n.y(), n.z());
+    std::printf(
+        "longarm board: %zu points, plane rms %.2f mm, extent %.2f x %.2f m, normal (%.3f %.3f "
+        "%.3f)\n",
+        sweep.points.size(), rms * 1000, 2 * std::sqrt(es.eigenvalues()[2]) * 1.732,
+        2 * std::sqrt(es.eigenvalues()[1]) * 1.732, n.x(), n.y(), n.z());
     // The URG-04LX's range noise is ~1 cm at 1 m; a wrong geometry bends the board by more.
     EXPECT_LT(rms, 0.012);
     // Upstream's own fit: the board is parallel to the sensor, i.e. its normal is the shaft z.

@@ -27,10 +27,11 @@ PosePrior weakPrior(const Eigen::Isometry3d& T) {
 }
 
 // Map from a sweep at pose A, then a sweep from pose B matched from a perturbed guess.
-MatchResult matchRoom(const testing::Scene& scene, const Eigen::Isometry3d& A, const Eigen::Isometry3d& B,
-                      const Eigen::Isometry3d& guess, const PosePrior& prior,
-                      const ScanMatcherConfig& config = {}, std::size_t keep_every = 1,
-                      bool sweep_edges = true, bool sweep_origins = true) {
+MatchResult matchRoom(const testing::Scene& scene, const Eigen::Isometry3d& A,
+                      const Eigen::Isometry3d& B, const Eigen::Isometry3d& guess,
+                      const PosePrior& prior, const ScanMatcherConfig& config = {},
+                      std::size_t keep_every = 1, bool sweep_edges = true,
+                      bool sweep_origins = true) {
     const FeatureConfig fc;
     VoxelMap map;
     map.recenter(A.translation());
@@ -55,12 +56,13 @@ TEST(ScanMatcher, RecoversAPerturbedPoseInABoxRoom) {
     const auto scene = testing::officeRoom();
     const auto A = testing::pose(0.0, 0.0, 0.0, 0.0, 0.0, 0.0);
     const auto B = testing::pose(0.05, 0.4, -0.03, 0.6, 0.05, 0.8);
-    const auto guess = B * testing::pose(0.02, -0.03, 0.025, 0.12, -0.08, 0.1);  // ~10 cm, ~2.5 deg off
+    const auto guess =
+        B * testing::pose(0.02, -0.03, 0.025, 0.12, -0.08, 0.1);  // ~10 cm, ~2.5 deg off
     const MatchResult r = matchRoom(scene, A, B, guess, weakPrior(guess));
     ASSERT_TRUE(r.enough_matches);
     const PoseError e = poseError(B, r.T_world_body);
-    std::printf("box room: matched %.2f cm %.3f deg from truth (start 10-15 cm, 2.5 deg off)\n", e.trans_m * 100,
-                e.rot_deg);
+    std::printf("box room: matched %.2f cm %.3f deg from truth (start 10-15 cm, 2.5 deg off)\n",
+                e.trans_m * 100, e.rot_deg);
     EXPECT_LT(e.trans_m, 0.01) << "rot " << e.rot_deg << " deg, " << r.edge_matches << " edges, "
                                << r.plane_matches << " planes";
     EXPECT_LT(e.rot_deg, 0.1);
@@ -89,8 +91,9 @@ TEST(ScanMatcher, TheFarFaceOfAThinWallIsNotMatchedToItsNearFace) {
     // The same sweep without the laser centres: the back face is matched to the front face.
     const MatchResult blind = matchRoom(scene, A, B, guess, weakPrior(guess), {}, 1, false, false);
     const PoseError e_blind = poseError(B, blind.T_world_body);
-    std::printf("thin wall: matched %.2f cm %.3f deg from truth (%.2f cm without the laser centres)\n",
-                e.trans_m * 100, e.rot_deg, e_blind.trans_m * 100);
+    std::printf(
+        "thin wall: matched %.2f cm %.3f deg from truth (%.2f cm without the laser centres)\n",
+        e.trans_m * 100, e.rot_deg, e_blind.trans_m * 100);
     EXPECT_LT(e.trans_m, 0.01);
     EXPECT_LT(e.rot_deg, 0.1);
     EXPECT_GT(e_blind.trans_m, 0.03);
@@ -111,8 +114,8 @@ TEST(ScanMatcher, TheHuberKernelConvergesToo) {
     ScanMatcherConfig mc;
     mc.kernel = RobustKernel::kHuber;
     mc.kernel_scale_m = 0.05;
-    const MatchResult r = ScanMatcher(mc).match(fb, map.extract(toWorld(guess, fb.edges), toWorld(guess, fb.planars)),
-                                                {weakPrior(guess)});
+    const MatchResult r = ScanMatcher(mc).match(
+        fb, map.extract(toWorld(guess, fb.edges), toWorld(guess, fb.planars)), {weakPrior(guess)});
     const PoseError e = poseError(B, r.T_world_body);
     EXPECT_LT(e.trans_m, 0.01);
     EXPECT_LT(e.rot_deg, 0.1);
@@ -131,7 +134,8 @@ TEST(ScanMatcher, CorridorHoldsTheAlongTrackDirectionAtThePrior) {
     const Eigen::Vector3d t_err = B.inverse() * r.T_world_body.translation();
     // Noisy plane normals must not invent information along the axis (they pulled the pose
     // 12 cm there with 5-point clusters): the axis stays far under the threshold.
-    EXPECT_LT(r.degeneracy.eigenvalues[5], 0.5 * degeneracyEigenvalueThreshold(ScanMatcherConfig{}));
+    EXPECT_LT(r.degeneracy.eigenvalues[5],
+              0.5 * degeneracyEigenvalueThreshold(ScanMatcherConfig{}));
     // Nor does their information come back under re-association (a featureless axis).
     EXPECT_EQ(r.confirmed_directions, 0);
     // x is held where the prior put it; z and the rotations are solved.
@@ -160,7 +164,8 @@ TEST(ScanMatcher, ACorridorsDoorFramesSolveItsAxisThoughWeakly) {
     const MatchResult held = matchRoom(scene, A, B, guess, weakPrior(guess), hard);
     ASSERT_TRUE(held.enough_matches);
     EXPECT_EQ(held.degeneracy.well_conditioned, 5) << held.degeneracy.eigenvalues.transpose();
-    EXPECT_GT(held.degeneracy.eigenvalues[5], degeneracyProbeEigenvalueThreshold(ScanMatcherConfig{}));
+    EXPECT_GT(held.degeneracy.eigenvalues[5],
+              degeneracyProbeEigenvalueThreshold(ScanMatcherConfig{}));
     EXPECT_NEAR((B.inverse() * held.T_world_body).translation().x(), 0.1, 0.01);
 
     const MatchResult r = matchRoom(scene, A, B, guess, weakPrior(guess));
@@ -190,7 +195,8 @@ TEST(ScanMatcher, TheDegeneracyThresholdDoesNotDependOnTheFeatureCount) {
     // The corridor thinned alike still has its axis flagged.
     const auto Bc = testing::pose(0.0, 0.05, 0.0, 1.0, 0.0, 0.0);
     const auto guess_c = Bc * testing::pose(0.0, 0.0, 0.0, 0.2, 0.0, 0.08);
-    const MatchResult c = matchRoom(testing::corridor(), A, Bc, guess_c, weakPrior(guess_c), {}, 20);
+    const MatchResult c =
+        matchRoom(testing::corridor(), A, Bc, guess_c, weakPrior(guess_c), {}, 20);
     ASSERT_TRUE(c.enough_matches);
     EXPECT_EQ(c.degeneracy.solved_dof_mask, kAllDof & ~kTx) << c.degeneracy.eigenvalues.transpose();
 }
@@ -201,12 +207,14 @@ TEST(ScanMatcher, TheSolvedSubspaceInWorldAxesFollowsTheCorridorNotTheBody) {
     const auto scene = testing::corridor();
     const auto B = testing::pose(0.0, 0.7, 0.0, 1.0, 0.0, 0.0);
     const auto guess = B * testing::pose(0.0, 0.01, 0.0, 0.05, 0.0, 0.05);
-    const MatchResult r = matchRoom(scene, Eigen::Isometry3d::Identity(), B, guess, weakPrior(guess));
+    const MatchResult r =
+        matchRoom(scene, Eigen::Isometry3d::Identity(), B, guess, weakPrior(guess));
     ASSERT_EQ(r.degeneracy.well_conditioned, 5) << r.degeneracy.eigenvalues.transpose();
     const Matrix6d P_world = bodyToWorldAxes(r.degeneracy.projection, r.T_world_body.linear());
     EXPECT_EQ(maskFromProjector(P_world), kAllDof & ~kTx);
-    EXPECT_NEAR(P_world(3, 3), 0.0, 0.02);        // world x: not in the solved subspace
-    EXPECT_NEAR(r.degeneracy.projection(3, 3), 1.0 - std::pow(std::cos(0.7), 2), 0.05);  // body x: partly
+    EXPECT_NEAR(P_world(3, 3), 0.0, 0.02);  // world x: not in the solved subspace
+    EXPECT_NEAR(r.degeneracy.projection(3, 3), 1.0 - std::pow(std::cos(0.7), 2),
+                0.05);  // body x: partly
 }
 
 TEST(ScanMatcher, APlaneAloneSolvesOnlyTiltAndHeight) {
@@ -229,10 +237,12 @@ TEST(ScanMatcher, APlaneAloneSolvesOnlyTiltAndHeight) {
 
 TEST(ScanMatcher, TooFewCorrespondencesKeepThePrior) {
     const auto scene = testing::officeRoom();
-    const FeatureCloud f = extractFeatures(sweepAt(scene, Eigen::Isometry3d::Identity()), FeatureConfig{});
+    const FeatureCloud f =
+        extractFeatures(sweepAt(scene, Eigen::Isometry3d::Identity()), FeatureConfig{});
     VoxelMap empty;
     const auto prior = testing::pose(0.1, 0, 0, 1, 2, 3);
-    const MatchResult r = ScanMatcher().match(f, empty.extract(f.edges, f.planars), {weakPrior(prior)});
+    const MatchResult r =
+        ScanMatcher().match(f, empty.extract(f.edges, f.planars), {weakPrior(prior)});
     EXPECT_FALSE(r.enough_matches);
     EXPECT_EQ(r.degeneracy.solved_dof_mask, 0);
     EXPECT_TRUE(r.T_world_body.isApprox(prior));
@@ -257,13 +267,16 @@ TEST(Degeneracy, ProjectionKeepsOnlyWellConditionedDirections) {
 // is corrected sweep by sweep; the threaded path gives the same poses in the same order.
 class OdometryWalk : public ::testing::Test {
 protected:
-    static std::vector<Sweep> walk(const Eigen::Isometry3d& drift_per_sweep, std::vector<Eigen::Isometry3d>& truth) {
+    static std::vector<Sweep> walk(const Eigen::Isometry3d& drift_per_sweep,
+                                   std::vector<Eigen::Isometry3d>& truth) {
         const auto scene = testing::officeRoom();
         const auto traj = [](TimeNs t) {
             const double s = toSeconds(t - kNsPerSec);
-            return testing::pose(0.05 * std::sin(s), 0.25 * s, 0.03 * s, 0.25 * s, 0.02 * std::sin(2 * s), 0.3 * s);
+            return testing::pose(0.05 * std::sin(s), 0.25 * s, 0.03 * s, 0.25 * s,
+                                 0.02 * std::sin(2 * s), 0.3 * s);
         };
-        const auto streams = testing::simulate(scene, traj, deviceGeometry(), kNsPerSec, 4 * kNsPerSec);
+        const auto streams =
+            testing::simulate(scene, traj, deviceGeometry(), kNsPerSec, 4 * kNsPerSec);
         // The "IMU prediction": the true motion plus a drift that grows linearly with time.
         const auto odom = [&](TimeNs t) {
             const double k = toSeconds(t - kNsPerSec) * 2.0;  // drift per half-revolution sweep
@@ -297,12 +310,15 @@ TEST_F(OdometryWalk, CorrectsDriftingOdometry) {
         const PoseError e = poseError(truth[i], r.pose.T_world_body);
         worst_t = std::max(worst_t, e.trans_m);
         worst_r = std::max(worst_r, e.rot_deg);
-        odom_t = std::max(odom_t, (truth[i].inverse() * sweeps[i].T_world_start_odom).translation().norm());
+        odom_t = std::max(odom_t,
+                          (truth[i].inverse() * sweeps[i].T_world_start_odom).translation().norm());
     }
     // Sweep-to-map registration keeps the pose within a couple of cm while the odometry drifts
     // by decimetres; the points inside each sweep are still smeared by the drift's rate.
-    std::printf("walk: %zu half-revolution sweeps, odometry off by up to %.1f cm; matched worst %.2f cm %.3f deg\n",
-                sweeps.size(), odom_t * 100, worst_t * 100, worst_r);
+    std::printf(
+        "walk: %zu half-revolution sweeps, odometry off by up to %.1f cm; matched worst %.2f cm "
+        "%.3f deg\n",
+        sweeps.size(), odom_t * 100, worst_t * 100, worst_r);
     EXPECT_GT(odom_t, 0.1);
     EXPECT_LT(worst_t, 0.03);
     EXPECT_LT(worst_r, 0.3);

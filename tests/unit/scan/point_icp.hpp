@@ -28,8 +28,8 @@ public:
 
     // `scan` in its own frame, `T` its starting pose in the model's frame. `eps_m2` as slam6D's
     // --epsICP (1e-5 cm^2 there).
-    Result align(const std::vector<Eigen::Vector3d>& scan, Eigen::Isometry3d T, double max_pair_m, int max_iterations,
-                 double eps_m2 = 1e-9) const {
+    Result align(const std::vector<Eigen::Vector3d>& scan, Eigen::Isometry3d T, double max_pair_m,
+                 int max_iterations, double eps_m2 = 1e-9) const {
         Result r;
         double ret = 0.0, prev = 0.0, prev2 = 0.0;
         Eigen::Matrix3Xd a(3, static_cast<Eigen::Index>(scan.size()));
@@ -53,7 +53,8 @@ public:
             Eigen::Isometry3d D;
             D.matrix() = Eigen::umeyama(a.leftCols(n), b.leftCols(n), false);
             double sum = 0.0;
-            for (Eigen::Index k = 0; k < n; ++k) sum += (D * Eigen::Vector3d(a.col(k)) - b.col(k)).squaredNorm();
+            for (Eigen::Index k = 0; k < n; ++k)
+                sum += (D * Eigen::Vector3d(a.col(k)) - b.col(k)).squaredNorm();
             ret = sum / static_cast<double>(n);
             T = D * T;
             r.steps.push_back(T);
@@ -70,13 +71,16 @@ private:
     struct Points {
         std::vector<Eigen::Vector3d> pts;
         std::size_t kdtree_get_point_count() const { return pts.size(); }
-        double kdtree_get_pt(std::size_t i, std::size_t d) const { return pts[i][static_cast<int>(d)]; }
+        double kdtree_get_pt(std::size_t i, std::size_t d) const {
+            return pts[i][static_cast<int>(d)];
+        }
         template <class Box>
         bool kdtree_get_bbox(Box& /*bb*/) const {
             return false;
         }
     };
-    using Tree = nanoflann::KDTreeSingleIndexAdaptor<nanoflann::L2_Simple_Adaptor<double, Points>, Points, 3, std::uint32_t>;
+    using Tree = nanoflann::KDTreeSingleIndexAdaptor<nanoflann::L2_Simple_Adaptor<double, Points>,
+                                                     Points, 3, std::uint32_t>;
     Points cloud_;
     std::unique_ptr<Tree> tree_;
 };

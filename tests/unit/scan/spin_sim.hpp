@@ -91,10 +91,10 @@ struct Scene {
 inline Scene officeRoom() {
     Scene s;
     s.boxes.push_back({{-4.0, -1.6, -3.0}, {5.0, 1.2, 6.5}, true});   // the room
-    s.boxes.push_back({{1.5, -1.6, 2.0}, {2.1, 1.2, 2.6}, false});     // pillar
-    s.boxes.push_back({{-3.0, 0.45, 3.0}, {-1.2, 1.2, 4.0}, false});   // table block
-    s.boxes.push_back({{2.5, -0.2, -2.0}, {5.0, 1.2, -1.0}, false});   // cabinet
-    s.boxes.push_back({{-1.0, -1.6, 5.5}, {0.2, 1.2, 6.5}, false});    // niche
+    s.boxes.push_back({{1.5, -1.6, 2.0}, {2.1, 1.2, 2.6}, false});    // pillar
+    s.boxes.push_back({{-3.0, 0.45, 3.0}, {-1.2, 1.2, 4.0}, false});  // table block
+    s.boxes.push_back({{2.5, -0.2, -2.0}, {5.0, 1.2, -1.0}, false});  // cabinet
+    s.boxes.push_back({{-1.0, -1.6, 5.5}, {0.2, 1.2, 6.5}, false});   // niche
     return s;
 }
 
@@ -120,7 +120,8 @@ inline SpinGeometry deviceGeometry() {
     SpinGeometry g;
     g.T_shaft_laser = Eigen::Isometry3d::Identity();
     g.T_shaft_laser.translation() = Eigen::Vector3d(0, 0, 0.05);
-    g.T_shaft_laser.linear() = Eigen::AngleAxisd(-M_PI / 2, Eigen::Vector3d::UnitY()).toRotationMatrix();
+    g.T_shaft_laser.linear() =
+        Eigen::AngleAxisd(-M_PI / 2, Eigen::Vector3d::UnitY()).toRotationMatrix();
     g.T_body_shaftbase = Eigen::Isometry3d::Identity();
     g.T_body_shaftbase.translation() = Eigen::Vector3d(0, 0.08, 0);
     return g;
@@ -146,13 +147,16 @@ struct SimStreams {
 };
 
 // UTM-30LX scans from t0 for `duration` (40 scans per second, steps 17.36 us apart).
-inline SimStreams simulate(const Scene& scene, const Trajectory& traj, const SpinGeometry& g, TimeNs t0,
-                           TimeNs duration, const SpinSimConfig& cfg = {}) {
+inline SimStreams simulate(const Scene& scene, const Trajectory& traj, const SpinGeometry& g,
+                           TimeNs t0, TimeNs duration, const SpinSimConfig& cfg = {}) {
     SimStreams out;
     std::mt19937 rng(cfg.seed);
     std::normal_distribution<double> noise(0.0, cfg.range_noise_m);
-    const auto angleAt = [&](TimeNs t) { return 2.0 * M_PI * cfg.shaft_rev_per_s * toSeconds(t - t0) + 1e-3; };
-    for (TimeNs t = t0 - 50 * kNsPerMs; t <= t0 + duration + 50 * kNsPerMs; t += cfg.encoder_period_ns) {
+    const auto angleAt = [&](TimeNs t) {
+        return 2.0 * M_PI * cfg.shaft_rev_per_s * toSeconds(t - t0) + 1e-3;
+    };
+    for (TimeNs t = t0 - 50 * kNsPerMs; t <= t0 + duration + 50 * kNsPerMs;
+         t += cfg.encoder_period_ns) {
         EncoderSample e;
         e.t_host = t;
         e.angle_rad = angleAt(t);
@@ -173,7 +177,8 @@ inline SimStreams simulate(const Scene& scene, const Trajectory& traj, const Spi
             const TimeNs ts = s.stepTime(i);
             const Eigen::Isometry3d T_world_laser = traj(ts) * g.bodyFromLaser(angleAt(ts));
             const double a = s.stepAngle(i);
-            const Eigen::Vector3d dir = T_world_laser.linear() * Eigen::Vector3d(std::cos(a), std::sin(a), 0.0);
+            const Eigen::Vector3d dir =
+                T_world_laser.linear() * Eigen::Vector3d(std::cos(a), std::sin(a), 0.0);
             const double r = scene.cast(T_world_laser.translation(), dir, cfg.max_range_m);
             s.ranges_m[i] = std::isnan(r) ? std::numeric_limits<float>::quiet_NaN()
                                           : static_cast<float>(r + noise(rng));
@@ -185,8 +190,9 @@ inline SimStreams simulate(const Scene& scene, const Trajectory& traj, const Spi
 }
 
 // Runs the streams through an assembler (interleaved by time as a live pipeline sees them).
-inline std::vector<Sweep> assemble(const SimStreams& streams, const SpinGeometry& g, const Trajectory& pose_at,
-                                   const SweepAssemblerConfig& cfg = {}, bool flush = false) {
+inline std::vector<Sweep> assemble(const SimStreams& streams, const SpinGeometry& g,
+                                   const Trajectory& pose_at, const SweepAssemblerConfig& cfg = {},
+                                   bool flush = false) {
     SweepAssembler asm_(g, cfg, pose_at);
     std::size_t e = 0;
     for (const LaserScan& s : streams.scans) {
@@ -207,7 +213,8 @@ inline std::vector<Sweep> assemble(const SimStreams& streams, const SpinGeometry
 
 inline Eigen::Isometry3d pose(double rx, double ry, double rz, double tx, double ty, double tz) {
     Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
-    T.linear() = (Eigen::AngleAxisd(rz, Eigen::Vector3d::UnitZ()) * Eigen::AngleAxisd(ry, Eigen::Vector3d::UnitY()) *
+    T.linear() = (Eigen::AngleAxisd(rz, Eigen::Vector3d::UnitZ()) *
+                  Eigen::AngleAxisd(ry, Eigen::Vector3d::UnitY()) *
                   Eigen::AngleAxisd(rx, Eigen::Vector3d::UnitX()))
                      .toRotationMatrix();
     T.translation() = Eigen::Vector3d(tx, ty, tz);
@@ -215,18 +222,20 @@ inline Eigen::Isometry3d pose(double rx, double ry, double rz, double tx, double
 }
 
 // The first sweep of a device standing still at T (half or full revolution).
-inline Sweep staticSweep(const Scene& scene, const Eigen::Isometry3d& T, unsigned seed, double noise,
-                         SweepBoundary boundary) {
+inline Sweep staticSweep(const Scene& scene, const Eigen::Isometry3d& T, unsigned seed,
+                         double noise, SweepBoundary boundary) {
     SpinSimConfig sim;
     sim.seed = seed;
     sim.range_noise_m = noise;
-    const auto streams = simulate(scene, staticPose(T), deviceGeometry(), kNsPerSec, 2 * kNsPerSec, sim);
+    const auto streams =
+        simulate(scene, staticPose(T), deviceGeometry(), kNsPerSec, 2 * kNsPerSec, sim);
     SweepAssemblerConfig cfg;
     cfg.boundary = boundary;
     return assemble(streams, deviceGeometry(), staticPose(T), cfg).at(0);
 }
 
-inline std::vector<Eigen::Vector3d> toWorld(const Eigen::Isometry3d& T, const std::vector<Eigen::Vector3d>& p) {
+inline std::vector<Eigen::Vector3d> toWorld(const Eigen::Isometry3d& T,
+                                            const std::vector<Eigen::Vector3d>& p) {
     std::vector<Eigen::Vector3d> out;
     out.reserve(p.size());
     for (const auto& x : p) out.push_back(T * x);

@@ -16,11 +16,12 @@ namespace {
 // and the query's distance to it, plain and moved onto the surface by surfaceOffsetAt (fitted to
 // all the points). Distances are signed along +z whichever way the plane's normal came out.
 struct PlaneMatch {
-    double plain_m = 0.0;                  // n . (q - c)
-    std::optional<double> corrected_m;     // n . (q - c) - offset
+    double plain_m = 0.0;               // n . (q - c)
+    std::optional<double> corrected_m;  // n . (q - c) - offset
 };
 
-PlaneMatch matchQuery(const std::vector<Eigen::Vector3d>& pts, std::size_t plane_k, const Eigen::Vector3d& q) {
+PlaneMatch matchQuery(const std::vector<Eigen::Vector3d>& pts, std::size_t plane_k,
+                      const Eigen::Vector3d& q) {
     Eigen::Vector3d c = Eigen::Vector3d::Zero();
     for (std::size_t i = 0; i < plane_k; ++i) c += pts[i];
     c /= static_cast<double>(plane_k);
@@ -32,8 +33,8 @@ PlaneMatch matchQuery(const std::vector<Eigen::Vector3d>& pts, std::size_t plane
     const double sign = n.z() > 0.0 ? 1.0 : -1.0;
     PlaneMatch m;
     m.plain_m = sign * n.dot(q - c);
-    const auto off = surfaceOffsetAt(pts.data(), static_cast<int>(pts.size()), c, n, es.eigenvectors().col(2),
-                                     es.eigenvectors().col(1), q);
+    const auto off = surfaceOffsetAt(pts.data(), static_cast<int>(pts.size()), c, n,
+                                     es.eigenvectors().col(2), es.eigenvectors().col(1), q);
     if (off) m.corrected_m = m.plain_m - sign * *off;
     return m;
 }
@@ -65,7 +66,8 @@ ClusterStats clusters(const std::function<double(double, double)>& f, int trials
                 pts.emplace_back(x, y, f(x, y) + noise(rng));
             }
         }
-        std::sort(pts.begin(), pts.end(), [&](const auto& a, const auto& b) { return (a - q).norm() < (b - q).norm(); });
+        std::sort(pts.begin(), pts.end(),
+                  [&](const auto& a, const auto& b) { return (a - q).norm() < (b - q).norm(); });
         const PlaneMatch m = matchQuery(pts, 8, q);
         s.mean_plain_m += m.plain_m;
         if (m.corrected_m) {
@@ -88,7 +90,8 @@ TEST(SurfaceOffset, ACurvedVaultNoLongerBiasesThePointToPlaneDistance) {
     const ClusterStats s = clusters(vault, 2000, 11);
     std::printf("vault R=3 m: plain plane %.2f mm, surface offset %.2f mm (%d of %d corrected)\n",
                 1e3 * s.mean_plain_m, 1e3 * s.mean_corrected_m, s.corrected, s.trials);
-    EXPECT_LT(s.mean_plain_m, -0.003);  // measured -3.9 mm: the bias the matcher turned into a pitch
+    EXPECT_LT(s.mean_plain_m,
+              -0.003);  // measured -3.9 mm: the bias the matcher turned into a pitch
     EXPECT_NEAR(s.mean_corrected_m, 0.0, 0.0008);
     EXPECT_GT(s.corrected, s.trials * 8 / 10);
 }
@@ -109,18 +112,19 @@ TEST(SurfaceOffset, ACornerOrALineIsNoSurfaceToFit) {
     for (const auto& p : corner) c += p;
     c /= static_cast<double>(corner.size());
     const Eigen::Vector3d n = Eigen::Vector3d(1, 0, 1).normalized();
-    EXPECT_FALSE(surfaceOffsetAt(corner.data(), 16, c, n, Eigen::Vector3d(1, 0, -1).normalized(), Eigen::Vector3d::UnitY(),
-                                 Eigen::Vector3d(0.1, 0.1, 0.1))
+    EXPECT_FALSE(surfaceOffsetAt(corner.data(), 16, c, n, Eigen::Vector3d(1, 0, -1).normalized(),
+                                 Eigen::Vector3d::UnitY(), Eigen::Vector3d(0.1, 0.1, 0.1))
                      .has_value());
     // Points along one line: nothing tells the curvature across it.
     std::vector<Eigen::Vector3d> line;
     for (int i = 0; i < 10; ++i) line.emplace_back(0.1 * i, 0.0, 0.0);
-    EXPECT_FALSE(surfaceOffsetAt(line.data(), 10, Eigen::Vector3d(0.45, 0, 0), Eigen::Vector3d::UnitZ(),
-                                 Eigen::Vector3d::UnitX(), Eigen::Vector3d::UnitY(), Eigen::Vector3d(0.4, 0, 0))
+    EXPECT_FALSE(surfaceOffsetAt(line.data(), 10, Eigen::Vector3d(0.45, 0, 0),
+                                 Eigen::Vector3d::UnitZ(), Eigen::Vector3d::UnitX(),
+                                 Eigen::Vector3d::UnitY(), Eigen::Vector3d(0.4, 0, 0))
                      .has_value());
     // Too few points for a quadric with any redundancy.
-    EXPECT_FALSE(surfaceOffsetAt(corner.data(), 6, c, n, Eigen::Vector3d(1, 0, -1).normalized(), Eigen::Vector3d::UnitY(),
-                                 c)
+    EXPECT_FALSE(surfaceOffsetAt(corner.data(), 6, c, n, Eigen::Vector3d(1, 0, -1).normalized(),
+                                 Eigen::Vector3d::UnitY(), c)
                      .has_value());
 }
 

@@ -1,3 +1,5 @@
+#include "handscan/scan/sweep_assembler.hpp"
+
 #include <gtest/gtest.h>
 
 #include <cstdio>
@@ -7,7 +9,6 @@
 #include <string>
 
 #include "handscan/scan/ply_writer.hpp"
-#include "handscan/scan/sweep_assembler.hpp"
 #include "spin_sim.hpp"
 
 namespace handscan::scan {
@@ -18,7 +19,8 @@ using testing::deviceGeometry;
 using testing::officeRoom;
 using testing::simulate;
 
-double maxSurfaceError(const Sweep& sweep, const testing::Scene& scene, const Eigen::Isometry3d& T_world_start) {
+double maxSurfaceError(const Sweep& sweep, const testing::Scene& scene,
+                       const Eigen::Isometry3d& T_world_start) {
     double worst = 0.0;
     for (const SweepPoint& p : sweep.points) {
         worst = std::max(worst, scene.distance(T_world_start * p.p_start));
@@ -31,7 +33,8 @@ TEST(SweepAssembler, StaticRoomPointsLieOnTheWalls) {
     const auto T = testing::pose(0.1, -0.2, 0.3, 0.5, -0.2, 1.0);
     testing::SpinSimConfig sim;
     sim.range_noise_m = 0.0;
-    const auto streams = simulate(scene, testing::staticPose(T), deviceGeometry(), kNsPerSec, 2 * kNsPerSec, sim);
+    const auto streams =
+        simulate(scene, testing::staticPose(T), deviceGeometry(), kNsPerSec, 2 * kNsPerSec, sim);
     const auto sweeps = assemble(streams, deviceGeometry(), testing::staticPose(T));
     ASSERT_EQ(sweeps.size(), 3U);  // half revolutions; the 4th is still open
     for (const Sweep& s : sweeps) {
@@ -55,16 +58,20 @@ TEST(SweepAssembler, MovingDeviceIsDeskewedWithThePoseAtEachStep) {
     const auto sweeps = assemble(streams, deviceGeometry(), traj);
     ASSERT_GE(sweeps.size(), 2U);
     EXPECT_LT(maxSurfaceError(sweeps[1], scene, sweeps[1].T_world_start_odom), 1e-6);
-    EXPECT_NEAR((sweeps[1].T_world_start_odom.translation() - traj(sweeps[1].t_start).translation()).norm(), 0.0, 1e-9);
+    EXPECT_NEAR(
+        (sweeps[1].T_world_start_odom.translation() - traj(sweeps[1].t_start).translation()).norm(),
+        0.0, 1e-9);
 
-    const auto rigid = assemble(streams, deviceGeometry(), [&](TimeNs) { return traj(sweeps[1].t_start); });
+    const auto rigid =
+        assemble(streams, deviceGeometry(), [&](TimeNs) { return traj(sweeps[1].t_start); });
     EXPECT_GT(maxSurfaceError(rigid[1], scene, rigid[1].T_world_start_odom), 0.1);
 }
 
 TEST(SweepAssembler, FullRevolutionBoundaryAndSplitScans) {
     const auto scene = officeRoom();
     const auto T = Eigen::Isometry3d::Identity();
-    const auto streams = simulate(scene, testing::staticPose(T), deviceGeometry(), kNsPerSec, 3 * kNsPerSec);
+    const auto streams =
+        simulate(scene, testing::staticPose(T), deviceGeometry(), kNsPerSec, 3 * kNsPerSec);
     SweepAssemblerConfig half;
     SweepAssemblerConfig full;
     full.boundary = SweepBoundary::kFullRevolution;
@@ -99,7 +106,8 @@ TEST(SweepAssembler, EncoderGapDropsOnlyTheUncoveredSteps) {
     SweepAssembler a(deviceGeometry(), {}, testing::staticPose(T));
     std::size_t e = 0;
     for (const LaserScan& s : streams.scans) {
-        while (e < streams.encoder.size() && streams.encoder[e].t_host <= s.stepTime(1080) + 10 * kNsPerMs) {
+        while (e < streams.encoder.size() &&
+               streams.encoder[e].t_host <= s.stepTime(1080) + 10 * kNsPerMs) {
             ASSERT_TRUE(a.addEncoder(streams.encoder[e++]).isOk());
         }
         ASSERT_TRUE(a.addScan(s).isOk());
@@ -121,9 +129,10 @@ TEST(SweepAssembler, EncoderGapDropsOnlyTheUncoveredSteps) {
 
 TEST(SweepPly, WritesTheDocumentedLayout) {
     const auto scene = officeRoom();
-    const auto streams = simulate(scene, testing::staticPose(Eigen::Isometry3d::Identity()), deviceGeometry(),
-                                  kNsPerSec, kNsPerSec);
-    const auto sweeps = assemble(streams, deviceGeometry(), testing::staticPose(Eigen::Isometry3d::Identity()));
+    const auto streams = simulate(scene, testing::staticPose(Eigen::Isometry3d::Identity()),
+                                  deviceGeometry(), kNsPerSec, kNsPerSec);
+    const auto sweeps =
+        assemble(streams, deviceGeometry(), testing::staticPose(Eigen::Isometry3d::Identity()));
     ASSERT_FALSE(sweeps.empty());
     const Sweep& s = sweeps.front();
     const std::string path = std::string(HANDSCAN_BINARY_DIR) + "/scan_sweep_test.ply";

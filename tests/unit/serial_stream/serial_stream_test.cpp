@@ -1,6 +1,8 @@
 // SerialStream against a real pseudo-terminal: the termios settings it applies (read back from an
 // independent descriptor of the same tty), every Xbus baud rate, bytes both ways unaltered (no
 // CR/LF mapping, no echo, no XON/XOFF eating 0x11/0x13), timeouts, hang-up, clear open errors.
+#include "handscan/transport/serial_stream.hpp"
+
 #include <fcntl.h>
 #include <gtest/gtest.h>
 #include <stdlib.h>
@@ -8,8 +10,6 @@
 #include <unistd.h>
 
 #include <numeric>
-
-#include "handscan/transport/serial_stream.hpp"
 
 namespace handscan::transport {
 namespace {
@@ -20,7 +20,8 @@ struct Pty {
         master = ::posix_openpt(O_RDWR | O_NOCTTY | O_CLOEXEC);
         if (master < 0) return;
         char name[128];
-        if (::grantpt(master) != 0 || ::unlockpt(master) != 0 || ::ptsname_r(master, name, sizeof name) != 0) {
+        if (::grantpt(master) != 0 || ::unlockpt(master) != 0 ||
+            ::ptsname_r(master, name, sizeof name) != 0) {
             ::close(master);
             master = -1;
             return;
@@ -63,7 +64,8 @@ TEST(SerialStream, AppliesRaw8N1AtTheRequestedRate) {
     EXPECT_NE(t.c_cflag & CREAD, 0u);
     EXPECT_NE(t.c_cflag & CLOCAL, 0u);
     EXPECT_EQ(t.c_lflag & (ICANON | ECHO | ECHONL | ISIG | IEXTEN), 0u);
-    EXPECT_EQ(t.c_iflag & (IXON | IXOFF | IXANY | ICRNL | INLCR | IGNCR | ISTRIP | BRKINT | PARMRK), 0u);
+    EXPECT_EQ(t.c_iflag & (IXON | IXOFF | IXANY | ICRNL | INLCR | IGNCR | ISTRIP | BRKINT | PARMRK),
+              0u);
     EXPECT_EQ(t.c_oflag & OPOST, 0u);
     EXPECT_EQ(t.c_cc[VMIN], 0);
     EXPECT_EQ(t.c_cc[VTIME], 0);
@@ -73,9 +75,9 @@ TEST(SerialStream, AppliesRaw8N1AtTheRequestedRate) {
 TEST(SerialStream, EveryXbusRate) {
     Pty pty;
     REQUIRE_PTY(pty);
-    const std::pair<int, speed_t> rates[] = {{9600, B9600},     {19200, B19200},   {38400, B38400},
-                                             {57600, B57600},   {115200, B115200}, {230400, B230400},
-                                             {460800, B460800}, {921600, B921600}};
+    const std::pair<int, speed_t> rates[] = {
+        {9600, B9600},     {19200, B19200},   {38400, B38400},   {57600, B57600},
+        {115200, B115200}, {230400, B230400}, {460800, B460800}, {921600, B921600}};
     for (const auto& [baud, speed] : rates) {
         SerialStream serial({pty.path, baud});
         ASSERT_TRUE(serial.open().isOk()) << baud;

@@ -2,9 +2,8 @@
 // is append-only per epoch, commands go round trip, and readers follow writers that come and go.
 #include <gtest/gtest.h>
 
-#include <thread>
-
 #include <cmath>
+#include <thread>
 
 #include "handscan/shm/display_voxel_filter.hpp"
 #include "handscan/shm/live_map_reader.hpp"
@@ -121,7 +120,8 @@ TEST(LiveMap, StatusRoundTrip) {
     EXPECT_EQ(got->sensor_count, 2u);
     EXPECT_EQ(getText(got->sensors[0].name), "hokuyo");
     EXPECT_EQ(got->sensors[0].rate_hz, 40.0f);
-    EXPECT_EQ(getText(got->sensors[1].last_error), "/dev/ttyUSB0: no data for 2 s: check the cable");
+    EXPECT_EQ(getText(got->sensors[1].last_error),
+              "/dev/ttyUSB0: no data for 2 s: check the cable");
     EXPECT_EQ(got->modules[0].degenerate_dof_mask, 0b101000);
     EXPECT_EQ(static_cast<ScanState>(got->scan_state), ScanState::kScanning);
     EXPECT_EQ(got->elapsed_s, 12.5);
@@ -275,7 +275,8 @@ TEST(LiveMap, AnswerNotYetReadSurvivesOtherUisTraffic) {
     LiveMapReader slow(m.region);
     LiveMapReader busy(m.region);
     const auto answerAll = [&] {
-        while (auto c = m.writer->pollCommand()) m.writer->ack(c->seq, CommandState::kDone, "ack " + c->argument);
+        while (auto c = m.writer->pollCommand())
+            m.writer->ack(c->seq, CommandState::kDone, "ack " + c->argument);
     };
     auto mine = slow.sendCommand(CommandType::kExport, "/media/slow");
     ASSERT_TRUE(mine.isOk());
@@ -300,7 +301,8 @@ TEST(LiveMap, EverySlotAwaitingAnAnswerMakesSendFailClearly) {
     InProcessMap m;
     ASSERT_NO_FATAL_FAILURE(m.start(1));
     LiveMapReader ui(m.region);
-    for (std::size_t i = 0; i < kCommandSlots; ++i) ASSERT_TRUE(ui.sendCommand(CommandType::kStopScan).isOk());
+    for (std::size_t i = 0; i < kCommandSlots; ++i)
+        ASSERT_TRUE(ui.sendCommand(CommandType::kStopScan).isOk());
     auto extra = ui.sendCommand(CommandType::kStopScan);
     ASSERT_FALSE(extra.isOk());
     EXPECT_EQ(extra.status().code(), StatusCode::kTimeout);
@@ -402,7 +404,8 @@ TEST(LiveMap, OtherLayoutVersionIsRejectedWithReason) {
     reinterpret_cast<RegionHeader*>((*raw)->data())->version = kLayoutVersion + 1;
     LiveMapReader reader(fastReader(name));
     EXPECT_EQ(reader.poll(), Connection::kIncompatible);
-    EXPECT_NE(reader.message().find("layout version " + std::to_string(kLayoutVersion + 1)), std::string::npos)
+    EXPECT_NE(reader.message().find("layout version " + std::to_string(kLayoutVersion + 1)),
+              std::string::npos)
         << reader.message();
 }
 
@@ -414,18 +417,20 @@ namespace {
 
 TEST(DisplayVoxelFilter, KeepsTheFirstPointOfEachNewVoxel) {
     DisplayVoxelFilter f(0.1f);
-    const std::vector<DisplayPoint> a = {{0.01f, 0.01f, 0.01f, 1, 0, 0, 0},
-                                         {0.05f, 0.09f, 0.02f, 2, 0, 0, 0},   // same voxel as the first
-                                         {0.15f, 0.0f, 0.0f, 3, 0, 0, 0},
-                                         {-0.05f, 0.0f, 0.0f, 4, 0, 0, 0},    // negative side: another voxel
-                                         {std::nanf(""), 0.0f, 0.0f, 5, 0, 0, 0}};
+    const std::vector<DisplayPoint> a = {
+        {0.01f, 0.01f, 0.01f, 1, 0, 0, 0},
+        {0.05f, 0.09f, 0.02f, 2, 0, 0, 0},  // same voxel as the first
+        {0.15f, 0.0f, 0.0f, 3, 0, 0, 0},
+        {-0.05f, 0.0f, 0.0f, 4, 0, 0, 0},  // negative side: another voxel
+        {std::nanf(""), 0.0f, 0.0f, 5, 0, 0, 0}};
     const auto fresh = f.add(a);
     ASSERT_EQ(fresh.size(), 3u);
     EXPECT_EQ(fresh[0].r, 1);
     EXPECT_EQ(fresh[1].r, 3);
     EXPECT_EQ(fresh[2].r, 4);
     // A later sweep over the same surfaces adds only what is new.
-    const std::vector<DisplayPoint> b = {{0.02f, 0.03f, 0.04f, 6, 0, 0, 0}, {0.35f, 0.0f, 0.0f, 7, 0, 0, 0}};
+    const std::vector<DisplayPoint> b = {{0.02f, 0.03f, 0.04f, 6, 0, 0, 0},
+                                         {0.35f, 0.0f, 0.0f, 7, 0, 0, 0}};
     const auto more = f.add(b);
     ASSERT_EQ(more.size(), 1u);
     EXPECT_EQ(more[0].r, 7);

@@ -26,14 +26,16 @@ void expectClean(const ReaderStats& st, const std::string& who) {
     EXPECT_GT(st.status_reads, 50u);
     EXPECT_GT(st.pose_reads, 500u);
     EXPECT_GT(st.points_checked, 1000u);
-    EXPECT_GE(st.resets, 2u);          // new scans seen while reading
+    EXPECT_GE(st.resets, 2u);  // new scans seen while reading
     EXPECT_GT(st.commands_answered, 0u);
-    std::printf("%s: status %llu, poses %llu, points %llu, resets %llu, writers %llu, commands %llu/%llu\n",
-                who.c_str(), static_cast<unsigned long long>(st.status_reads),
-                static_cast<unsigned long long>(st.pose_reads), static_cast<unsigned long long>(st.points_checked),
-                static_cast<unsigned long long>(st.resets), static_cast<unsigned long long>(st.nonces_seen),
-                static_cast<unsigned long long>(st.commands_answered),
-                static_cast<unsigned long long>(st.commands_sent));
+    std::printf(
+        "%s: status %llu, poses %llu, points %llu, resets %llu, writers %llu, commands %llu/%llu\n",
+        who.c_str(), static_cast<unsigned long long>(st.status_reads),
+        static_cast<unsigned long long>(st.pose_reads),
+        static_cast<unsigned long long>(st.points_checked),
+        static_cast<unsigned long long>(st.resets), static_cast<unsigned long long>(st.nonces_seen),
+        static_cast<unsigned long long>(st.commands_answered),
+        static_cast<unsigned long long>(st.commands_sent));
 }
 
 TEST(ShmStress, ForkedWriterRestartsWhileForkedReadersRead) {

@@ -16,7 +16,8 @@ PoseRecord poseOf(std::uint64_t k) {
     p.t_ns = static_cast<std::int64_t>(k);
     for (int i = 0; i < 3; ++i) p.position_m[i] = static_cast<double>(k) * (i + 1);
     for (int i = 0; i < 4; ++i) p.orientation_xyzw[i] = static_cast<double>(k) + i;
-    for (int i = 0; i < 6; ++i) p.covariance_diag[i] = static_cast<float>(k % 1000003) + static_cast<float>(i);
+    for (int i = 0; i < 6; ++i)
+        p.covariance_diag[i] = static_cast<float>(k % 1000003) + static_cast<float>(i);
     p.vio_dof_mask = static_cast<std::uint8_t>(k & 0x3F);
     p.scan_dof_mask = static_cast<std::uint8_t>((k >> 6) & 0x3F);
     return p;
@@ -25,9 +26,12 @@ PoseRecord poseOf(std::uint64_t k) {
 bool poseConsistent(const PoseRecord& p) {
     const auto k = static_cast<std::uint64_t>(p.t_ns);
     const PoseRecord e = poseOf(k);
-    for (int i = 0; i < 3; ++i) if (p.position_m[i] != e.position_m[i]) return false;
-    for (int i = 0; i < 4; ++i) if (p.orientation_xyzw[i] != e.orientation_xyzw[i]) return false;
-    for (int i = 0; i < 6; ++i) if (p.covariance_diag[i] != e.covariance_diag[i]) return false;
+    for (int i = 0; i < 3; ++i)
+        if (p.position_m[i] != e.position_m[i]) return false;
+    for (int i = 0; i < 4; ++i)
+        if (p.orientation_xyzw[i] != e.orientation_xyzw[i]) return false;
+    for (int i = 0; i < 6; ++i)
+        if (p.covariance_diag[i] != e.covariance_diag[i]) return false;
     return p.vio_dof_mask == e.vio_dof_mask && p.scan_dof_mask == e.scan_dof_mask;
 }
 
@@ -55,8 +59,8 @@ bool statusConsistent(const StatusBlock& s) {
         if (getText(s.sensors[i].last_error) != getText(e.sensors[i].last_error)) return false;
         if (s.sensors[i].rate_hz != e.sensors[i].rate_hz) return false;
     }
-    return s.elapsed_s == e.elapsed_s && s.distance_m == e.distance_m && s.point_count == e.point_count &&
-           getText(s.message) == getText(e.message);
+    return s.elapsed_s == e.elapsed_s && s.distance_m == e.distance_m &&
+           s.point_count == e.point_count && getText(s.message) == getText(e.message);
 }
 
 // Point i of a scan: x = i (exact in float below 2^24), y = 1000 + i % 7, colour from i.
@@ -74,13 +78,14 @@ DisplayPoint pointOf(std::uint64_t i) {
 
 bool pointIs(const DisplayPoint& p, std::uint64_t i) {
     const DisplayPoint e = pointOf(i);
-    return p.x_m == e.x_m && p.y_m == e.y_m && p.z_m == e.z_m && p.r == e.r && p.g == e.g && p.b == e.b &&
-           p.intensity == e.intensity;
+    return p.x_m == e.x_m && p.y_m == e.y_m && p.z_m == e.z_m && p.r == e.r && p.g == e.g &&
+           p.b == e.b && p.intensity == e.intensity;
 }
 
 }  // namespace
 
-void runWriter(LiveMapWriter& writer, std::chrono::milliseconds duration, std::uint64_t points_per_scan) {
+void runWriter(LiveMapWriter& writer, std::chrono::milliseconds duration,
+               std::uint64_t points_per_scan) {
     const auto end = Clock::now() + duration;
     std::uint64_t k = 1;
     std::uint64_t scan_points = 0;
@@ -97,7 +102,8 @@ void runWriter(LiveMapWriter& writer, std::chrono::milliseconds duration, std::u
         for (std::uint64_t i = 0; i < n; ++i) chunk.push_back(pointOf(scan_points + i));
         if (writer.appendPoints(chunk).isOk()) scan_points += n;
         while (auto cmd = writer.pollCommand()) {
-            writer.ack(cmd->seq, CommandState::kDone, "ack " + std::to_string(cmd->seq) + " " + cmd->argument);
+            writer.ack(cmd->seq, CommandState::kDone,
+                       "ack " + std::to_string(cmd->seq) + " " + cmd->argument);
         }
     }
 }
@@ -145,8 +151,10 @@ ReaderStats runReader(LiveMapReader& reader, std::chrono::milliseconds duration)
                 if (!pointIs(delta.points[i], first + i)) ++st.bad_points;
             }
         }
-        if (c == Connection::kConnected && pending.empty() && iteration % 8 == 0) {  // one in flight, as a UI does
-            auto seq = reader.sendCommand(CommandType::kExport, "/media/usb" + std::to_string(iteration));
+        if (c == Connection::kConnected && pending.empty() &&
+            iteration % 8 == 0) {  // one in flight, as a UI does
+            auto seq =
+                reader.sendCommand(CommandType::kExport, "/media/usb" + std::to_string(iteration));
             if (seq) {
                 ++st.commands_sent;
                 pending.push_back(*seq);
@@ -156,7 +164,8 @@ ReaderStats runReader(LiveMapReader& reader, std::chrono::milliseconds duration)
             auto r = reader.commandResult(*it);
             if (r && static_cast<CommandState>(r->state) == CommandState::kDone) {
                 ++st.commands_answered;
-                if (getText(r->message).rfind("ack " + std::to_string(*it) + " /media/usb", 0) != 0) ++st.bad_answers;
+                if (getText(r->message).rfind("ack " + std::to_string(*it) + " /media/usb", 0) != 0)
+                    ++st.bad_answers;
                 it = pending.erase(it);
             } else if (!r && r.status().code() == StatusCode::kNotFound) {
                 ++st.commands_lost;

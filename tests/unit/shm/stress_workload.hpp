@@ -21,14 +21,15 @@ struct ReaderStats {
     std::uint64_t commands_sent = 0;
     std::uint64_t commands_answered = 0;
     std::uint64_t commands_lost = 0;  // slot reused or writer replaced before the answer was read
-    std::uint64_t torn = 0;          // records whose fields disagree: must stay 0
-    std::uint64_t bad_points = 0;    // map points not where append-only order puts them: must stay 0
-    std::uint64_t bad_answers = 0;   // acks with the wrong text for their command: must stay 0
+    std::uint64_t torn = 0;           // records whose fields disagree: must stay 0
+    std::uint64_t bad_points = 0;   // map points not where append-only order puts them: must stay 0
+    std::uint64_t bad_answers = 0;  // acks with the wrong text for their command: must stay 0
 };
 
 // Writer: publishes poses, status and points as fast as it can for `duration`, starts a new scan
 // every `points_per_scan` points, answers every command with its own sequence number as text.
-void runWriter(LiveMapWriter& writer, std::chrono::milliseconds duration, std::uint64_t points_per_scan);
+void runWriter(LiveMapWriter& writer, std::chrono::milliseconds duration,
+               std::uint64_t points_per_scan);
 
 // Reader: checks everything it reads for `duration`, sending a command every few iterations.
 ReaderStats runReader(LiveMapReader& reader, std::chrono::milliseconds duration);

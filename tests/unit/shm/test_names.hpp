@@ -9,7 +9,8 @@ namespace handscan::shm::testing {
 
 inline std::string uniqueRegionName(const std::string& tag) {
     static int counter = 0;
-    return "/handscan-test-" + tag + "-" + std::to_string(::getpid()) + "-" + std::to_string(++counter);
+    return "/handscan-test-" + tag + "-" + std::to_string(::getpid()) + "-" +
+           std::to_string(++counter);
 }
 
 }  // namespace handscan::shm::testing

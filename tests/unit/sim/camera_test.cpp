@@ -2,11 +2,10 @@
 // corners to track, --dark removes them, the equidistant model round-trips, pixel packing.
 #include <gtest/gtest.h>
 
-#include <opencv2/imgproc.hpp>
-
 #include <cmath>
 #include <cstdio>
 #include <numbers>
+#include <opencv2/imgproc.hpp>
 
 #include "handscan/camera/frame_record.hpp"
 #include "handscan/camera/frame_timing.hpp"
@@ -19,22 +18,27 @@
 namespace handscan::sim {
 namespace {
 
-Calibration calibration() { return loadCalibration(std::string(HANDSCAN_SOURCE_DIR) + "/config/calibration.yaml"); }
+Calibration calibration() {
+    return loadCalibration(std::string(HANDSCAN_SOURCE_DIR) + "/config/calibration.yaml");
+}
 
 // The office's corridor, looking west along it from the start of the walking loop.
 Eigen::Isometry3d corridorView() {
     Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
-    const Eigen::Matrix3d R_wf = Eigen::AngleAxisd(std::numbers::pi * 0.9, Eigen::Vector3d::UnitZ()).toRotationMatrix();
+    const Eigen::Matrix3d R_wf =
+        Eigen::AngleAxisd(std::numbers::pi * 0.9, Eigen::Vector3d::UnitZ()).toRotationMatrix();
     T.linear() = R_wf * Trajectory::deviceFromCamera();
     T.translation() = Eigen::Vector3d(6.0, 6.0, 1.3);
     return T;
 }
 
-std::vector<std::uint8_t> render(const Scene& scene, const CameraIntrinsics& cam, CameraRenderConfig cfg) {
+std::vector<std::uint8_t> render(const Scene& scene, const CameraIntrinsics& cam,
+                                 CameraRenderConfig cfg) {
     Raycaster rc(scene.world);
     CameraRenderer r(cam, cfg, rc, Rng(1, "render"));
     std::vector<std::uint8_t> img;
-    r.render(0.0, [](double) { return corridorView(); }, img);
+    r.render(
+        0.0, [](double) { return corridorView(); }, img);
     return img;
 }
 
@@ -42,13 +46,14 @@ TEST(CameraModelTest, EquidistantRaysReprojectToTheirPixels) {
     const Calibration cal = calibration();
     const auto rays = cameraRays(cal.tracking);
     const auto& k = cal.tracking.distortion_coeffs;
-    const double fu = cal.tracking.intrinsics[0], cu = cal.tracking.intrinsics[2], fv = cal.tracking.intrinsics[1],
-                 cv = cal.tracking.intrinsics[3];
+    const double fu = cal.tracking.intrinsics[0], cu = cal.tracking.intrinsics[2],
+                 fv = cal.tracking.intrinsics[1], cv = cal.tracking.intrinsics[3];
     for (int v : {0, 100, 256, 511}) {
         for (int u : {0, 77, 320, 639}) {
             const Eigen::Vector3d d = rays[static_cast<std::size_t>(v) * 640 + u].cast<double>();
             const double th = std::atan2(d.head<2>().norm(), d.z()), t2 = th * th;
-            const double thd = th * (1 + k[0] * t2 + k[1] * t2 * t2 + k[2] * t2 * t2 * t2 + k[3] * t2 * t2 * t2 * t2);
+            const double thd = th * (1 + k[0] * t2 + k[1] * t2 * t2 + k[2] * t2 * t2 * t2 +
+                                     k[3] * t2 * t2 * t2 * t2);
             const Eigen::Vector2d dir = d.head<2>().normalized();
             EXPECT_NEAR(fu * thd * dir.x() + cu, u, 1e-3);
             EXPECT_NEAR(fv * thd * dir.y() + cv, v, 1e-3);
@@ -81,7 +86,8 @@ TEST(CameraModelTest, CoarseGridRendererEqualsPerPixelRayTracing) {
     EXPECT_LT(sum / n, 0.1);
     EXPECT_LT(static_cast<double>(differ) / n, 0.01);
     EXPECT_LT(static_cast<double>(far) / n, 0.002);
-    std::printf("mean |diff| %.4f DN, >2 DN %.4f %%, >24 DN %.4f %%\n", sum / n, 100.0 * static_cast<double>(differ) / n, 100.0 * static_cast<double>(far) / n);
+    std::printf("mean |diff| %.4f DN, >2 DN %.4f %%, >24 DN %.4f %%\n", sum / n,
+                100.0 * static_cast<double>(differ) / n, 100.0 * static_cast<double>(far) / n);
 }
 
 TEST(CameraModelTest, OfficeImagesHaveCornersAndDarkImagesDoNot) {
@@ -165,7 +171,7 @@ TEST(CameraStreamTest, BufferRecordsDecodeWithMetadataRateAndSequenceGaps) {
         EXPECT_EQ(h.flags & 0x70000u, 0x10000u);  // start of exposure
         EXPECT_EQ(h.exposure_us, 5000u);
         EXPECT_EQ(h.t_host_ns, h.timestamp_ns + 2'500'000);  // mid-exposure by the codec's rule
-        EXPECT_GT(msgs[i].t_host_rx, h.timestamp_ns);       // dequeued after the exposure
+        EXPECT_GT(msgs[i].t_host_rx, h.timestamp_ns);        // dequeued after the exposure
         seq.update(h.sequence);
         stamps.push_back(h.timestamp_ns);
     }
@@ -198,7 +204,8 @@ TEST(CameraModelTest, MotionBlurSmearsAFastTurn) {
     auto gradient = [](const std::vector<std::uint8_t>& img) {
         double g = 0;
         for (int y = 0; y < 512; ++y)
-            for (int x = 1; x < 640; ++x) g += std::abs(int(img[y * 640 + x]) - int(img[y * 640 + x - 1]));
+            for (int x = 1; x < 640; ++x)
+                g += std::abs(int(img[y * 640 + x]) - int(img[y * 640 + x - 1]));
         return g;
     };
     std::vector<std::uint8_t> sharp, blurred;

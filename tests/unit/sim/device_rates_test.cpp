@@ -1,6 +1,8 @@
 // `handscan info` on simulated recordings: the raw channels decoded with the drivers' codecs
 // (firmware/replay DeviceRateMeter) show each device at the rate the simulator was configured
 // with, and the faults injected into the streams show up as lost samples and errors.
+#include "handscan/replay/device_rates.hpp"
+
 #include <gtest/gtest.h>
 
 #include <map>
@@ -10,7 +12,6 @@
 #include "handscan/core/config.hpp"
 #include "handscan/recording/mcap_reader.hpp"
 #include "handscan/recording/recording_summary.hpp"
-#include "handscan/replay/device_rates.hpp"
 #include "handscan/sim/mcap_sink.hpp"
 #include "handscan/sim/simulator.hpp"
 
@@ -25,7 +26,8 @@ struct Info {
 // Simulates, then summarises the recording as `handscan info` does (one pass, decoding the raw
 // channels on the way).
 Info simulateAndSummarise(const SimOptions& o, const DeviceConfig& device) {
-    const Calibration cal = loadCalibration(std::string(HANDSCAN_SOURCE_DIR) + "/config/calibration.yaml");
+    const Calibration cal =
+        loadCalibration(std::string(HANDSCAN_SOURCE_DIR) + "/config/calibration.yaml");
     Simulator sim(o, device, cal);
     auto sink = McapSink::create("", o.cameras);
     EXPECT_TRUE(sink.isOk());
@@ -34,9 +36,10 @@ Info simulateAndSummarise(const SimOptions& o, const DeviceConfig& device) {
     auto reader = recording::McapReader::fromBuffer((*sink)->takeBuffer(), "sim.mcap");
     EXPECT_TRUE(reader.isOk());
     replay::DeviceRateMeter meter(device);
-    auto summary = recording::summarizeRecording(**reader, {}, [&](const recording::RecordedMessage& m) {
-        meter.feed(m.channel->topic, m.log_time, m.data);
-    });
+    auto summary =
+        recording::summarizeRecording(**reader, {}, [&](const recording::RecordedMessage& m) {
+            meter.feed(m.channel->topic, m.log_time, m.data);
+        });
     EXPECT_TRUE(summary.isOk());
     Info info{*summary, {}};
     info.summary.devices = meter.summaries();
@@ -45,7 +48,8 @@ Info simulateAndSummarise(const SimOptions& o, const DeviceConfig& device) {
 }
 
 TEST(DeviceRatesTest, InfoShowsEveryDeviceAtItsConfiguredRate) {
-    DeviceConfig device = loadDeviceConfig(std::string(HANDSCAN_SOURCE_DIR) + "/config/device.yaml");
+    DeviceConfig device =
+        loadDeviceConfig(std::string(HANDSCAN_SOURCE_DIR) + "/config/device.yaml");
     device.motor.tpdo_period_ms = 4;  // not the default, so the test sees the configured period
     SimOptions o;
     o.duration_s = 3.0;
@@ -83,13 +87,15 @@ TEST(DeviceRatesTest, InfoShowsEveryDeviceAtItsConfiguredRate) {
     EXPECT_NE(text.str().find("tracking camera  /camera/track"), std::string::npos);
     std::ostringstream json;
     recording::printSummaryJson(info.summary, json);
-    EXPECT_NE(json.str().find("\"devices\":[{\"device\":\"Hokuyo laser\",\"topic\":\"/hokuyo/raw\",\"unit\":\"scans/s\""),
+    EXPECT_NE(json.str().find("\"devices\":[{\"device\":\"Hokuyo "
+                              "laser\",\"topic\":\"/hokuyo/raw\",\"unit\":\"scans/s\""),
               std::string::npos)
         << json.str();
 }
 
 TEST(DeviceRatesTest, InjectedFaultsShowAsLostSamplesAndErrors) {
-    const DeviceConfig device = loadDeviceConfig(std::string(HANDSCAN_SOURCE_DIR) + "/config/device.yaml");
+    const DeviceConfig device =
+        loadDeviceConfig(std::string(HANDSCAN_SOURCE_DIR) + "/config/device.yaml");
     SimOptions o;
     o.duration_s = 2.0;
     o.colour_camera = false;

@@ -40,7 +40,8 @@ double allanDeviation(const std::vector<double>& x, double dt, double tau) {
 
 TEST(ImuModelTest, StationaryImuReadsGravity) {
     const Eigen::Matrix3d R = (Eigen::AngleAxisd(0.4, Eigen::Vector3d::UnitX()) *
-                               Eigen::AngleAxisd(-1.1, Eigen::Vector3d::UnitZ())).toRotationMatrix();
+                               Eigen::AngleAxisd(-1.1, Eigen::Vector3d::UnitZ()))
+                                  .toRotationMatrix();
     ImuNoise n;
     ImuModel imu(n, camImu(), 200.0, Rng(7, "imu"));
     const BodyState s = still(R);
@@ -52,7 +53,8 @@ TEST(ImuModelTest, StationaryImuReadsGravity) {
         sum_g += m.gyro;
     }
     const Eigen::Matrix3d R_wi = R * camImu().linear();
-    const Eigen::Vector3d expect = R_wi.transpose() * Eigen::Vector3d(0, 0, n.gravity);  // specific force points up
+    const Eigen::Vector3d expect =
+        R_wi.transpose() * Eigen::Vector3d(0, 0, n.gravity);  // specific force points up
     const Eigen::Vector3d mean_a = sum_a / N;
     // Within turn-on bias (0.02 m/s^2 per axis, 5 sigma) of gravity in the IMU frame.
     EXPECT_LT((mean_a - expect).norm(), 0.1);
@@ -79,8 +81,12 @@ TEST(ImuModelTest, WhiteNoiseMatchesDatasheetDensityByAllanDeviation) {
     }
     for (double tau : {0.1, 1.0, 10.0}) {
         // White noise of density N: ADEV(tau) = N / sqrt(tau).
-        EXPECT_NEAR(allanDeviation(gx, 0.005, tau) / (n.gyro_noise_density / std::sqrt(tau)), 1.0, 0.12) << tau;
-        EXPECT_NEAR(allanDeviation(ay, 0.005, tau) / (n.accel_noise_density / std::sqrt(tau)), 1.0, 0.12) << tau;
+        EXPECT_NEAR(allanDeviation(gx, 0.005, tau) / (n.gyro_noise_density / std::sqrt(tau)), 1.0,
+                    0.12)
+            << tau;
+        EXPECT_NEAR(allanDeviation(ay, 0.005, tau) / (n.accel_noise_density / std::sqrt(tau)), 1.0,
+                    0.12)
+            << tau;
     }
 }
 
@@ -98,8 +104,13 @@ TEST(ImuModelTest, BiasRandomWalkMatchesDensityByAllanDeviation) {
     }
     for (double tau : {1.0, 10.0}) {
         // Rate random walk K: ADEV(tau) = K sqrt(tau / 3).
-        EXPECT_NEAR(allanDeviation(gz, 0.005, tau) / (n.gyro_bias_random_walk * std::sqrt(tau / 3)), 1.0, 0.15) << tau;
-        EXPECT_NEAR(allanDeviation(az, 0.005, tau) / (n.accel_bias_random_walk * std::sqrt(tau / 3)), 1.0, 0.15) << tau;
+        EXPECT_NEAR(allanDeviation(gz, 0.005, tau) / (n.gyro_bias_random_walk * std::sqrt(tau / 3)),
+                    1.0, 0.15)
+            << tau;
+        EXPECT_NEAR(
+            allanDeviation(az, 0.005, tau) / (n.accel_bias_random_walk * std::sqrt(tau / 3)), 1.0,
+            0.15)
+            << tau;
     }
 }
 

@@ -15,7 +15,8 @@ namespace {
 World room(double h, float reflectivity) {
     World w;
     MeshBuilder b(w);
-    const auto m = b.addMaterial(Material{"wall", reflectivity, {0.5f, 0.5f, 0.5f}, TextureId::kPlain, 1.0f});
+    const auto m =
+        b.addMaterial(Material{"wall", reflectivity, {0.5f, 0.5f, 0.5f}, TextureId::kPlain, 1.0f});
     b.addWall({-h, -h}, {h, -h}, 0.1, -2, 4, {}, m);
     b.addWall({h, -h}, {h, h}, 0.1, -2, 4, {}, m);
     b.addWall({h, h}, {-h, h}, 0.1, -2, 4, {}, m);
@@ -75,10 +76,12 @@ TEST(LaserModelTest, BlackWallsDropOutAndBrightWallsReturnStrongly) {
 }
 
 TEST(LaserModelTest, GlancingIncidenceDropsOutAndNothingInRangeIsNoEcho) {
-    // One long wall along x at y = 1: beams near +-90 deg hit it head on, beams towards +x graze it.
+    // One long wall along x at y = 1: beams near +-90 deg hit it head on, beams towards +x graze
+    // it.
     World w;
     MeshBuilder b(w);
-    const auto m = b.addMaterial(Material{"wall", 0.8f, {0.5f, 0.5f, 0.5f}, TextureId::kPlain, 1.0f});
+    const auto m =
+        b.addMaterial(Material{"wall", 0.8f, {0.5f, 0.5f, 0.5f}, TextureId::kPlain, 1.0f});
     b.addQuad({-100, 1, -2}, {100, 1, -2}, {100, 1, 2}, {-100, 1, 2}, m);
     Raycaster rc(w);
     LaserConfig cfg;
@@ -113,8 +116,10 @@ TEST(LaserModelTest, StepsAreTimedAndPlacedIndividually) {
     ASSERT_EQ(times.size(), 1081u);
     EXPECT_DOUBLE_EQ(times.front(), 1.0);
     EXPECT_NEAR(times.back() - times.front(), 1080 * 0.025 / 1440, 1e-12);
-    const double a = (540 - 540) * 2 * std::numbers::pi / 1440 + spin * (1.0 + 540 * laser.stepPeriod());
-    EXPECT_NEAR(s.true_range_m[540], 3.0 / std::max(std::abs(std::cos(a)), std::abs(std::sin(a))), 2e-3);
+    const double a =
+        (540 - 540) * 2 * std::numbers::pi / 1440 + spin * (1.0 + 540 * laser.stepPeriod());
+    EXPECT_NEAR(s.true_range_m[540], 3.0 / std::max(std::abs(std::cos(a)), std::abs(std::sin(a))),
+                2e-3);
 }
 
 }  // namespace

@@ -12,7 +12,8 @@ namespace {
 World boxRoom() {
     World w;
     MeshBuilder b(w);
-    const auto m = b.addMaterial(Material{"wall", 0.8f, {0.8f, 0.8f, 0.8f}, TextureId::kPlaster, 1.0f});
+    const auto m =
+        b.addMaterial(Material{"wall", 0.8f, {0.8f, 0.8f, 0.8f}, TextureId::kPlaster, 1.0f});
     // Inside faces of the room [0,4] x [0,3] x [0,2.5].
     using V = Eigen::Vector3d;
     b.addQuad(V(0, 0, 0), V(4, 0, 0), V(4, 3, 0), V(0, 3, 0), m);          // floor
@@ -31,7 +32,8 @@ TEST(RaycastTest, BoxRoomAxisDistances) {
     struct Case {
         Eigen::Vector3f d;
         float expect;
-    } cases[] = {{{1, 0, 0}, 3.0f}, {{-1, 0, 0}, 1.0f}, {{0, 1, 0}, 2.0f}, {{0, -1, 0}, 1.0f}, {{0, 0, 1}, 1.3f}, {{0, 0, -1}, 1.2f}};
+    } cases[] = {{{1, 0, 0}, 3.0f},  {{-1, 0, 0}, 1.0f}, {{0, 1, 0}, 2.0f},
+                 {{0, -1, 0}, 1.0f}, {{0, 0, 1}, 1.3f},  {{0, 0, -1}, 1.2f}};
     for (const auto& c : cases) {
         const RayHit h = rc.cast(Ray{o, c.d});
         ASSERT_TRUE(h.hit());
@@ -47,8 +49,10 @@ TEST(RaycastTest, BoxRoomObliqueRaysMatchPlaneIntersection) {
     std::vector<Ray> rays;
     std::vector<float> expect;
     for (int i = 0; i < 500; ++i) {
-        const float az = 0.0125f * static_cast<float>(i) * 6.283f / 6.25f, el = std::sin(0.37f * i) * 1.2f;
-        const Eigen::Vector3f d(std::cos(el) * std::cos(az), std::cos(el) * std::sin(az), std::sin(el));
+        const float az = 0.0125f * static_cast<float>(i) * 6.283f / 6.25f,
+                    el = std::sin(0.37f * i) * 1.2f;
+        const Eigen::Vector3f d(std::cos(el) * std::cos(az), std::cos(el) * std::sin(az),
+                                std::sin(el));
         // Analytic: the nearest of the six planes along d.
         float best = INFINITY;
         const float lo[3] = {0, 0, 0}, hi[3] = {4, 3, 2.5f};

@@ -33,7 +33,8 @@ float clearance(const Raycaster& rc, const Eigen::Vector3d& p) {
         for (int y = -1; y <= 1; ++y)
             for (int z = -1; z <= 1; ++z) {
                 if (!x && !y && !z) continue;
-                const RayHit h = rc.cast(Ray{p.cast<float>(), Eigen::Vector3f(x, y, z).normalized(), 5.0f});
+                const RayHit h =
+                    rc.cast(Ray{p.cast<float>(), Eigen::Vector3f(x, y, z).normalized(), 5.0f});
                 if (h.hit()) best = std::min(best, h.t);
             }
     return best;
@@ -54,7 +55,9 @@ TEST_P(WalkTest, TwoMinuteWalkIsAClosedCollisionFreeLoopAtWalkingSpeed) {
     EXPECT_NEAR(tr.duration(), o.duration_s, 0.05);
     const BodyState a = tr.at(0.0), b = tr.at(tr.duration());
     EXPECT_LT((a.T_world_body.translation() - b.T_world_body.translation()).norm(), 0.01);
-    EXPECT_LT(rotationAngle(a.T_world_body.linear(), b.T_world_body.linear()) * 180.0 / std::numbers::pi, 1.0);
+    EXPECT_LT(
+        rotationAngle(a.T_world_body.linear(), b.T_world_body.linear()) * 180.0 / std::numbers::pi,
+        1.0);
     // Still at the start (IMU initialisation), moving later.
     EXPECT_LT(tr.at(1.0).v_world.norm(), 1e-9);
     EXPECT_LT(tr.at(2.5).omega_body.norm(), 1e-9);
@@ -66,7 +69,9 @@ TEST_P(WalkTest, TwoMinuteWalkIsAClosedCollisionFreeLoopAtWalkingSpeed) {
         max_speed = std::max(max_speed, v);
         if (v > 0.3) walked_time += 0.05;
         const float c = clearance(rc, s.T_world_body.translation());
-        if (c < 0.25f) ADD_FAILURE() << GetParam() << " t=" << t << " at " << s.T_world_body.translation().transpose() << " clearance " << c;
+        if (c < 0.25f)
+            ADD_FAILURE() << GetParam() << " t=" << t << " at "
+                          << s.T_world_body.translation().transpose() << " clearance " << c;
         min_clear = std::min(min_clear, c);
     }
     const double mean_speed = tr.pathLength() / (o.duration_s - o.still_start_s - o.still_end_s);
@@ -74,11 +79,13 @@ TEST_P(WalkTest, TwoMinuteWalkIsAClosedCollisionFreeLoopAtWalkingSpeed) {
     EXPECT_GE(mean_speed, 0.5) << GetParam();
     EXPECT_LE(mean_speed, 1.5) << GetParam();
     EXPECT_GT(walked_time, 60.0);
-    EXPECT_GT(min_clear, 0.25f) << GetParam() << ": the device comes within " << min_clear << " m of a surface";
+    EXPECT_GT(min_clear, 0.25f) << GetParam() << ": the device comes within " << min_clear
+                                << " m of a surface";
 }
 
 INSTANTIATE_TEST_SUITE_P(Scenes, WalkTest,
-                         ::testing::Values("office", "house", "corridor", "courtyard", "tunnel", "field"));
+                         ::testing::Values("office", "house", "corridor", "courtyard", "tunnel",
+                                           "field"));
 
 TEST(SceneTest, HouseLoopClimbsAStorey) {
     const Scene scene = buildScene("house");

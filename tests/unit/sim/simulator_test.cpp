@@ -1,6 +1,8 @@
 // The whole simulator: a short office recording holds every channel at its device rate, in
 // host-time order, decodes through the drivers' codecs, matches the ground truth, and is
 // byte-for-byte reproducible from its seed.
+#include "handscan/sim/simulator.hpp"
+
 #include <gtest/gtest.h>
 
 #include <filesystem>
@@ -15,7 +17,6 @@
 #include "handscan/recording/channels.hpp"
 #include "handscan/recording/mcap_reader.hpp"
 #include "handscan/sim/mcap_sink.hpp"
-#include "handscan/sim/simulator.hpp"
 #include "handscan/xsens/xbus_parser.hpp"
 
 namespace handscan::sim {
@@ -27,8 +28,9 @@ struct Loaded {
 };
 
 const Loaded& config() {
-    static const Loaded l{loadDeviceConfig(std::string(HANDSCAN_SOURCE_DIR) + "/config/device.yaml"),
-                          loadCalibration(std::string(HANDSCAN_SOURCE_DIR) + "/config/calibration.yaml")};
+    static const Loaded l{
+        loadDeviceConfig(std::string(HANDSCAN_SOURCE_DIR) + "/config/device.yaml"),
+        loadCalibration(std::string(HANDSCAN_SOURCE_DIR) + "/config/calibration.yaml")};
     return l;
 }
 
@@ -93,7 +95,8 @@ TEST(SimulatorTest, RecordingHoldsEveryChannelAtItsDeviceRate) {
     EXPECT_EQ(gt, 600);
     EXPECT_EQ(static_cast<std::uint64_t>(scans), stats.laser_scans);
     EXPECT_EQ(xbus.stats().checksum_failures, 0u);
-    for (const char* t : {"/hokuyo/raw", "/xsens/raw", "/motor/can", "/camera/track", "/groundtruth/pose"}) {
+    for (const char* t :
+         {"/hokuyo/raw", "/xsens/raw", "/motor/can", "/camera/track", "/groundtruth/pose"}) {
         EXPECT_FALSE(times[t].empty()) << t;
     }
 }
@@ -124,13 +127,17 @@ TEST(SimulatorTest, FaultsShowUpInTheStreams) {
     std::vector<hokuyo::ScipEvent> ev;
     xsens::XbusParser xbus;
     int mtdata2 = 0;
-    ASSERT_TRUE((*reader)->forEachMessage({}, [&](const recording::RecordedMessage& m) {
-                      if (m.channel->topic == "/hokuyo/raw") scip.feed(m.data, ev);
-                      if (m.channel->topic == "/xsens/raw") {
-                          xbus.feed(m.data);
-                          while (auto f = xbus.next()) mtdata2 += f->mid == 0x36;
-                      }
-                  }).isOk());
+    ASSERT_TRUE((*reader)
+                    ->forEachMessage({},
+                                     [&](const recording::RecordedMessage& m) {
+                                         if (m.channel->topic == "/hokuyo/raw")
+                                             scip.feed(m.data, ev);
+                                         if (m.channel->topic == "/xsens/raw") {
+                                             xbus.feed(m.data);
+                                             while (auto f = xbus.next()) mtdata2 += f->mid == 0x36;
+                                         }
+                                     })
+                    .isOk());
     int scans = 0, handshakes = 0;
     for (const auto& e : ev) {
         if (!std::holds_alternative<hokuyo::ScipFrame>(e)) continue;
@@ -138,8 +145,8 @@ TEST(SimulatorTest, FaultsShowUpInTheStreams) {
         scans += f.scan.has_value();
         handshakes += f.command == "PP";
     }
-    EXPECT_EQ(handshakes, 2);                              // the reconnect repeats the handshake
-    EXPECT_NEAR(scans, 3.9 / 0.025 - 40 - 2, 2);           // 1 s lost to the reconnect, 2 corrupted
+    EXPECT_EQ(handshakes, 2);                     // the reconnect repeats the handshake
+    EXPECT_NEAR(scans, 3.9 / 0.025 - 40 - 2, 2);  // 1 s lost to the reconnect, 2 corrupted
     EXPECT_GE(scip.stats().checksum_failures, 2u);
     EXPECT_NEAR(mtdata2, 200 * 3.95 - 3, 2);
     EXPECT_GE(xbus.stats().checksum_failures + xbus.stats().resyncs, 3u);
@@ -158,7 +165,9 @@ TEST(SimulatorTest, GroundTruthFileMatchesTheTrajectory) {
     while (std::getline(in, line)) {
         if (line[0] == '#') continue;
         double t, x, y, z, qx, qy, qz, qw;
-        ASSERT_EQ(std::sscanf(line.c_str(), "%lf %lf %lf %lf %lf %lf %lf %lf", &t, &x, &y, &z, &qx, &qy, &qz, &qw), 8);
+        ASSERT_EQ(std::sscanf(line.c_str(), "%lf %lf %lf %lf %lf %lf %lf %lf", &t, &x, &y, &z, &qx,
+                              &qy, &qz, &qw),
+                  8);
         EXPECT_NEAR(t, 1000.0 + n * 0.005, 1e-9);
         const Eigen::Vector3d p = sim.trajectory().at(n * 0.005).T_world_body.translation();
         EXPECT_NEAR(x, p.x(), 1e-8);

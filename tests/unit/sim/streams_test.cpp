@@ -25,7 +25,8 @@ LaserScanTruth syntheticScan(double t0, Rng& rng) {
     LaserScanTruth s;
     s.t_first_step = t0;
     for (int k = 0; k < 1081; ++k) {
-        s.ranges_mm.push_back(rng.chance(0.05) ? 2u : static_cast<std::uint32_t>(23 + rng.below(59977)));
+        s.ranges_mm.push_back(rng.chance(0.05) ? 2u
+                                               : static_cast<std::uint32_t>(23 + rng.below(59977)));
         s.intensities.push_back(static_cast<std::uint32_t>(rng.below(16000)));
     }
     return s;
@@ -55,11 +56,13 @@ TEST(HokuyoStreamTest, TcpChunksDecodeToTheScansSent) {
         parser.feed(m.bytes, events);
         mid_frame_chunks += !parser.idle();
     }
-    EXPECT_GT(mid_frame_chunks, sent.size() / 4);  // frames are split across reads, as a socket delivers them
+    EXPECT_GT(mid_frame_chunks,
+              sent.size() / 4);  // frames are split across reads, as a socket delivers them
     std::vector<std::string> commands;
     std::size_t scans = 0;
     for (const auto& e : events) {
-        ASSERT_TRUE(std::holds_alternative<hokuyo::ScipFrame>(e)) << std::get<hokuyo::ScipFault>(e).message;
+        ASSERT_TRUE(std::holds_alternative<hokuyo::ScipFrame>(e))
+            << std::get<hokuyo::ScipFault>(e).message;
         const auto& f = std::get<hokuyo::ScipFrame>(e);
         EXPECT_TRUE(f.ok()) << f.echo << " " << f.status;
         if (!f.scan) {
@@ -83,7 +86,8 @@ TEST(HokuyoStreamTest, TimestampsRunOnTheSensorClockAndWrapAt24Bits) {
     cfg.clock.drift_ppm = 100.0;
     HokuyoStream stream(cfg, LaserConfig{}, kHost0, Rng(1, "tcp"));
     EXPECT_EQ(stream.timestampMs(0.0), 16777000u);
-    EXPECT_EQ(stream.timestampMs(0.3), static_cast<std::uint32_t>(std::floor((16777.0 + 0.3 * 1.0001) * 1000)) - (1u << 24));
+    EXPECT_EQ(stream.timestampMs(0.3),
+              static_cast<std::uint32_t>(std::floor((16777.0 + 0.3 * 1.0001) * 1000)) - (1u << 24));
     // 1000 s of host time are 1000.1 s of sensor time.
     const std::uint32_t a = stream.timestampMs(10.0), b = stream.timestampMs(1010.0);
     EXPECT_EQ((b - a) & 0xFFFFFFu, 1000100u);
@@ -99,8 +103,10 @@ TEST(HokuyoStreamTest, CorruptedBlockFailsItsChecksumAndOnlyThatScanIsLost) {
     for (const auto& m : msgs) parser.feed(m.bytes, events);
     int scans = 0, faults = 0;
     for (const auto& e : events) {
-        if (std::holds_alternative<hokuyo::ScipFault>(e)) ++faults;
-        else if (std::get<hokuyo::ScipFrame>(e).scan) ++scans;
+        if (std::holds_alternative<hokuyo::ScipFault>(e))
+            ++faults;
+        else if (std::get<hokuyo::ScipFrame>(e).scan)
+            ++scans;
     }
     EXPECT_EQ(scans, 4);
     EXPECT_GE(faults, 1);
@@ -137,17 +143,21 @@ TEST(XsensStreamTest, SerialChunksDecodeToTheSamplesSentOnTheImuClock) {
             ASSERT_TRUE(p.isOk()) << p.status().message();
             ASSERT_LT(k, sent.size());
             EXPECT_EQ(*p->integer(xsens::xdi::kPacketCounter), k & 0xFFFF);
-            EXPECT_EQ(*p->integer(xsens::xdi::kSampleTimeFine), stream.sampleTimeFine(static_cast<std::int64_t>(k)));
+            EXPECT_EQ(*p->integer(xsens::xdi::kSampleTimeFine),
+                      stream.sampleTimeFine(static_cast<std::int64_t>(k)));
             // float32 on the wire: equal to the float-rounded values.
-            const Eigen::Vector3d a = *p->vector3(xsens::xdi::kAcceleration), w = *p->vector3(xsens::xdi::kRateOfTurn);
+            const Eigen::Vector3d a = *p->vector3(xsens::xdi::kAcceleration),
+                                  w = *p->vector3(xsens::xdi::kRateOfTurn);
             for (int i = 0; i < 3; ++i) {
                 EXPECT_EQ(a[i], static_cast<double>(static_cast<float>(sent[k].accel[i])));
                 EXPECT_EQ(w[i], static_cast<double>(static_cast<float>(sent[k].gyro[i])));
             }
-            EXPECT_NEAR((*p->vector3(xsens::xdi::kDeltaV) - sent[k].accel * 0.005).norm(), 0.0, 1e-6);
+            EXPECT_NEAR((*p->vector3(xsens::xdi::kDeltaV) - sent[k].accel * 0.005).norm(), 0.0,
+                        1e-6);
             EXPECT_TRUE(p->vector4(xsens::xdi::kDeltaQ).has_value());
             EXPECT_EQ(*p->integer(xsens::xdi::kStatusWord), 3u);
-            stamps.emplace_back(static_cast<std::uint32_t>(*p->integer(xsens::xdi::kSampleTimeFine)), m.t_host_rx);
+            stamps.emplace_back(
+                static_cast<std::uint32_t>(*p->integer(xsens::xdi::kSampleTimeFine)), m.t_host_rx);
             ++k;
         }
     }
@@ -158,14 +168,18 @@ TEST(XsensStreamTest, SerialChunksDecodeToTheSamplesSentOnTheImuClock) {
               (std::vector<std::uint8_t>{0x31, 0x01, 0x1D, 0xC1, 0x11}));
     // Rate and drift from the stream alone: SampleTimeFine advances 50 ticks per sample, and its
     // lower envelope against host receive times has slope 1 + drift.
-    for (std::size_t i = 1; i < stamps.size(); ++i) EXPECT_EQ(stamps[i].first - stamps[i - 1].first, 50u);
-    auto lowest = [&](std::size_t from, std::size_t to) {  // smallest (host - device) over a stretch
+    for (std::size_t i = 1; i < stamps.size(); ++i)
+        EXPECT_EQ(stamps[i].first - stamps[i - 1].first, 50u);
+    auto lowest = [&](std::size_t from,
+                      std::size_t to) {  // smallest (host - device) over a stretch
         double best = 1e300;
-        for (std::size_t i = from; i < to; ++i) best = std::min(best, toSeconds(stamps[i].second) - stamps[i].first * 1e-4);
+        for (std::size_t i = from; i < to; ++i)
+            best = std::min(best, toSeconds(stamps[i].second) - stamps[i].first * 1e-4);
         return best;
     };
     const double dev_span = (stamps[stamps.size() - 500].first - stamps[500].first) * 1e-4;
-    const double host_minus_dev_change = lowest(stamps.size() - 1000, stamps.size()) - lowest(0, 1000);
+    const double host_minus_dev_change =
+        lowest(stamps.size() - 1000, stamps.size()) - lowest(0, 1000);
     const double drift_ppm = -host_minus_dev_change / dev_span * 1e6;
     EXPECT_NEAR(drift_ppm, cfg.clock.drift_ppm, 3.0);
 }
@@ -202,7 +216,8 @@ TEST(CanStreamTest, CandumpLinesDecodeToTheEncoderPositionsAtTheConfiguredPeriod
         auto rec = motor::parseCandumpLogLine(line);
         ASSERT_TRUE(rec.isOk()) << line << ": " << rec.status().message();
         EXPECT_EQ(rec->interface, "can0");
-        EXPECT_EQ(rec->timeNs() / 1000, msgs[i].t_host_rx / 1000);  // the line carries the receive time
+        EXPECT_EQ(rec->timeNs() / 1000,
+                  msgs[i].t_host_rx / 1000);  // the line carries the receive time
         const auto info = motor::classifyCobId(rec->frame);
         if (info.function == motor::CanOpenFunction::kTpdo) {
             auto pos = motor::decodeEncoderPositionTpdo(rec->frame);
@@ -230,7 +245,8 @@ TEST(CanStreamTest, CandumpLinesDecodeToTheEncoderPositionsAtTheConfiguredPeriod
         EXPECT_LT(positions[i], cfg.counts_per_rev);
     }
     // Period on the host clock: the encoder's 2 ms on a crystal 42 ppm slow.
-    const double period = toSeconds(tpdo_rx.back() - tpdo_rx.front()) / static_cast<double>(tpdo_rx.size() - 1);
+    const double period =
+        toSeconds(tpdo_rx.back() - tpdo_rx.front()) / static_cast<double>(tpdo_rx.size() - 1);
     EXPECT_NEAR(period, 0.002 / (1 + cfg.clock.drift_ppm * 1e-6), 2e-8);
     // Positions advance ~1 rev/s: 16384 counts/s, 32.8 counts per TPDO, wrapping once a turn.
     int wraps = 0;

@@ -1,5 +1,7 @@
 // Trajectories are C2 and their analytic derivatives match numerical differentiation; the
 // aggressive motion reaches the paper's 370 deg/s; TUM files load.
+#include "handscan/sim/trajectory.hpp"
+
 #include <gtest/gtest.h>
 
 #include <cstdio>
@@ -9,7 +11,6 @@
 
 #include "handscan/core/se3.hpp"
 #include "handscan/sim/scenes.hpp"
-#include "handscan/sim/trajectory.hpp"
 
 namespace handscan::sim {
 namespace {
@@ -18,12 +19,14 @@ void expectDerivativesConsistent(const Trajectory& tr, double t0, double t1) {
     const double h = 1e-4;
     for (double t = t0; t < t1; t += 0.37) {
         const BodyState s = tr.at(t), sp = tr.at(t + h), sm = tr.at(t - h);
-        const Eigen::Vector3d v_num = (sp.T_world_body.translation() - sm.T_world_body.translation()) / (2 * h);
+        const Eigen::Vector3d v_num =
+            (sp.T_world_body.translation() - sm.T_world_body.translation()) / (2 * h);
         EXPECT_LT((v_num - s.v_world).norm(), 1e-5) << t;
         const Eigen::Vector3d a_num = (sp.v_world - sm.v_world) / (2 * h);
         EXPECT_LT((a_num - s.a_world).norm(), 1e-3 * (1 + s.a_world.norm()) + 2e-3) << t;
         // omega in the body frame: R^T dR/dt = [omega]x
-        const Eigen::Vector3d w_num = logSO3(sm.T_world_body.linear().transpose() * sp.T_world_body.linear()) / (2 * h);
+        const Eigen::Vector3d w_num =
+            logSO3(sm.T_world_body.linear().transpose() * sp.T_world_body.linear()) / (2 * h);
         EXPECT_LT((w_num - s.omega_body).norm(), 1e-5 * (1 + s.omega_body.norm())) << t;
         const Eigen::Vector3d al_num = (sp.omega_body - sm.omega_body) / (2 * h);
         EXPECT_LT((al_num - s.alpha_body).norm(), 1e-3 * (1 + s.alpha_body.norm()) + 2e-3) << t;
@@ -57,11 +60,12 @@ TEST(TrajectoryTest, TumRoundTrip) {
         f << "# t x y z qx qy qz qw\n";
         for (int k = 0; k <= 500; ++k) {
             const double t = 100.0 + 0.01 * k;
-            const Eigen::Quaterniond q(Eigen::AngleAxisd(0.3 * std::sin(t), Eigen::Vector3d::UnitY()) *
-                                       Eigen::AngleAxisd(0.2 * t, Eigen::Vector3d::UnitZ()));
+            const Eigen::Quaterniond q(
+                Eigen::AngleAxisd(0.3 * std::sin(t), Eigen::Vector3d::UnitY()) *
+                Eigen::AngleAxisd(0.2 * t, Eigen::Vector3d::UnitZ()));
             char line[200];
-            std::snprintf(line, sizeof line, "%.4f %.6f %.6f %.6f %.9f %.9f %.9f %.9f\n", t, std::cos(t), std::sin(t),
-                          1.3, q.x(), q.y(), q.z(), q.w());
+            std::snprintf(line, sizeof line, "%.4f %.6f %.6f %.6f %.9f %.9f %.9f %.9f\n", t,
+                          std::cos(t), std::sin(t), 1.3, q.x(), q.y(), q.z(), q.w());
             f << line;
         }
     }
@@ -71,8 +75,9 @@ TEST(TrajectoryTest, TumRoundTrip) {
     for (double t = 0.5; t < 4.5; t += 0.5) {
         const BodyState s = tr->at(t);
         EXPECT_NEAR(s.T_world_body.translation().x(), std::cos(100.0 + t), 2e-4);
-        const Eigen::Quaterniond q(Eigen::AngleAxisd(0.3 * std::sin(100.0 + t), Eigen::Vector3d::UnitY()) *
-                                   Eigen::AngleAxisd(0.2 * (100.0 + t), Eigen::Vector3d::UnitZ()));
+        const Eigen::Quaterniond q(
+            Eigen::AngleAxisd(0.3 * std::sin(100.0 + t), Eigen::Vector3d::UnitY()) *
+            Eigen::AngleAxisd(0.2 * (100.0 + t), Eigen::Vector3d::UnitZ()));
         EXPECT_LT(rotationAngle(s.T_world_body.linear(), q.toRotationMatrix()), 1e-3);
     }
     {

@@ -1,9 +1,10 @@
 // What the status bar says for a given status block: numbers formatted for the operator, and a
 // warning for each condition they can act on.
+#include "handscan/ui/status_texts.hpp"
+
 #include <gtest/gtest.h>
 
 #include "handscan/shm/text_field.hpp"
-#include "handscan/ui/status_texts.hpp"
 
 namespace handscan::ui {
 namespace {
@@ -53,7 +54,8 @@ TEST(StatusTexts, FormatsNumbersForTheOperator) {
 }
 
 TEST(StatusTexts, HealthyScanHasNoWarnings) {
-    const StatusTexts t = describeStatus(shm::Connection::kConnected, "", healthyScan(), std::nullopt);
+    const StatusTexts t =
+        describeStatus(shm::Connection::kConnected, "", healthyScan(), std::nullopt);
     EXPECT_EQ(t.connection.text, "connected");
     EXPECT_EQ(t.scan_state, "SCANNING");
     EXPECT_EQ(t.elapsed, "02:05");
@@ -103,12 +105,13 @@ TEST(StatusTexts, SlowSensorWarns) {
 
 TEST(StatusTexts, WithoutPipelineSaysSo) {
     const StatusTexts t =
-        describeStatus(shm::Connection::kWaiting, "waiting for pipeline (no shared memory /x)", std::nullopt, std::nullopt);
+        describeStatus(shm::Connection::kWaiting, "waiting for pipeline (no shared memory /x)",
+                       std::nullopt, std::nullopt);
     EXPECT_EQ(t.scan_state, "WAITING FOR PIPELINE");
     EXPECT_EQ(t.connection.text, "waiting for pipeline (no shared memory /x)");
     EXPECT_NE(t.connection.health, Health::kOk);
-    const StatusTexts stale = describeStatus(shm::Connection::kStale, "pipeline not responding for 3 s", healthyScan(),
-                                             std::nullopt);
+    const StatusTexts stale = describeStatus(
+        shm::Connection::kStale, "pipeline not responding for 3 s", healthyScan(), std::nullopt);
     EXPECT_TRUE(hasWarning(stale, "Pipeline not responding"));
 }
 
@@ -148,7 +151,8 @@ TEST(StatusTexts, NoDarkCameraWarningWithoutACamera) {
     shm::setText(s.sensors[0].name, "hokuyo");
     s.camera_brightness = 0.0f;  // a laser + IMU pipeline reports no brightness
     const StatusTexts t = describeStatus(shm::Connection::kConnected, "", s, std::nullopt);
-    for (const auto& w : t.warnings) EXPECT_EQ(w.text.find("Camera dark"), std::string::npos) << w.text;
+    for (const auto& w : t.warnings)
+        EXPECT_EQ(w.text.find("Camera dark"), std::string::npos) << w.text;
 }
 
 }  // namespace

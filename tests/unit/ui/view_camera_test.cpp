@@ -1,11 +1,12 @@
 // The camera's matrices against hand-computed projections, and the coverage grid's gaps.
+#include "handscan/ui/view_camera.hpp"
+
 #include <gtest/gtest.h>
 
 #include <Eigen/Geometry>
 #include <cmath>
 
 #include "handscan/ui/coverage_grid.hpp"
-#include "handscan/ui/view_camera.hpp"
 
 namespace handscan::ui {
 namespace {
@@ -20,7 +21,7 @@ TEST(ViewCamera, LookAtPutsTargetOnTheAxis) {
     const Eigen::Vector4f t = v * Eigen::Vector4f(0, 0, 0, 1);
     EXPECT_NEAR(t.x(), 0, 1e-6);
     EXPECT_NEAR(t.y(), 0, 1e-6);
-    EXPECT_NEAR(t.z(), -10, 1e-6);  // in front of the eye: -z
+    EXPECT_NEAR(t.z(), -10, 1e-6);                              // in front of the eye: -z
     const Eigen::Vector4f r = v * Eigen::Vector4f(1, 0, 2, 1);  // world +x is screen right, +z up
     EXPECT_NEAR(r.x(), 1, 1e-6);
     EXPECT_NEAR(r.y(), 2, 1e-6);
@@ -69,7 +70,8 @@ TEST(CoverageGrid, GapsStayEmpty) {
     for (int x = 0; x < 10; ++x) {
         for (int y = 0; y < 4; ++y) {
             if (x == 5) continue;  // an unscanned strip
-            for (int k = 0; k < (x < 5 ? 1 : 9); ++k) pts.push_back({x + 0.5f, y + 0.5f, 0.0f, 0, 0, 0, 0});
+            for (int k = 0; k < (x < 5 ? 1 : 9); ++k)
+                pts.push_back({x + 0.5f, y + 0.5f, 0.0f, 0, 0, 0, 0});
         }
     }
     g.add(pts);
@@ -81,15 +83,19 @@ TEST(CoverageGrid, GapsStayEmpty) {
     ASSERT_EQ(img.height, 4);
     EXPECT_FLOAT_EQ(img.min_x_m, 0.0f);
     EXPECT_FLOAT_EQ(img.max_y_m, 4.0f);
-    const auto px = [&](int col, int row) { return &img.rgba[(static_cast<std::size_t>(row) * img.width + col) * 4]; };
-    EXPECT_LT(px(5, 0)[1], 10);            // gap: dark
-    EXPECT_GT(px(7, 0)[1], px(2, 0)[1]);   // denser is brighter
-    EXPECT_EQ(img.counts[static_cast<std::size_t>(3) * 10 + 7], 9u);  // row 3 = southmost (y in [0,1))
+    const auto px = [&](int col, int row) {
+        return &img.rgba[(static_cast<std::size_t>(row) * img.width + col) * 4];
+    };
+    EXPECT_LT(px(5, 0)[1], 10);           // gap: dark
+    EXPECT_GT(px(7, 0)[1], px(2, 0)[1]);  // denser is brighter
+    EXPECT_EQ(img.counts[static_cast<std::size_t>(3) * 10 + 7],
+              9u);  // row 3 = southmost (y in [0,1))
 }
 
 TEST(CoverageGrid, CeilingDoesNotHideFloorGaps) {
     CoverageGrid g(1.0f);
-    const std::vector<shm::DisplayPoint> pts = {{0.5f, 0.5f, 0.0f, 0, 0, 0, 0}, {1.5f, 0.5f, 3.0f, 0, 0, 0, 0}};
+    const std::vector<shm::DisplayPoint> pts = {{0.5f, 0.5f, 0.0f, 0, 0, 0, 0},
+                                                {1.5f, 0.5f, 3.0f, 0, 0, 0, 0}};
     g.add(pts, 0.9f);
     EXPECT_EQ(g.countAt(0.5f, 0.5f), 1u);
     EXPECT_EQ(g.countAt(1.5f, 0.5f), 0u);  // only the ceiling was seen there: still a gap

@@ -1,9 +1,10 @@
 // The receive side shared by XsensDevice and replay: samples on the host clock from any chunking,
 // a device restart (WakeUp) starting the time mapping afresh, and frames left over behind a reply
 // stamped with the time they arrived.
+#include "handscan/xsens/imu_stream_decoder.hpp"
+
 #include <gtest/gtest.h>
 
-#include "handscan/xsens/imu_stream_decoder.hpp"
 #include "handscan/xsens/mtdata2.hpp"
 #include "handscan/xsens/xbus_messages.hpp"
 
@@ -12,7 +13,10 @@ namespace {
 
 std::vector<std::uint8_t> packet(std::uint16_t counter, std::uint32_t stf) {
     MtData2Builder b;
-    b.packetCounter(counter).sampleTimeFine(stf).acceleration({0.1, 0.2, 9.81}).rateOfTurn({0.01, 0.02, 0.03});
+    b.packetCounter(counter)
+        .sampleTimeFine(stf)
+        .acceleration({0.1, 0.2, 9.81})
+        .rateOfTurn({0.01, 0.02, 0.03});
     b.statusByte(0x03);
     return b.frame();
 }
@@ -33,11 +37,12 @@ TEST(ImuStreamDecoder, RestartStartsTheTimeMappingAfresh) {
     // Power glitch: WakeUp, then counters and SampleTimeFine from 0, one second later.
     const TimeNs t1 = t0 + 2 * kNsPerSec;
     dec.feed(t1, encodeFrame(MessageId::kWakeUp), out);
-    for (std::uint16_t k = 0; k < 50; ++k) dec.feed(t1 + k * 5 * kNsPerMs + kNsPerMs, packet(k, 50u * k), out);
+    for (std::uint16_t k = 0; k < 50; ++k)
+        dec.feed(t1 + k * 5 * kNsPerMs + kNsPerMs, packet(k, 50u * k), out);
     ASSERT_EQ(out.size(), 250u);
     const ImuStreamStats s = dec.stats();
     EXPECT_EQ(s.restarts, 1u);
-    EXPECT_EQ(s.gaps, 0u);  // the counter restarting at 0 is not a gap
+    EXPECT_EQ(s.gaps, 0u);               // the counter restarting at 0 is not a gap
     EXPECT_EQ(dec.clock().resets(), 0);  // a fresh mapping, not a clock fault
     EXPECT_EQ(out[249].t_host, t1 + kNsPerMs + 49 * 5 * kNsPerMs);  // on the new device clock
     EXPECT_EQ(out[249].status_word, 0x03u);  // from StatusByte when there is no StatusWord
@@ -70,7 +75,8 @@ TEST(ImuStreamDecoder, FramesBehindAReplyKeepTheirArrivalTime) {
     std::vector<ImuSample> a, b;
     whole.feed(t_rx, stream, a);
     for (std::size_t i = 0; i < stream.size(); i += 7) {
-        pieces.feed(t_rx, std::span(stream).subspan(i, std::min<std::size_t>(7, stream.size() - i)), b);
+        pieces.feed(t_rx, std::span(stream).subspan(i, std::min<std::size_t>(7, stream.size() - i)),
+                    b);
     }
     ASSERT_EQ(a.size(), 40u);
     ASSERT_EQ(b.size(), a.size());

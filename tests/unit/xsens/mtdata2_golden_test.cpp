@@ -19,7 +19,7 @@ namespace {
 
 // One decoded block of output.golden: "Name(...):" then "  Key:Value" lines (or one bare value).
 struct GoldenItem {
-    std::string name;                               // before "(" and ":"
+    std::string name;                                         // before "(" and ":"
     std::vector<std::pair<std::string, std::string>> fields;  // key "" for a bare value
 };
 using GoldenPacket = std::vector<GoldenItem>;
@@ -40,7 +40,8 @@ std::vector<GoldenPacket> readGolden(const std::filesystem::path& p) {
             if (colon == std::string::npos || packets.back().back().name == "UTCTime") {
                 packets.back().back().fields.emplace_back("", body);
             } else {
-                packets.back().back().fields.emplace_back(body.substr(0, colon), body.substr(colon + 1));
+                packets.back().back().fields.emplace_back(body.substr(0, colon),
+                                                          body.substr(colon + 1));
             }
         }
     }
@@ -55,16 +56,18 @@ std::string lower(std::string s) {
 
 // Golden names -> XDI table names and component names.
 std::string tableName(const std::string& golden) {
-    static const std::map<std::string, std::string> kMap{
-        {"UTCTime", "UtcTime"}, {"GNSSPVTData", "GnssPvtData"}, {"GNSSSatInfo", "GnssSatInfo"},
-        {"PositionECEF", "PositionEcef"}};
+    static const std::map<std::string, std::string> kMap{{"UTCTime", "UtcTime"},
+                                                         {"GNSSPVTData", "GnssPvtData"},
+                                                         {"GNSSSatInfo", "GnssSatInfo"},
+                                                         {"PositionECEF", "PositionEcef"}};
     auto it = kMap.find(golden);
     return it != kMap.end() ? it->second : golden;
 }
 
 std::string componentName(const std::string& item, const std::string& key) {
     if (item == "EulerAngles") {
-        static const std::map<std::string, std::string> kEuler{{"X", "roll"}, {"Y", "pitch"}, {"Z", "yaw"}};
+        static const std::map<std::string, std::string> kEuler{
+            {"X", "roll"}, {"Y", "pitch"}, {"Z", "yaw"}};
         return kEuler.at(key);
     }
     return lower(key);
@@ -78,8 +81,8 @@ std::string utcString(const MtData2Value& v) {
         return -1LL;
     };
     char buf[64];
-    std::snprintf(buf, sizeof buf, "%04lld-%02lld-%02lldT%02lld:%02lld:%02lld", f("year"), f("month"), f("day"),
-                  f("hour"), f("minute"), f("second"));
+    std::snprintf(buf, sizeof buf, "%04lld-%02lld-%02lldT%02lld:%02lld:%02lld", f("year"),
+                  f("month"), f("day"), f("hour"), f("minute"), f("second"));
     std::string s = buf;
     long long ns = f("ns");
     if (ns != 0) {
@@ -135,9 +138,11 @@ TEST_P(MtData2Golden, DecodedValuesEqualTheGoldenValues) {
             if (name == "UtcTime") {
                 EXPECT_EQ(utcString(*v), g.fields.at(0).second);
             } else if (name == "StatusWord") {
-                EXPECT_EQ(binary(static_cast<std::uint64_t>(v->fields.at(0).value), 32), g.fields.at(0).second);
+                EXPECT_EQ(binary(static_cast<std::uint64_t>(v->fields.at(0).value), 32),
+                          g.fields.at(0).second);
             } else if (name == "StatusByte") {
-                EXPECT_EQ(binary(static_cast<std::uint64_t>(v->fields.at(0).value), 8), g.fields.at(0).second);
+                EXPECT_EQ(binary(static_cast<std::uint64_t>(v->fields.at(0).value), 8),
+                          g.fields.at(0).second);
             } else if (g.fields.size() == 1 && g.fields[0].first.empty()) {
                 ASSERT_EQ(v->fields.size(), 1u);
                 EXPECT_EQ(v->fields[0].value, std::stod(g.fields[0].second));
@@ -186,7 +191,8 @@ struct Mti300Case {
 
 std::vector<Mti300Case> readMti300() {
     std::vector<Mti300Case> cases;
-    for (const auto& line : test::readLines(test::xsensDataDir() / "mti300" / "xsens_mti300_packets.txt")) {
+    for (const auto& line :
+         test::readLines(test::xsensDataDir() / "mti300" / "xsens_mti300_packets.txt")) {
         if (line.rfind("name: ", 0) == 0) cases.push_back({line.substr(6), {}, {}});
         if (line.rfind("hex: ", 0) == 0) cases.back().frame = test::fromHex(line.substr(5));
         if (line.rfind("expect: ", 0) == 0) cases.back().expects.push_back(line.substr(8));
@@ -225,25 +231,30 @@ TEST(MtData2Mti300, EveryFrameChecksAndMatchesMtManager) {
                 const std::size_t index = std::stoul(e.substr(6));
                 const double want = std::stod(e.substr(e.find('=') + 1));
                 ASSERT_LT(index, packet->values.size());
-                EXPECT_NEAR(packet->values[index].fields.at(0).value, want, 5e-8 * std::max(1.0, std::abs(want)))
+                EXPECT_NEAR(packet->values[index].fields.at(0).value, want,
+                            5e-8 * std::max(1.0, std::abs(want)))
                     << e;
                 ++values_checked;
                 continue;
             }
-            const std::string var = e.substr(e.find("golden_") + 7, e.find('[') - e.find("golden_") - 7);
+            const std::string var =
+                e.substr(e.find("golden_") + 7, e.find('[') - e.find("golden_") - 7);
             const auto want = numbersIn(e.substr(e.find('=') + 1));
             static const std::map<std::string, std::uint16_t> kVar{
-                {"quat", xdi::kQuaternion}, {"acc", xdi::kAcceleration}, {"dv", xdi::kDeltaV},
-                {"fr_acc", xdi::kFreeAcceleration}, {"dq", xdi::kDeltaQ}, {"mag", xdi::kMagneticField},
+                {"quat", xdi::kQuaternion}, {"acc", xdi::kAcceleration},
+                {"dv", xdi::kDeltaV},       {"fr_acc", xdi::kFreeAcceleration},
+                {"dq", xdi::kDeltaQ},       {"mag", xdi::kMagneticField},
                 {"pry", xdi::kEulerAngles}};
-            const std::uint16_t type = var == "rot" ? (want.size() == 9 ? xdi::kRotationMatrix : xdi::kRateOfTurn)
-                                                    : kVar.at(var);
+            const std::uint16_t type =
+                var == "rot" ? (want.size() == 9 ? xdi::kRotationMatrix : xdi::kRateOfTurn)
+                             : kVar.at(var);
             const MtData2Value* v = packet->find(type);
             ASSERT_NE(v, nullptr) << e;
             ASSERT_EQ(v->fields.size(), want.size()) << e;
             for (std::size_t i = 0; i < want.size(); ++i) {
                 // MT Manager prints 8 decimals (at most 12 for fp16.32 / double).
-                EXPECT_NEAR(v->fields[i].value, want[i], 6e-8 * std::max(1.0, std::abs(want[i]))) << e << " #" << i;
+                EXPECT_NEAR(v->fields[i].value, want[i], 6e-8 * std::max(1.0, std::abs(want[i])))
+                    << e << " #" << i;
                 ++values_checked;
             }
         }

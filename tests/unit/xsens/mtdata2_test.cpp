@@ -1,10 +1,11 @@
 // MTData2 encode/decode: the builder the simulator uses, in every number format; unknown XDIs
 // and malformed items are skipped without losing the rest of the packet.
+#include "handscan/xsens/mtdata2.hpp"
+
 #include <gtest/gtest.h>
 
 #include <cmath>
 
-#include "handscan/xsens/mtdata2.hpp"
 #include "handscan/xsens/xbus_frame.hpp"
 
 namespace handscan::xsens {
@@ -39,8 +40,13 @@ TEST_P(MtData2Precision, BuilderRoundTripsTheImuPacket) {
     const Eigen::Vector3d dv = acc * 0.005;
     const Eigen::Vector4d dq(0.9999, 0.001, -0.002, 0.0005);
     MtData2Builder b;
-    b.packetCounter(65535).sampleTimeFine(4294967000u).acceleration(acc, p).rateOfTurn(gyro, p).statusWord(0x00400003)
-        .deltaQ(dq, p).deltaV(dv, p);
+    b.packetCounter(65535)
+        .sampleTimeFine(4294967000u)
+        .acceleration(acc, p)
+        .rateOfTurn(gyro, p)
+        .statusWord(0x00400003)
+        .deltaQ(dq, p)
+        .deltaV(dv, p);
     const Bytes frame = b.frame();
     auto f = decodeFrame(frame);
     ASSERT_TRUE(f.isOk()) << f.status().message();
@@ -48,7 +54,9 @@ TEST_P(MtData2Precision, BuilderRoundTripsTheImuPacket) {
     ASSERT_TRUE(packet.isOk()) << packet.status().message();
     ASSERT_EQ(packet->values.size(), 7u);
     // Resolution of each format: float32 ~1e-7 relative, fp12.20 2^-20, fp16.32 2^-32.
-    const double tol = p == Precision::kFloat32 ? 1e-6 : p == Precision::kFp1220 ? 1.0 / (1 << 20) : 1e-9;
+    const double tol = p == Precision::kFloat32  ? 1e-6
+                       : p == Precision::kFp1220 ? 1.0 / (1 << 20)
+                                                 : 1e-9;
     EXPECT_EQ(packet->integer(xdi::kPacketCounter), 65535u);
     EXPECT_EQ(packet->integer(xdi::kSampleTimeFine), 4294967000u);
     EXPECT_EQ(packet->integer(xdi::kStatusWord), 0x00400003u);
@@ -64,8 +72,8 @@ TEST_P(MtData2Precision, BuilderRoundTripsTheImuPacket) {
 }
 
 INSTANTIATE_TEST_SUITE_P(AllFormats, MtData2Precision,
-                         ::testing::Values(Precision::kFloat32, Precision::kFp1220, Precision::kFp1632,
-                                           Precision::kFloat64));
+                         ::testing::Values(Precision::kFloat32, Precision::kFp1220,
+                                           Precision::kFp1632, Precision::kFloat64));
 
 TEST(MtData2, CoordinateSystemBits) {
     for (CoordSys c : {CoordSys::kEnu, CoordSys::kNed, CoordSys::kNwu}) {
@@ -87,7 +95,9 @@ TEST(MtData2, CoordinateSystemBits) {
 TEST(MtData2, UnknownAndMalformedItemsAreSkippedNotFatal) {
     MtData2Builder b;
     const Bytes junk{1, 2, 3, 4, 5};
-    b.packetCounter(7).raw(0x9990, junk).raw(withFormat(xdi::kAcceleration, Precision::kFloat32), junk)
+    b.packetCounter(7)
+        .raw(0x9990, junk)
+        .raw(withFormat(xdi::kAcceleration, Precision::kFloat32), junk)
         .sampleTimeFine(1234);
     auto packet = decodeMtData2(b.payload());
     ASSERT_TRUE(packet.isOk()) << packet.status().message();
@@ -127,14 +137,16 @@ TEST(MtData2, EveryTableEntryDecodesItsOwnEncoding) {
             const std::size_t n = info.components.empty() ? 2 : info.components.size();
             std::vector<double> values(n);
             for (std::size_t i = 0; i < n; ++i) values[i] = 0.25 * static_cast<double>(i) - 1.0;
-            for (Precision p : {Precision::kFloat32, Precision::kFp1220, Precision::kFp1632, Precision::kFloat64}) {
+            for (Precision p : {Precision::kFloat32, Precision::kFp1220, Precision::kFp1632,
+                                Precision::kFloat64}) {
                 b.clear();
                 b.reals(withFormat(info.type, p), values);
                 auto packet = decodeMtData2(b.payload());
                 ASSERT_TRUE(packet.isOk());
                 ASSERT_TRUE(packet->values[0].decoded()) << packet->values[0].problem;
                 ASSERT_EQ(packet->values[0].fields.size(), n);
-                for (std::size_t i = 0; i < n; ++i) EXPECT_EQ(packet->values[0].fields[i].value, values[i]);
+                for (std::size_t i = 0; i < n; ++i)
+                    EXPECT_EQ(packet->values[0].fields[i].value, values[i]);
             }
         } else if (info.layout == XdiLayout::kStruct) {
             std::size_t size = 0;

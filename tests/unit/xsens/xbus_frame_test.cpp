@@ -1,10 +1,11 @@
 // Xbus framing: byte-exact frames from PROTOCOLS.md and the MTi-300 capture, extended length,
 // checksum failures.
+#include "handscan/xsens/xbus_frame.hpp"
+
 #include <gtest/gtest.h>
 
 #include <numeric>
 
-#include "handscan/xsens/xbus_frame.hpp"
 #include "handscan/xsens/xbus_messages.hpp"
 
 namespace handscan::xsens {
@@ -25,9 +26,11 @@ TEST(XbusFrame, EncodesTheDocumentedOutputConfiguration) {
     // Counter, SampleTimeFine, quaternion @100 Hz, acceleration and rate of turn @400 Hz.
     const std::vector<OutputConfigEntry> entries{
         {0x1020, 0xFFFF}, {0x1060, 0xFFFF}, {0x2010, 100}, {0x4020, 400}, {0x8020, 400}};
-    const Bytes expected{0xFA, 0xFF, 0xC0, 0x14, 0x10, 0x20, 0xFF, 0xFF, 0x10, 0x60, 0xFF, 0xFF, 0x20,
-                         0x10, 0x00, 0x64, 0x40, 0x20, 0x01, 0x90, 0x80, 0x20, 0x01, 0x90, 0xDB};
-    EXPECT_EQ(encodeFrame(MessageId::kSetOutputConfiguration, encodeOutputConfiguration(entries)), expected);
+    const Bytes expected{0xFA, 0xFF, 0xC0, 0x14, 0x10, 0x20, 0xFF, 0xFF, 0x10,
+                         0x60, 0xFF, 0xFF, 0x20, 0x10, 0x00, 0x64, 0x40, 0x20,
+                         0x01, 0x90, 0x80, 0x20, 0x01, 0x90, 0xDB};
+    EXPECT_EQ(encodeFrame(MessageId::kSetOutputConfiguration, encodeOutputConfiguration(entries)),
+              expected);
     auto frame = decodeFrame(expected);
     ASSERT_TRUE(frame.isOk()) << frame.status().message();
     auto decoded = decodeOutputConfiguration(frame->payload);
@@ -49,7 +52,8 @@ TEST(XbusFrame, ExtendedLengthRoundTrips) {
     auto decoded = decodeFrame(frame);
     ASSERT_TRUE(decoded.isOk()) << decoded.status().message();
     EXPECT_EQ(decoded->mid, 0x36);
-    EXPECT_TRUE(std::equal(decoded->payload.begin(), decoded->payload.end(), payload.begin(), payload.end()));
+    EXPECT_TRUE(std::equal(decoded->payload.begin(), decoded->payload.end(), payload.begin(),
+                           payload.end()));
     // 254 bytes still use the standard length byte; 255 must use the extended form.
     EXPECT_EQ(encodeFrame(MessageId::kMtData2, Bytes(254)).size(), 254u + 5);
     EXPECT_EQ(encodeFrame(MessageId::kMtData2, Bytes(255)).size(), 255u + 7);
@@ -72,8 +76,10 @@ TEST(XbusFrame, DecodeReportsDamage) {
     EXPECT_EQ(r.status().code(), StatusCode::kChecksumError);
     EXPECT_NE(r.status().message().find("GoToConfigAck"), std::string::npos);
     EXPECT_EQ(decodeFrame(Bytes{0xFA, 0xFF, 0x30}).status().code(), StatusCode::kTruncated);
-    EXPECT_EQ(decodeFrame(Bytes{0xFB, 0xFF, 0x30, 0x00, 0xD1}).status().code(), StatusCode::kProtocolError);
-    EXPECT_EQ(decodeFrame(Bytes{0xFA, 0xFF, 0x30, 0x01, 0xD1}).status().code(), StatusCode::kTruncated);
+    EXPECT_EQ(decodeFrame(Bytes{0xFB, 0xFF, 0x30, 0x00, 0xD1}).status().code(),
+              StatusCode::kProtocolError);
+    EXPECT_EQ(decodeFrame(Bytes{0xFA, 0xFF, 0x30, 0x01, 0xD1}).status().code(),
+              StatusCode::kTruncated);
 }
 
 TEST(XbusMessages, ErrorCodesHaveClearTexts) {
@@ -86,7 +92,8 @@ TEST(XbusMessages, ErrorCodesHaveClearTexts) {
     EXPECT_NE(errorText(0x04).find("GoToConfig"), std::string::npos);  // what to do
     EXPECT_NE(errorText(0x77).find("0x77"), std::string::npos);
     const Bytes frame = encodeErrorFrame(ErrorCode::kInvalidParameter);
-    EXPECT_EQ(frame, (Bytes{0xFA, 0xFF, 0x42, 0x01, 0x21, static_cast<std::uint8_t>(-(0xFF + 0x42 + 0x01 + 0x21))}));
+    EXPECT_EQ(frame, (Bytes{0xFA, 0xFF, 0x42, 0x01, 0x21,
+                            static_cast<std::uint8_t>(-(0xFF + 0x42 + 0x01 + 0x21))}));
     auto f = decodeFrame(frame);
     ASSERT_TRUE(f.isOk());
     auto e = decodeError(f->payload);

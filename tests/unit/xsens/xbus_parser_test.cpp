@@ -1,9 +1,10 @@
 // Incremental parser: the real MTi-G-710 captures split at every point, garbage, a lost byte, a
 // corrupted checksum. Frames must equal the capture's messages.golden, and damage must cost only
 // the damaged frame.
+#include "handscan/xsens/xbus_parser.hpp"
+
 #include <gtest/gtest.h>
 
-#include "handscan/xsens/xbus_parser.hpp"
 #include "xsens_test_files.hpp"
 
 namespace handscan::xsens {
@@ -21,7 +22,8 @@ std::vector<Bytes> parseAll(XbusParser& parser, std::span<const std::uint8_t> ch
     return frames;
 }
 
-std::vector<Bytes> parseInPieces(std::span<const std::uint8_t> stream, std::size_t split, XbusParser& parser) {
+std::vector<Bytes> parseInPieces(std::span<const std::uint8_t> stream, std::size_t split,
+                                 XbusParser& parser) {
     auto frames = parseAll(parser, stream.subspan(0, split));
     auto rest = parseAll(parser, stream.subspan(split));
     frames.insert(frames.end(), rest.begin(), rest.end());
@@ -81,8 +83,8 @@ TEST_P(XbusCapture, LostByteCostsOnlyTheDamagedFrame) {
     int trials = 0;
     for (std::size_t k = 0; k < golden_.size(); ++k) {
         const std::size_t len = golden_[k].size();
-        for (std::size_t inside : {std::size_t{0}, std::size_t{1}, std::size_t{3}, std::size_t{5}, len / 2, len - 2,
-                                   len - 1}) {
+        for (std::size_t inside : {std::size_t{0}, std::size_t{1}, std::size_t{3}, std::size_t{5},
+                                   len / 2, len - 2, len - 1}) {
             std::size_t pos = offset + inside;
             Bytes damaged = stream_;
             damaged.erase(damaged.begin() + static_cast<std::ptrdiff_t>(pos));
@@ -149,7 +151,8 @@ TEST(XbusParser, OversizeExtendedLengthIsGarbage) {
 TEST(XbusParser, BufferStaysBoundedOnNoise) {
     XbusParser parser;
     Bytes noise(4096);
-    for (std::size_t i = 0; i < noise.size(); ++i) noise[i] = static_cast<std::uint8_t>(i * 37 + 11);
+    for (std::size_t i = 0; i < noise.size(); ++i)
+        noise[i] = static_cast<std::uint8_t>(i * 37 + 11);
     for (int i = 0; i < 50; ++i) {
         parseAll(parser, noise);
         ASSERT_LE(parser.pending(), kMaxPayload + 8);

@@ -1,9 +1,10 @@
 // The device state machine against the fake MTi-20 over an in-memory stream with a virtual
 // clock: handshake, retries, Error replies, samples equal to what was streamed, counter and
 // SampleTimeFine wrap, faults costing only the damaged packet, disconnect and recovery, raw tap.
+#include "handscan/xsens/xsens_device.hpp"
+
 #include <gtest/gtest.h>
 
-#include "handscan/xsens/xsens_device.hpp"
 #include "handscan/xsens_fake/fake_xsens_stream.hpp"
 
 namespace handscan::xsens {
@@ -20,7 +21,9 @@ struct TapRecorder : RawTap {
 
 struct Rig {
     explicit Rig(FakeXsensConfig fc = {}, FakeXsensFaults faults = {}, XsensDeviceConfig dc = {})
-        : fake(fc, std::move(faults)), stream(fake, clock), device(stream, withClock(std::move(dc)), &tap) {}
+        : fake(fc, std::move(faults)),
+          stream(fake, clock),
+          device(stream, withClock(std::move(dc)), &tap) {}
     XsensDeviceConfig withClock(XsensDeviceConfig dc) {
         dc.clock = [this] { return clock.now; };
         return dc;
@@ -50,7 +53,8 @@ std::vector<StreamedPacket> intact(const FakeXsens& fake, std::uint64_t first_in
     return out;
 }
 
-void expectSamplesMatch(const std::vector<ImuSample>& samples, const std::vector<StreamedPacket>& truth) {
+void expectSamplesMatch(const std::vector<ImuSample>& samples,
+                        const std::vector<StreamedPacket>& truth) {
     ASSERT_LE(samples.size(), truth.size());
     for (std::size_t i = 0; i < samples.size(); ++i) {
         SCOPED_TRACE("sample " + std::to_string(i));
@@ -87,8 +91,11 @@ TEST(XsensDevice, SamplesEqualWhatWasStreamedAcrossBothWraps) {
     ASSERT_EQ(samples.size(), 400u);
     expectSamplesMatch(samples, intact(rig.fake, already));
     for (std::size_t i = 1; i < samples.size(); ++i) {
-        EXPECT_EQ(static_cast<std::uint16_t>(samples[i].packet_counter - samples[i - 1].packet_counter), 1);
-        EXPECT_EQ(samples[i].t_device_ticks - samples[i - 1].t_device_ticks, 50);  // unwrapped past 2^32
+        EXPECT_EQ(
+            static_cast<std::uint16_t>(samples[i].packet_counter - samples[i - 1].packet_counter),
+            1);
+        EXPECT_EQ(samples[i].t_device_ticks - samples[i - 1].t_device_ticks,
+                  50);  // unwrapped past 2^32
         EXPECT_NEAR(static_cast<double>(samples[i].t_host - samples[i - 1].t_host), 5e6, 1e4);
     }
     EXPECT_GT(samples.back().t_device_ticks, std::int64_t{1} << 32);
@@ -168,13 +175,14 @@ TEST(XsensDevice, DamagedPacketsCostOnlyThemselvesAndAreReportedAsGaps) {
     ASSERT_EQ(samples.size(), 150u);
     expectSamplesMatch(samples, intact(rig.fake));
     const auto& st = rig.device.stats();
-    EXPECT_EQ(st.gaps, 3u);          // 30-31 together, 50, 90
+    EXPECT_EQ(st.gaps, 3u);  // 30-31 together, 50, 90
     EXPECT_EQ(st.lost_packets, 4u);
     EXPECT_GE(st.checksum_failures, 1u);
     EXPECT_GE(st.resyncs, 3u);  // 30 and 31 may fall in one garbage run
     EXPECT_EQ(st.device_errors, 1u);
     bool saw_overflow = false;
-    for (const auto& p : rig.device.problems()) saw_overflow |= p.find("BufferOverflow") != std::string::npos;
+    for (const auto& p : rig.device.problems())
+        saw_overflow |= p.find("BufferOverflow") != std::string::npos;
     EXPECT_TRUE(saw_overflow);
 }
 
@@ -262,10 +270,12 @@ TEST(XsensDevice, FindsAFactoryDefaultDeviceAndMovesItTo921600) {
         EXPECT_NE(std::find(seen.begin(), seen.end(), 0x18), seen.end());  // SetBaudrate
         EXPECT_NE(std::find(seen.begin(), seen.end(), 0x40), seen.end());  // Reset
         bool noted = false;
-        for (const auto& p : device.problems()) noted |= p.find("found at " + std::to_string(device_baud)) != std::string::npos;
+        for (const auto& p : device.problems())
+            noted |= p.find("found at " + std::to_string(device_baud)) != std::string::npos;
         EXPECT_TRUE(noted);
         std::vector<ImuSample> out;
-        for (int i = 0; i < 1000 && out.size() < 20; ++i) ASSERT_TRUE(device.poll(out, 10 * kNsPerMs).isOk());
+        for (int i = 0; i < 1000 && out.size() < 20; ++i)
+            ASSERT_TRUE(device.poll(out, 10 * kNsPerMs).isOk());
         ASSERT_GE(out.size(), 20u);
         std::vector<StreamedPacket> truth;
         for (const auto& p : rig.fake.streamed()) {

@@ -1,12 +1,13 @@
 // The driver thread: configures, streams to the sink, and after the link drops reconnects and
 // resumes; bad device.yaml values fail naming the key.
+#include "handscan/xsens/xsens_driver.hpp"
+
 #include <gtest/gtest.h>
 
 #include <atomic>
 #include <chrono>
 #include <thread>
 
-#include "handscan/xsens/xsens_driver.hpp"
 #include "handscan/xsens_fake/fake_xsens_stream.hpp"
 
 namespace handscan::xsens {
@@ -20,7 +21,9 @@ public:
     void close() override { s_.close(); }
     bool isOpen() const override { return s_.isOpen(); }
     Result<std::size_t> read(std::span<std::uint8_t> b, TimeNs t) override { return s_.read(b, t); }
-    Status writeAll(std::span<const std::uint8_t> d, TimeNs t) override { return s_.writeAll(d, t); }
+    Status writeAll(std::span<const std::uint8_t> d, TimeNs t) override {
+        return s_.writeAll(d, t);
+    }
     std::string describe() const override { return s_.describe(); }
 
 private:
@@ -39,10 +42,13 @@ TEST(XsensDriver, StreamsAndReconnectsAfterTheLinkDrops) {
     std::vector<ImuSample> got;
     XsensDriverOptions options;
     options.backoff_min = kNsPerMs;
-    XsensDriver driver(std::move(link), [&](const ImuSample& s) {
-        std::lock_guard lock(m);
-        got.push_back(s);
-    }, nullptr, options);
+    XsensDriver driver(
+        std::move(link),
+        [&](const ImuSample& s) {
+            std::lock_guard lock(m);
+            got.push_back(s);
+        },
+        nullptr, options);
     driver.start();
     for (int i = 0; i < 500; ++i) {
         {
@@ -85,7 +91,8 @@ TEST(XsensDriver, UnreachableDeviceIsRetriedWithBackoffAndReported) {
     XsensDriverOptions options;
     options.backoff_min = kNsPerMs;
     options.backoff_max = 4 * kNsPerMs;
-    XsensDriver driver(std::move(link), [](const ImuSample&) {}, nullptr, options);
+    XsensDriver driver(
+        std::move(link), [](const ImuSample&) {}, nullptr, options);
     driver.start();
     std::this_thread::sleep_for(std::chrono::milliseconds(60));
     const XsensHealth h = driver.health();

@@ -1,12 +1,13 @@
 // `handscan decode --device xsens` output: one JSON line per message, items named as in the XDI
 // table, values in SI units, golden values reproduced digit for digit, summary counts.
+#include "handscan/xsens/xsens_json.hpp"
+
 #include <gtest/gtest.h>
 
 #include <sstream>
 
 #include "handscan/xsens/mtdata2.hpp"
 #include "handscan/xsens/xbus_messages.hpp"
-#include "handscan/xsens/xsens_json.hpp"
 #include "xsens_test_files.hpp"
 
 namespace handscan::xsens {
@@ -29,7 +30,8 @@ std::vector<std::string> goldenValues(const std::filesystem::path& file, const s
             in_item = line.rfind(item + "(", 0) == 0;
             continue;
         }
-        if (in_item && line.rfind("  " + key + ":", 0) == 0) values.push_back(line.substr(3 + key.size()));
+        if (in_item && line.rfind("  " + key + ":", 0) == 0)
+            values.push_back(line.substr(3 + key.size()));
     }
     return values;
 }
@@ -44,7 +46,8 @@ TEST_P(XsensJsonCapture, EveryMessageIsALineWithTheGoldenDigits) {
     const auto bytes = test::readBytes(dir / "output.bin");
     // Fed in odd-sized chunks, as a recording's messages would be.
     for (std::size_t off = 0; off < bytes.size(); off += 333) {
-        decoder.feed(static_cast<TimeNs>(off), std::span(bytes).subspan(off, std::min<std::size_t>(333, bytes.size() - off)),
+        decoder.feed(static_cast<TimeNs>(off),
+                     std::span(bytes).subspan(off, std::min<std::size_t>(333, bytes.size() - off)),
                      out);
     }
     const auto lines = splitLines(out.str());
@@ -73,10 +76,13 @@ TEST_P(XsensJsonCapture, EveryMessageIsALineWithTheGoldenDigits) {
             continue;
         }
         ASSERT_EQ(golden.size(), acc_lines.size());
-        const std::string key = "\"" + std::string(1, static_cast<char>(std::tolower(axis[0]))) + "\":";
+        const std::string key =
+            "\"" + std::string(1, static_cast<char>(std::tolower(axis[0]))) + "\":";
         for (std::size_t i = 0; i < golden.size(); ++i) {
             const auto at = acc_lines[i].find("\"Acceleration\":");
-            EXPECT_NE(acc_lines[i].find(key + golden[i], at), std::string::npos) << golden[i] << "\n" << acc_lines[i];
+            EXPECT_NE(acc_lines[i].find(key + golden[i], at), std::string::npos)
+                << golden[i] << "\n"
+                << acc_lines[i];
         }
     }
 }
@@ -101,7 +107,9 @@ TEST(XsensJson, DamageIsCountedInTheSummary) {
 
 TEST(XsensJson, ControlMessagesUnknownItemsAndSiUnits) {
     std::vector<std::uint8_t> stream;
-    auto add = [&](const std::vector<std::uint8_t>& f) { stream.insert(stream.end(), f.begin(), f.end()); };
+    auto add = [&](const std::vector<std::uint8_t>& f) {
+        stream.insert(stream.end(), f.begin(), f.end());
+    };
     add(encodeFrame(MessageId::kGoToConfigAck));
     add(encodeFrame(MessageId::kDeviceId, encodeDeviceId(0x037003F8)));
     add(encodeErrorFrame(ErrorCode::kInvalidPeriod));
@@ -110,8 +118,10 @@ TEST(XsensJson, ControlMessagesUnknownItemsAndSiUnits) {
     MtData2Builder b;
     const double euler_deg[3] = {90.0, -45.0, 180.0};
     const std::vector<std::uint8_t> junk{0xDE, 0xAD};
-    b.packetCounter(1).sampleTimeFine(10000).reals(withFormat(xdi::kEulerAngles, Precision::kFloat64, CoordSys::kNed),
-                                                     euler_deg).raw(0x9990, junk);
+    b.packetCounter(1)
+        .sampleTimeFine(10000)
+        .reals(withFormat(xdi::kEulerAngles, Precision::kFloat64, CoordSys::kNed), euler_deg)
+        .raw(0x9990, junk);
     add(b.frame());
     XsensJsonDecoder decoder;
     std::ostringstream out;
@@ -120,17 +130,21 @@ TEST(XsensJson, ControlMessagesUnknownItemsAndSiUnits) {
     ASSERT_EQ(lines.size(), 5u);
     EXPECT_EQ(lines[0], R"({"t_host_ns":123,"message":"GoToConfigAck"})");
     EXPECT_EQ(lines[1], R"({"t_host_ns":123,"message":"DeviceID","device_id":"037003F8"})");
-    EXPECT_NE(lines[2].find(R"("message":"Error","code":3,"error":"InvalidPeriod (0x03))"), std::string::npos);
-    EXPECT_NE(lines[3].find(R"("outputs":[{"name":"PacketCounter","xdi":"0x1020","rate_hz":"every packet"},)"
-                            R"({"name":"Acceleration","xdi":"0x4020","rate_hz":200}])"),
+    EXPECT_NE(lines[2].find(R"("message":"Error","code":3,"error":"InvalidPeriod (0x03))"),
+              std::string::npos);
+    EXPECT_NE(lines[3].find(
+                  R"("outputs":[{"name":"PacketCounter","xdi":"0x1020","rate_hz":"every packet"},)"
+                  R"({"name":"Acceleration","xdi":"0x4020","rate_hz":200}])"),
               std::string::npos)
         << lines[3];
     EXPECT_NE(lines[4].find(R"("t_device_s":1,)"), std::string::npos) << lines[4];
-    EXPECT_NE(lines[4].find(R"("EulerAngles":{"roll":1.5707963267948966,"pitch":-0.7853981633974483,)"
-                            R"("yaw":3.141592653589793,"unit":"rad","format":"Float64","coords":"NED"})"),
-              std::string::npos)
+    EXPECT_NE(
+        lines[4].find(R"("EulerAngles":{"roll":1.5707963267948966,"pitch":-0.7853981633974483,)"
+                      R"("yaw":3.141592653589793,"unit":"rad","format":"Float64","coords":"NED"})"),
+        std::string::npos)
         << lines[4];
-    EXPECT_NE(lines[4].find(R"("Unknown_0x9990":{"xdi":"0x9990","raw":"dead","problem":)"), std::string::npos)
+    EXPECT_NE(lines[4].find(R"("Unknown_0x9990":{"xdi":"0x9990","raw":"dead","problem":)"),
+              std::string::npos)
         << lines[4];
 }
 
@@ -143,13 +157,15 @@ namespace {
 // Found by fuzz_xbus_parser: a UtcTime with nanoseconds >= 2^31 overflowed an int conversion.
 TEST(XsensJson, UtcTimeWithHugeNanosecondsIsPrintedNotUndefined) {
     MtData2Builder b;
-    const std::vector<std::uint8_t> utc{0xFF, 0xFF, 0xFF, 0xFF, 0x07, 0xE3, 1, 20, 13, 47, 24, 0x37};
+    const std::vector<std::uint8_t> utc{0xFF, 0xFF, 0xFF, 0xFF, 0x07, 0xE3,
+                                        1,    20,   13,   47,   24,   0x37};
     b.raw(xdi::kUtcTime, utc);
     XsensJsonDecoder decoder;
     std::ostringstream out;
     decoder.feed(0, b.frame(), out);
     EXPECT_NE(out.str().find(R"("ns":4294967295,)"), std::string::npos) << out.str();
-    EXPECT_NE(out.str().find(R"("iso":"2019-01-20T13:47:24.4294967295Z")"), std::string::npos) << out.str();
+    EXPECT_NE(out.str().find(R"("iso":"2019-01-20T13:47:24.4294967295Z")"), std::string::npos)
+        << out.str();
 }
 
 }  // namespace

@@ -10,7 +10,9 @@
 
 namespace handscan::xsens::test {
 
-inline std::filesystem::path xsensDataDir() { return std::filesystem::path(HANDSCAN_SHARED_DATA_DIR) / "xsens"; }
+inline std::filesystem::path xsensDataDir() {
+    return std::filesystem::path(HANDSCAN_SHARED_DATA_DIR) / "xsens";
+}
 
 inline std::vector<std::uint8_t> readBytes(const std::filesystem::path& p) {
     std::ifstream in(p, std::ios::binary);

@@ -28,7 +28,8 @@ Eigen::Vector3d closestPointOnTriangle(const Eigen::Vector3d& p, const Eigen::Ve
     }
     const double denom = va + vb + vc;
     if (denom <= 0.0) {  // degenerate (zero-area) triangle: nearest of its edges
-        const Eigen::Vector3d e[3] = {closestPointOnTriangle(p, a, b, b), closestPointOnTriangle(p, b, c, c),
+        const Eigen::Vector3d e[3] = {closestPointOnTriangle(p, a, b, b),
+                                      closestPointOnTriangle(p, b, c, c),
                                       closestPointOnTriangle(p, a, c, c)};
         return *std::min_element(std::begin(e), std::end(e), [&](const auto& x, const auto& y) {
             return (x - p).squaredNorm() < (y - p).squaredNorm();
@@ -38,8 +39,8 @@ Eigen::Vector3d closestPointOnTriangle(const Eigen::Vector3d& p, const Eigen::Ve
     return a + ab * v + ac * w;
 }
 
-double pointTriangleDistance(const Eigen::Vector3d& p, const Eigen::Vector3d& a, const Eigen::Vector3d& b,
-                             const Eigen::Vector3d& c) {
+double pointTriangleDistance(const Eigen::Vector3d& p, const Eigen::Vector3d& a,
+                             const Eigen::Vector3d& b, const Eigen::Vector3d& c) {
     return (closestPointOnTriangle(p, a, b, c) - p).norm();
 }
 
@@ -63,8 +64,10 @@ struct QueryState {
 bool closestTriangleCallback(RTCPointQueryFunctionArguments* args) {
     auto* q = static_cast<QueryState*>(args->userPtr);
     const auto& t = q->mesh->triangles[args->primID];
-    const double d_sq = (closestPointOnTriangle(q->p, q->mesh->vertices[t[0]], q->mesh->vertices[t[1]],
-                                                q->mesh->vertices[t[2]]) - q->p).squaredNorm();
+    const double d_sq = (closestPointOnTriangle(q->p, q->mesh->vertices[t[0]],
+                                                q->mesh->vertices[t[1]], q->mesh->vertices[t[2]]) -
+                         q->p)
+                            .squaredNorm();
     if (d_sq < q->best_sq) {
         q->best_sq = d_sq;
         // Shrink the search sphere (slightly padded for the BVH's float bounds).
@@ -81,24 +84,31 @@ MeshDistance::MeshDistance(PlyGeometry mesh, std::unique_ptr<Bvh> bvh)
 
 Result<std::unique_ptr<MeshDistance>> MeshDistance::build(PlyGeometry mesh) {
     if (mesh.triangles.empty()) {
-        return Status(StatusCode::kInvalidArgument, "mesh distance: the mesh has no triangles (faces)");
+        return Status(StatusCode::kInvalidArgument,
+                      "mesh distance: the mesh has no triangles (faces)");
     }
     auto bvh = std::make_unique<Bvh>();
     bvh->device = rtcNewDevice("threads=1");
-    if (!bvh->device) return Status(StatusCode::kDeviceError, "mesh distance: Embree device creation failed");
+    if (!bvh->device)
+        return Status(StatusCode::kDeviceError, "mesh distance: Embree device creation failed");
     bvh->scene = rtcNewScene(bvh->device);
     std::unique_ptr<MeshDistance> out(new MeshDistance(std::move(mesh), std::move(bvh)));
     const PlyGeometry& mesh_ = out->mesh_;
     RTCGeometry geom = rtcNewGeometry(out->bvh_->device, RTC_GEOMETRY_TYPE_TRIANGLE);
-    auto* v = static_cast<float*>(rtcSetNewGeometryBuffer(geom, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3,
-                                                          3 * sizeof(float), mesh_.vertices.size()));
+    auto* v = static_cast<float*>(rtcSetNewGeometryBuffer(geom, RTC_BUFFER_TYPE_VERTEX, 0,
+                                                          RTC_FORMAT_FLOAT3, 3 * sizeof(float),
+                                                          mesh_.vertices.size()));
     for (std::size_t i = 0; i < mesh_.vertices.size(); ++i) {
-        for (int k = 0; k < 3; ++k) v[3 * i + static_cast<std::size_t>(k)] = static_cast<float>(mesh_.vertices[i][k]);
+        for (int k = 0; k < 3; ++k)
+            v[3 * i + static_cast<std::size_t>(k)] = static_cast<float>(mesh_.vertices[i][k]);
     }
-    auto* idx = static_cast<unsigned*>(rtcSetNewGeometryBuffer(geom, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3,
-                                                               3 * sizeof(unsigned), mesh_.triangles.size()));
+    auto* idx = static_cast<unsigned*>(
+        rtcSetNewGeometryBuffer(geom, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3,
+                                3 * sizeof(unsigned), mesh_.triangles.size()));
     for (std::size_t i = 0; i < mesh_.triangles.size(); ++i) {
-        for (int k = 0; k < 3; ++k) idx[3 * i + static_cast<std::size_t>(k)] = mesh_.triangles[i][static_cast<std::size_t>(k)];
+        for (int k = 0; k < 3; ++k)
+            idx[3 * i + static_cast<std::size_t>(k)] =
+                mesh_.triangles[i][static_cast<std::size_t>(k)];
     }
     rtcCommitGeometry(geom);
     rtcAttachGeometry(out->bvh_->scene, geom);
@@ -123,7 +133,8 @@ double MeshDistance::distance(const Eigen::Vector3d& p) const {
     return std::sqrt(state.best_sq);
 }
 
-MapErrorResult computeMapError(const std::vector<Eigen::Vector3d>& map_points, const MeshDistance& mesh) {
+MapErrorResult computeMapError(const std::vector<Eigen::Vector3d>& map_points,
+                               const MeshDistance& mesh) {
     MapErrorResult r;
     std::vector<double> d;
     d.reserve(map_points.size());
@@ -135,7 +146,10 @@ MapErrorResult computeMapError(const std::vector<Eigen::Vector3d>& map_points, c
     r.points = d.size();
     if (d.empty()) return r;
     std::sort(d.begin(), d.end());
-    auto pct = [&](double q) { return d[std::min(d.size() - 1, static_cast<std::size_t>(q * static_cast<double>(d.size())))]; };
+    auto pct = [&](double q) {
+        return d[std::min(d.size() - 1,
+                          static_cast<std::size_t>(q * static_cast<double>(d.size())))];
+    };
     r.median_m = pct(0.5);
     r.p90_m = pct(0.9);
     r.p99_m = pct(0.99);

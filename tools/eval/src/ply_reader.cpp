@@ -1,10 +1,10 @@
 #include "handscan/eval/ply_reader.hpp"
 
+#include <fmt/format.h>
+
 #include <cstring>
 #include <fstream>
 #include <sstream>
-
-#include <fmt/format.h>
 
 namespace handscan::eval {
 namespace {
@@ -13,10 +13,12 @@ enum class Scalar { kI8, kU8, kI16, kU16, kI32, kU32, kF32, kF64 };
 
 bool scalarFromName(const std::string& s, Scalar& out) {
     static const std::pair<const char*, Scalar> kNames[] = {
-        {"char", Scalar::kI8},     {"int8", Scalar::kI8},     {"uchar", Scalar::kU8},   {"uint8", Scalar::kU8},
-        {"short", Scalar::kI16},   {"int16", Scalar::kI16},   {"ushort", Scalar::kU16}, {"uint16", Scalar::kU16},
-        {"int", Scalar::kI32},     {"int32", Scalar::kI32},   {"uint", Scalar::kU32},   {"uint32", Scalar::kU32},
-        {"float", Scalar::kF32},   {"float32", Scalar::kF32}, {"double", Scalar::kF64}, {"float64", Scalar::kF64}};
+        {"char", Scalar::kI8},    {"int8", Scalar::kI8},     {"uchar", Scalar::kU8},
+        {"uint8", Scalar::kU8},   {"short", Scalar::kI16},   {"int16", Scalar::kI16},
+        {"ushort", Scalar::kU16}, {"uint16", Scalar::kU16},  {"int", Scalar::kI32},
+        {"int32", Scalar::kI32},  {"uint", Scalar::kU32},    {"uint32", Scalar::kU32},
+        {"float", Scalar::kF32},  {"float32", Scalar::kF32}, {"double", Scalar::kF64},
+        {"float64", Scalar::kF64}};
     for (const auto& [name, type] : kNames) {
         if (s == name) {
             out = type;
@@ -28,10 +30,18 @@ bool scalarFromName(const std::string& s, Scalar& out) {
 
 std::size_t scalarSize(Scalar s) {
     switch (s) {
-        case Scalar::kI8: case Scalar::kU8: return 1;
-        case Scalar::kI16: case Scalar::kU16: return 2;
-        case Scalar::kI32: case Scalar::kU32: case Scalar::kF32: return 4;
-        case Scalar::kF64: return 8;
+        case Scalar::kI8:
+        case Scalar::kU8:
+            return 1;
+        case Scalar::kI16:
+        case Scalar::kU16:
+            return 2;
+        case Scalar::kI32:
+        case Scalar::kU32:
+        case Scalar::kF32:
+            return 4;
+        case Scalar::kF64:
+            return 8;
     }
     return 0;
 }
@@ -52,7 +62,8 @@ struct Element {
 // Reads values one at a time from either encoding.
 class ValueReader {
 public:
-    ValueReader(const std::string& bytes, std::size_t pos, bool binary) : b_(bytes), pos_(pos), binary_(binary) {}
+    ValueReader(const std::string& bytes, std::size_t pos, bool binary)
+        : b_(bytes), pos_(pos), binary_(binary) {}
     bool read(Scalar t, double& v) {
         if (!binary_) {
             while (pos_ < b_.size() && std::isspace(static_cast<unsigned char>(b_[pos_]))) ++pos_;
@@ -69,14 +80,54 @@ public:
         const char* p = b_.data() + pos_;
         pos_ += n;
         switch (t) {
-            case Scalar::kI8: { std::int8_t x; std::memcpy(&x, p, 1); v = x; break; }
-            case Scalar::kU8: { std::uint8_t x; std::memcpy(&x, p, 1); v = x; break; }
-            case Scalar::kI16: { std::int16_t x; std::memcpy(&x, p, 2); v = x; break; }
-            case Scalar::kU16: { std::uint16_t x; std::memcpy(&x, p, 2); v = x; break; }
-            case Scalar::kI32: { std::int32_t x; std::memcpy(&x, p, 4); v = x; break; }
-            case Scalar::kU32: { std::uint32_t x; std::memcpy(&x, p, 4); v = x; break; }
-            case Scalar::kF32: { float x; std::memcpy(&x, p, 4); v = x; break; }
-            case Scalar::kF64: { double x; std::memcpy(&x, p, 8); v = x; break; }
+            case Scalar::kI8: {
+                std::int8_t x;
+                std::memcpy(&x, p, 1);
+                v = x;
+                break;
+            }
+            case Scalar::kU8: {
+                std::uint8_t x;
+                std::memcpy(&x, p, 1);
+                v = x;
+                break;
+            }
+            case Scalar::kI16: {
+                std::int16_t x;
+                std::memcpy(&x, p, 2);
+                v = x;
+                break;
+            }
+            case Scalar::kU16: {
+                std::uint16_t x;
+                std::memcpy(&x, p, 2);
+                v = x;
+                break;
+            }
+            case Scalar::kI32: {
+                std::int32_t x;
+                std::memcpy(&x, p, 4);
+                v = x;
+                break;
+            }
+            case Scalar::kU32: {
+                std::uint32_t x;
+                std::memcpy(&x, p, 4);
+                v = x;
+                break;
+            }
+            case Scalar::kF32: {
+                float x;
+                std::memcpy(&x, p, 4);
+                v = x;
+                break;
+            }
+            case Scalar::kF64: {
+                double x;
+                std::memcpy(&x, p, 8);
+                v = x;
+                break;
+            }
         }
         return true;
     }
@@ -119,16 +170,20 @@ Result<PlyGeometry> parsePly(const std::string& bytes, const std::string& name) 
             } else if (fmt_name == "binary_little_endian") {
                 binary = true;
             } else {
-                return error(fmt::format("header line {}: format '{}' not supported (ascii or "
-                                         "binary_little_endian)", line_no, fmt_name));
+                return error(
+                    fmt::format("header line {}: format '{}' not supported (ascii or "
+                                "binary_little_endian)",
+                                line_no, fmt_name));
             }
         } else if (key == "element") {
             Element e;
             ls >> e.name >> e.count;
-            if (!ls) return error(fmt::format("header line {}: malformed element '{}'", line_no, line));
+            if (!ls)
+                return error(fmt::format("header line {}: malformed element '{}'", line_no, line));
             elements.push_back(e);
         } else if (key == "property") {
-            if (elements.empty()) return error(fmt::format("header line {}: property before any element", line_no));
+            if (elements.empty())
+                return error(fmt::format("header line {}: property before any element", line_no));
             Property p;
             std::string type;
             ls >> type;
@@ -137,12 +192,14 @@ Result<PlyGeometry> parsePly(const std::string& bytes, const std::string& name) 
                 ls >> ct >> vt >> p.name;
                 p.is_list = true;
                 if (!scalarFromName(ct, p.count_type) || !scalarFromName(vt, p.type)) {
-                    return error(fmt::format("header line {}: unknown list types in '{}'", line_no, line));
+                    return error(
+                        fmt::format("header line {}: unknown list types in '{}'", line_no, line));
                 }
             } else {
                 ls >> p.name;
                 if (!scalarFromName(type, p.type)) {
-                    return error(fmt::format("header line {}: unknown property type '{}'", line_no, type));
+                    return error(
+                        fmt::format("header line {}: unknown property type '{}'", line_no, type));
                 }
             }
             elements.back().properties.push_back(p);
@@ -160,7 +217,8 @@ Result<PlyGeometry> parsePly(const std::string& bytes, const std::string& name) 
             if (e.properties[i].name == "y") iy = static_cast<int>(i);
             if (e.properties[i].name == "z") iz = static_cast<int>(i);
         }
-        if (is_vertex && (ix < 0 || iy < 0 || iz < 0)) return error("vertex element lacks x, y or z");
+        if (is_vertex && (ix < 0 || iy < 0 || iz < 0))
+            return error("vertex element lacks x, y or z");
         if (is_vertex) out.vertices.reserve(e.count);
         std::vector<double> list;
         for (std::size_t r = 0; r < e.count; ++r) {
@@ -170,7 +228,8 @@ Result<PlyGeometry> parsePly(const std::string& bytes, const std::string& name) 
                 double value = 0.0;
                 if (!p.is_list) {
                     if (!reader.read(p.type, value)) {
-                        return error(fmt::format("truncated: {} {} of {} ends early", e.name, r, e.count));
+                        return error(
+                            fmt::format("truncated: {} {} of {} ends early", e.name, r, e.count));
                     }
                     if (static_cast<int>(pi) == ix) v.x() = value;
                     if (static_cast<int>(pi) == iy) v.y() = value;
@@ -179,12 +238,14 @@ Result<PlyGeometry> parsePly(const std::string& bytes, const std::string& name) 
                 }
                 double count = 0.0;
                 if (!reader.read(p.count_type, count) || count < 0) {
-                    return error(fmt::format("truncated: {} {} of {} ends early", e.name, r, e.count));
+                    return error(
+                        fmt::format("truncated: {} {} of {} ends early", e.name, r, e.count));
                 }
                 list.resize(static_cast<std::size_t>(count));
                 for (double& x : list) {
                     if (!reader.read(p.type, x)) {
-                        return error(fmt::format("truncated: {} {} of {} ends early", e.name, r, e.count));
+                        return error(
+                            fmt::format("truncated: {} {} of {} ends early", e.name, r, e.count));
                     }
                 }
                 if (is_face && (p.name == "vertex_indices" || p.name == "vertex_index")) {
@@ -201,7 +262,8 @@ Result<PlyGeometry> parsePly(const std::string& bytes, const std::string& name) 
     for (const auto& t : out.triangles) {
         for (std::uint32_t i : t) {
             if (i >= out.vertices.size()) {
-                return error(fmt::format("face refers to vertex {} but there are only {}", i, out.vertices.size()));
+                return error(fmt::format("face refers to vertex {} but there are only {}", i,
+                                         out.vertices.size()));
             }
         }
     }

@@ -70,13 +70,15 @@ Alignment alignTrajectories(const std::vector<PosePair>& pairs) {
 
     // A path that stays in one plane (a walk over flat ground) cannot tell its two proper fits
     // apart: the one above and the one that mirrors the path within its plane and turns it upside
-    // down (U diag(1, -1, -s) V^T). A drifting estimate can fit the mirrored branch a little better,
-    // which reports every pose 180 degrees off. For such paths the orientations decide.
-    const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> shape(src * src.transpose() / static_cast<double>(n));
+    // down (U diag(1, -1, -s) V^T). A drifting estimate can fit the mirrored branch a little
+    // better, which reports every pose 180 degrees off. For such paths the orientations decide.
+    const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> shape(src * src.transpose() /
+                                                               static_cast<double>(n));
     const Eigen::Vector3d var = shape.eigenvalues().cwiseMax(0.0);  // ascending
     a.planar = std::sqrt(var(0)) < kPlanarPathRatio * std::sqrt(var(1));
     if (a.planar) {
-        const Eigen::Matrix3d R_mirror = U * Eigen::Vector3d(1.0, -1.0, -s).asDiagonal() * V.transpose();
+        const Eigen::Matrix3d R_mirror =
+            U * Eigen::Vector3d(1.0, -1.0, -s).asDiagonal() * V.transpose();
         if (meanOrientationError(pairs, R_mirror) < meanOrientationError(pairs, R)) {
             R = R_mirror;
             a.took_other_branch = true;
@@ -87,7 +89,9 @@ Alignment alignTrajectories(const std::vector<PosePair>& pairs) {
     return a;
 }
 
-Eigen::Isometry3d alignSE3(const std::vector<PosePair>& pairs) { return alignTrajectories(pairs).T_gt_est; }
+Eigen::Isometry3d alignSE3(const std::vector<PosePair>& pairs) {
+    return alignTrajectories(pairs).T_gt_est;
+}
 
 ErrorStats computeStats(std::vector<double> e) {
     ErrorStats s;
@@ -105,7 +109,8 @@ ErrorStats computeStats(std::vector<double> e) {
     std::nth_element(e.begin(), e.begin() + static_cast<std::ptrdiff_t>(mid), e.end());
     s.median = e[mid];
     if (e.size() % 2 == 0) {
-        s.median = 0.5 * (s.median + *std::max_element(e.begin(), e.begin() + static_cast<std::ptrdiff_t>(mid)));
+        s.median = 0.5 * (s.median + *std::max_element(
+                                         e.begin(), e.begin() + static_cast<std::ptrdiff_t>(mid)));
     }
     return s;
 }

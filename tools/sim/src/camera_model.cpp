@@ -31,7 +31,8 @@ double normalQuantile(double p) {
 
 std::vector<Eigen::Vector3f> cameraRays(const CameraIntrinsics& cam) {
     const int w = cam.resolution[0], h = cam.resolution[1];
-    const double fu = cam.intrinsics[0], fv = cam.intrinsics[1], cu = cam.intrinsics[2], cv = cam.intrinsics[3];
+    const double fu = cam.intrinsics[0], fv = cam.intrinsics[1], cu = cam.intrinsics[2],
+                 cv = cam.intrinsics[3];
     const auto& k = cam.distortion_coeffs;
     auto coeff = [&](std::size_t i) { return i < k.size() ? k[i] : 0.0; };
     std::vector<Eigen::Vector3f> rays(static_cast<std::size_t>(w) * h);
@@ -40,13 +41,19 @@ std::vector<Eigen::Vector3f> cameraRays(const CameraIntrinsics& cam) {
             const double mx = (u - cu) / fu, my = (v - cv) / fv;
             Eigen::Vector3d d;
             if (cam.distortion_model == "equidistant") {
-                // Kalibr pinhole-equi: theta_d = theta (1 + k1 theta^2 + k2 theta^4 + k3 theta^6 + k4 theta^8).
+                // Kalibr pinhole-equi: theta_d = theta (1 + k1 theta^2 + k2 theta^4 + k3 theta^6 +
+                // k4 theta^8).
                 const double theta_d = std::hypot(mx, my);
                 double th = theta_d;
                 for (int it = 0; it < 8; ++it) {
                     const double t2 = th * th;
-                    const double f = th * (1 + t2 * (coeff(0) + t2 * (coeff(1) + t2 * (coeff(2) + t2 * coeff(3))))) - theta_d;
-                    const double df = 1 + t2 * (3 * coeff(0) + t2 * (5 * coeff(1) + t2 * (7 * coeff(2) + t2 * 9 * coeff(3))));
+                    const double f =
+                        th * (1 +
+                              t2 * (coeff(0) + t2 * (coeff(1) + t2 * (coeff(2) + t2 * coeff(3))))) -
+                        theta_d;
+                    const double df =
+                        1 + t2 * (3 * coeff(0) +
+                                  t2 * (5 * coeff(1) + t2 * (7 * coeff(2) + t2 * 9 * coeff(3))));
                     th -= f / df;
                 }
                 const double s = theta_d > 1e-12 ? std::sin(th) / theta_d : 1.0;
@@ -55,7 +62,8 @@ std::vector<Eigen::Vector3f> cameraRays(const CameraIntrinsics& cam) {
                 // Invert k1 k2 p1 p2 by fixed-point iteration.
                 double x = mx, y = my;
                 for (int it = 0; it < 20; ++it) {
-                    const double r2 = x * x + y * y, radial = 1 + coeff(0) * r2 + coeff(1) * r2 * r2;
+                    const double r2 = x * x + y * y,
+                                 radial = 1 + coeff(0) * r2 + coeff(1) * r2 * r2;
                     const double dx = 2 * coeff(2) * x * y + coeff(3) * (r2 + 2 * x * x);
                     const double dy = coeff(2) * (r2 + 2 * y * y) + 2 * coeff(3) * x * y;
                     x = (mx - dx) / radial;
@@ -73,23 +81,31 @@ std::vector<Eigen::Vector3f> cameraRays(const CameraIntrinsics& cam) {
 
 CameraRenderer::CameraRenderer(const CameraIntrinsics& intrinsics, const CameraRenderConfig& config,
                                const Raycaster& raycaster, Rng rng)
-    : intr_(intrinsics), cfg_(config), rc_(raycaster), rng_(rng), w_(intrinsics.resolution[0]),
-      h_(intrinsics.resolution[1]), channels_(config.colour ? 3 : 1) {
+    : intr_(intrinsics),
+      cfg_(config),
+      rc_(raycaster),
+      rng_(rng),
+      w_(intrinsics.resolution[0]),
+      h_(intrinsics.resolution[1]),
+      channels_(config.colour ? 3 : 1) {
     if (w_ <= 1 || h_ <= 1) throw std::invalid_argument("camera resolution must be at least 2x2");
     const double sc = std::clamp(cfg_.render_scale, 0.1, 1.0);
     rw_ = std::max(2, static_cast<int>(std::lround(w_ * sc)));
     rh_ = std::max(2, static_cast<int>(std::lround(h_ * sc)));
     CameraIntrinsics shading = intr_;
     if (rw_ != w_ || rh_ != h_) {
-        // Same lens, fewer pixels: scale focal lengths and principal point (pixel-centre convention).
+        // Same lens, fewer pixels: scale focal lengths and principal point (pixel-centre
+        // convention).
         const double sx = static_cast<double>(rw_) / w_, sy = static_cast<double>(rh_) / h_;
-        shading.intrinsics = {intr_.intrinsics[0] * sx, intr_.intrinsics[1] * sy, (intr_.intrinsics[2] + 0.5) * sx - 0.5,
+        shading.intrinsics = {intr_.intrinsics[0] * sx, intr_.intrinsics[1] * sy,
+                              (intr_.intrinsics[2] + 0.5) * sx - 0.5,
                               (intr_.intrinsics[3] + 0.5) * sy - 0.5};
         shading.resolution = {rw_, rh_};
     }
     dirs_ = cameraRays(shading);
     vignette_.resize(dirs_.size());
-    for (std::size_t i = 0; i < dirs_.size(); ++i) vignette_[i] = std::pow(std::max(dirs_[i].z(), 0.05f), 1.5f);
+    for (std::size_t i = 0; i < dirs_.size(); ++i)
+        vignette_[i] = std::pow(std::max(dirs_[i].z(), 0.05f), 1.5f);
     pixel_angle_ = static_cast<float>(1.0 / shading.intrinsics[0]);
     // Group triangles by (plane, material): a grid cell whose corners share a group is planar.
     const World& w = rc_.world();
@@ -100,30 +116,34 @@ CameraRenderer::CameraRenderer(const CameraIntrinsics& intrinsics, const CameraR
         const Eigen::Vector3f n = w.triangleNormal(i);
         const float d = n.dot(w.vertices[w.triangles[i][0]]);
         planes_[i] = Eigen::Vector4f(n.x(), n.y(), n.z(), d);
-        const auto key = std::make_tuple(std::lround(n.x() * 2000), std::lround(n.y() * 2000), std::lround(n.z() * 2000),
-                                         std::lround(d * 1000), static_cast<int>(w.triangle_material[i]));
+        const auto key = std::make_tuple(std::lround(n.x() * 2000), std::lround(n.y() * 2000),
+                                         std::lround(n.z() * 2000), std::lround(d * 1000),
+                                         static_cast<int>(w.triangle_material[i]));
         plane_id_[i] = ids.emplace(key, static_cast<std::uint32_t>(ids.size())).first->second;
     }
     // Standard normal quantiles at (k + 0.5) / 4096: a table small enough for L1, of exactly
     // Gaussian shape (to +-3.5 sigma); the noise draws pick entries uniformly.
     gauss_table_.resize(4096);
     for (std::size_t k = 0; k < gauss_table_.size(); ++k) {
-        gauss_table_[k] = static_cast<float>(normalQuantile((static_cast<double>(k) + 0.5) / 4096.0));
+        gauss_table_[k] =
+            static_cast<float>(normalQuantile((static_cast<double>(k) + 0.5) / 4096.0));
     }
     // Column taps of the bilinear upsampling (render_scale < 1).
     up_x0_.resize(static_cast<std::size_t>(w_));
     up_tx_.resize(static_cast<std::size_t>(w_));
     const float sx = static_cast<float>(rw_) / static_cast<float>(w_);
     for (int x = 0; x < w_; ++x) {
-        const float fx = std::clamp((static_cast<float>(x) + 0.5f) * sx - 0.5f, 0.0f, static_cast<float>(rw_ - 1));
+        const float fx = std::clamp((static_cast<float>(x) + 0.5f) * sx - 0.5f, 0.0f,
+                                    static_cast<float>(rw_ - 1));
         const int x0 = std::min(static_cast<int>(fx), rw_ - 2);
         up_x0_[static_cast<std::size_t>(x)] = static_cast<std::size_t>(x0);
         up_tx_[static_cast<std::size_t>(x)] = fx - static_cast<float>(x0);
     }
 }
 
-void CameraRenderer::shade(std::size_t pixel, const Eigen::Vector3f& origin, const Eigen::Vector3f& dir, float t,
-                           std::uint32_t triangle, float* out) const {
+void CameraRenderer::shade(std::size_t pixel, const Eigen::Vector3f& origin,
+                           const Eigen::Vector3f& dir, float t, std::uint32_t triangle,
+                           float* out) const {
     const World& w = rc_.world();
     const Material& m = w.materials[w.triangle_material[triangle]];
     Eigen::Vector3f n = planes_[triangle].head<3>();
@@ -137,7 +157,8 @@ void CameraRenderer::shade(std::size_t pixel, const Eigen::Vector3f& origin, con
     const Eigen::Vector2f uv = TextureAtlas::planarUv(p, n, m.texture_scale_m);
     const float footprint = t * pixel_angle_ / (m.texture_scale_m * std::max(cos_inc, 0.25f));
     static const Eigen::Vector3f kLight = Eigen::Vector3f(0.3f, 0.2f, 0.93f).normalized();
-    const float light = (0.55f + 0.45f * std::max(0.0f, n.dot(kLight))) * vignette_[pixel] * static_cast<float>(cfg_.illumination);
+    const float light = (0.55f + 0.45f * std::max(0.0f, n.dot(kLight))) * vignette_[pixel] *
+                        static_cast<float>(cfg_.illumination);
     const TextureAtlas& atlas = TextureAtlas::instance();
     if (channels_ == 1) {
         const float albedo = 0.299f * m.colour[0] + 0.587f * m.colour[1] + 0.114f * m.colour[2];
@@ -159,10 +180,12 @@ void CameraRenderer::radiance(const Eigen::Isometry3d& T, std::vector<float>& ra
     const Eigen::Vector3f light_dir = Eigen::Vector3f(0.3f, 0.2f, 0.93f).normalized();
     const float illum = static_cast<float>(cfg_.illumination);
     rad.assign(static_cast<std::size_t>(rw_) * rh_ * channels_, 0.0f);
-    const float sky[3] = {0.75f * static_cast<float>(cfg_.illumination), 0.8f * static_cast<float>(cfg_.illumination),
+    const float sky[3] = {0.75f * static_cast<float>(cfg_.illumination),
+                          0.8f * static_cast<float>(cfg_.illumination),
                           0.9f * static_cast<float>(cfg_.illumination)};
     auto setSky = [&](std::size_t p) {
-        for (int c = 0; c < channels_; ++c) rad[p * channels_ + c] = channels_ == 1 ? 0.8f * sky[0] / 0.75f : sky[c];
+        for (int c = 0; c < channels_; ++c)
+            rad[p * channels_ + c] = channels_ == 1 ? 0.8f * sky[0] / 0.75f : sky[c];
     };
     // 1. Coarse grid of rays.
     std::vector<int> gx, gy;
@@ -194,7 +217,8 @@ void CameraRenderer::radiance(const Eigen::Isometry3d& T, std::vector<float>& ra
             const bool all_hit = a.hit() && b.hit() && c.hit() && d.hit();
             const bool none_hit = !a.hit() && !b.hit() && !c.hit() && !d.hit();
             if (all_hit && plane_id_[a.triangle] == plane_id_[b.triangle] &&
-                plane_id_[a.triangle] == plane_id_[c.triangle] && plane_id_[a.triangle] == plane_id_[d.triangle]) {
+                plane_id_[a.triangle] == plane_id_[c.triangle] &&
+                plane_id_[a.triangle] == plane_id_[d.triangle]) {
                 // One surface: material, light, texture axes and mip level are the cell's.
                 const Eigen::Vector4f& pl = planes_[a.triangle];
                 const Eigen::Vector3f n = pl.head<3>();
@@ -205,17 +229,19 @@ void CameraRenderer::radiance(const Eigen::Isometry3d& T, std::vector<float>& ra
                 const float light = (0.55f + 0.45f * std::max(0.0f, nf.dot(light_dir))) * illum;
                 float k[3];
                 if (channels_ == 1) {
-                    k[0] = light * (0.299f * m.colour[0] + 0.587f * m.colour[1] + 0.114f * m.colour[2]);
+                    k[0] = light *
+                           (0.299f * m.colour[0] + 0.587f * m.colour[1] + 0.114f * m.colour[2]);
                 } else {
-                    for (int ch = 0; ch < 3; ++ch) k[ch] = light * m.colour[static_cast<std::size_t>(ch)];
+                    for (int ch = 0; ch < 3; ++ch)
+                        k[ch] = light * m.colour[static_cast<std::size_t>(ch)];
                 }
                 int au, av;
                 float sv;
                 TextureAtlas::planarAxes(n, au, av, sv);
                 const float inv_scale = 1.0f / m.texture_scale_m;
                 const float t_mid = 0.25f * (a.t + b.t + c.t + d.t);
-                const TextureAtlas::Level& level =
-                    atlas.level(m.texture, t_mid * pixel_angle_ * inv_scale / std::max(cos_inc, 0.25f));
+                const TextureAtlas::Level& level = atlas.level(
+                    m.texture, t_mid * pixel_angle_ * inv_scale / std::max(cos_inc, 0.25f));
                 // Texture coordinates at the four corner hits, interpolated across the cell: over a
                 // few pixels of one plane the lens mapping is smooth enough that this matches the
                 // exact per-pixel intersection (camera_test checks against full ray tracing).
@@ -223,13 +249,16 @@ void CameraRenderer::radiance(const Eigen::Isometry3d& T, std::vector<float>& ra
                     const Eigen::Vector3f q = o + h.t * r.dir;
                     return Eigen::Vector2f(q[au] * inv_scale, sv * q[av] * inv_scale);
                 };
-                const Eigen::Vector2f uva = uvAt(a, rays_[j * nx + i]), uvb = uvAt(b, rays_[j * nx + i + 1]);
-                const Eigen::Vector2f uvc = uvAt(c, rays_[(j + 1) * nx + i]), uvd = uvAt(d, rays_[(j + 1) * nx + i + 1]);
+                const Eigen::Vector2f uva = uvAt(a, rays_[j * nx + i]),
+                                      uvb = uvAt(b, rays_[j * nx + i + 1]);
+                const Eigen::Vector2f uvc = uvAt(c, rays_[(j + 1) * nx + i]),
+                                      uvd = uvAt(d, rays_[(j + 1) * nx + i + 1]);
                 const float sx = 1.0f / static_cast<float>(gx[i + 1] - gx[i]);
                 const float sy = 1.0f / static_cast<float>(gy[j + 1] - gy[j]);
                 for (int y = y0; y < y1; ++y) {
                     const float fy = static_cast<float>(y - y0) * sy;
-                    const Eigen::Vector2f left = uva + (uvc - uva) * fy, right = uvb + (uvd - uvb) * fy;
+                    const Eigen::Vector2f left = uva + (uvc - uva) * fy,
+                                          right = uvb + (uvd - uvb) * fy;
                     const Eigen::Vector2f step = (right - left) * sx;
                     Eigen::Vector2f uv = left;
                     for (int x = x0; x < x1; ++x, uv += step) {
@@ -276,7 +305,8 @@ void CameraRenderer::render(double t_start, const std::function<Eigen::Isometry3
         acc_.assign(static_cast<std::size_t>(rw_) * rh_ * channels_, 0.0f);
         for (int s = 0; s < samples; ++s) {
             radiance(pose(t_start + cfg_.exposure_s * (s + 0.5) / samples), rad_);
-            for (std::size_t i = 0; i < acc_.size(); ++i) acc_[i] += rad_[i] / static_cast<float>(samples);
+            for (std::size_t i = 0; i < acc_.size(); ++i)
+                acc_[i] += rad_[i] / static_cast<float>(samples);
         }
         rad_.swap(acc_);
     }
@@ -287,7 +317,8 @@ void CameraRenderer::render(double t_start, const std::function<Eigen::Isometry3
         const float sy = static_cast<float>(rh_) / static_cast<float>(h_);
         const std::size_t C = static_cast<std::size_t>(channels_);
         for (int y = 0; y < h_; ++y) {
-            const float fy = std::clamp((static_cast<float>(y) + 0.5f) * sy - 0.5f, 0.0f, static_cast<float>(rh_ - 1));
+            const float fy = std::clamp((static_cast<float>(y) + 0.5f) * sy - 0.5f, 0.0f,
+                                        static_cast<float>(rh_ - 1));
             const int y0 = std::min(static_cast<int>(fy), rh_ - 2);
             const float ty = fy - static_cast<float>(y0);
             const float* r0 = &rad_[static_cast<std::size_t>(y0) * rw_ * C];
@@ -306,10 +337,13 @@ void CameraRenderer::render(double t_start, const std::function<Eigen::Isometry3
         rad_.swap(full_);
     }
     // Exposure, shot + read noise, 8 bits.
-    const float scale = static_cast<float>(255.0 * cfg_.gain * cfg_.exposure_s / cfg_.reference_exposure_s);
+    const float scale =
+        static_cast<float>(255.0 * cfg_.gain * cfg_.exposure_s / cfg_.reference_exposure_s);
     // Noise sigma per signal level (read noise + shot noise), tabulated.
     float sigma[257];
-    for (int d = 0; d <= 256; ++d) sigma[d] = static_cast<float>(std::sqrt(cfg_.read_noise_dn * cfg_.read_noise_dn + cfg_.shot_noise_gain * d));
+    for (int d = 0; d <= 256; ++d)
+        sigma[d] = static_cast<float>(
+            std::sqrt(cfg_.read_noise_dn * cfg_.read_noise_dn + cfg_.shot_noise_gain * d));
     out.resize(rad_.size());
     // One 64-bit draw gives four 12-bit indices into the Gaussian quantile table.
     auto noisy = [&](float radiance, unsigned index) {
@@ -323,9 +357,11 @@ void CameraRenderer::render(double t_start, const std::function<Eigen::Isometry3
     std::size_t i = 0;
     for (; i + 4 <= n; i += 4) {
         const std::uint64_t bits = rng_.next();
-        for (unsigned k = 0; k < 4; ++k) out[i + k] = noisy(rad_[i + k], static_cast<unsigned>(bits >> (16 * k)) & 0xFFFu);
+        for (unsigned k = 0; k < 4; ++k)
+            out[i + k] = noisy(rad_[i + k], static_cast<unsigned>(bits >> (16 * k)) & 0xFFFu);
     }
-    for (const std::uint64_t bits = rng_.next(); i < n; ++i) out[i] = noisy(rad_[i], static_cast<unsigned>(bits >> (16 * (i & 3))) & 0xFFFu);
+    for (const std::uint64_t bits = rng_.next(); i < n; ++i)
+        out[i] = noisy(rad_[i], static_cast<unsigned>(bits >> (16 * (i & 3))) & 0xFFFu);
     pixels_ += static_cast<std::uint64_t>(w_) * h_;
 }
 

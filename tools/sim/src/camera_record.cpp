@@ -11,7 +11,8 @@ namespace handscan::sim {
 
 bool cameraRecordsAvailable() { return true; }
 
-std::vector<std::uint8_t> encodeCameraRecord(const V4l2FrameInfo& info, const CameraStreamConfig& config,
+std::vector<std::uint8_t> encodeCameraRecord(const V4l2FrameInfo& info,
+                                             const CameraStreamConfig& config,
                                              const std::vector<std::uint8_t>& data) {
     const PixelFormat format = config.format == "GREY"   ? PixelFormat::kGrey8
                                : config.format == "YUYV" ? PixelFormat::kYuyv
@@ -24,10 +25,12 @@ std::vector<std::uint8_t> encodeCameraRecord(const V4l2FrameInfo& info, const Ca
     h.fourcc = camera::fourccFromPixelFormat(format);
     h.width = static_cast<std::uint32_t>(config.width);
     h.height = static_cast<std::uint32_t>(config.height);
-    h.stride = format == PixelFormat::kGrey8 ? h.width : format == PixelFormat::kYuyv ? 2 * h.width : 0;
+    h.stride = format == PixelFormat::kGrey8  ? h.width
+               : format == PixelFormat::kYuyv ? 2 * h.width
+                                              : 0;
     h.exposure_us = static_cast<std::uint32_t>(info.exposure_ns / kNsPerUs);
-    h.t_host_ns = camera::midExposureTime(info.flags, info.timestamp_ns, info.exposure_ns, info.readout_ns,
-                                          info.t_dequeue_ns)
+    h.t_host_ns = camera::midExposureTime(info.flags, info.timestamp_ns, info.exposure_ns,
+                                          info.readout_ns, info.t_dequeue_ns)
                       .t_mid_exposure;
     return camera::encodeFrameRecord(h, data, camera::FrameCoding::kPng);
 }

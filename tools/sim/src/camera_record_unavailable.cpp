@@ -8,8 +8,10 @@ namespace handscan::sim {
 
 bool cameraRecordsAvailable() { return false; }
 
-std::vector<std::uint8_t> encodeCameraRecord(const V4l2FrameInfo&, const CameraStreamConfig&, const std::vector<std::uint8_t>&) {
-    throw std::logic_error("handscan sim was built without drivers/camera: no V4L2 buffer record encoder");
+std::vector<std::uint8_t> encodeCameraRecord(const V4l2FrameInfo&, const CameraStreamConfig&,
+                                             const std::vector<std::uint8_t>&) {
+    throw std::logic_error(
+        "handscan sim was built without drivers/camera: no V4L2 buffer record encoder");
 }
 
 }  // namespace handscan::sim

@@ -14,11 +14,14 @@ constexpr std::uint32_t kFlagMapped = 0x00000001;
 constexpr std::uint32_t kFlagTimestampMonotonic = 0x00002000;
 constexpr std::uint32_t kFlagTstampSrcSoe = 0x00010000;
 
-std::uint8_t clampByte(double v) { return static_cast<std::uint8_t>(std::clamp(std::lround(v), 0L, 255L)); }
+std::uint8_t clampByte(double v) {
+    return static_cast<std::uint8_t>(std::clamp(std::lround(v), 0L, 255L));
+}
 
 }  // namespace
 
-void rgbToYuyv(const std::vector<std::uint8_t>& rgb, int width, int height, std::vector<std::uint8_t>& out) {
+void rgbToYuyv(const std::vector<std::uint8_t>& rgb, int width, int height,
+               std::vector<std::uint8_t>& out) {
     out.resize(static_cast<std::size_t>(width) * height * 2);
     for (int y = 0; y < height; ++y) {
         const std::uint8_t* row = &rgb[static_cast<std::size_t>(y) * width * 3];
@@ -40,13 +43,14 @@ void rgbToYuyv(const std::vector<std::uint8_t>& rgb, int width, int height, std:
     }
 }
 
-void rgbToMjpeg(const std::vector<std::uint8_t>& rgb, int width, int height, int quality, std::vector<std::uint8_t>& out) {
+void rgbToMjpeg(const std::vector<std::uint8_t>& rgb, int width, int height, int quality,
+                std::vector<std::uint8_t>& out) {
     tjhandle h = tjInitCompress();
     if (h == nullptr) throw std::runtime_error("turbojpeg: tjInitCompress failed");
     unsigned char* jpeg = nullptr;
     unsigned long size = 0;
-    const int rc = tjCompress2(h, rgb.data(), width, width * 3, height, TJPF_RGB, &jpeg, &size, TJSAMP_422, quality,
-                               TJFLAG_FASTDCT);
+    const int rc = tjCompress2(h, rgb.data(), width, width * 3, height, TJPF_RGB, &jpeg, &size,
+                               TJSAMP_422, quality, TJFLAG_FASTDCT);
     if (rc != 0) {
         const std::string err = tjGetErrorStr2(h);
         tjDestroy(h);
@@ -60,7 +64,8 @@ void rgbToMjpeg(const std::vector<std::uint8_t>& rgb, int width, int height, int
 CameraStream::CameraStream(const CameraStreamConfig& config, TimeNs host_start_ns, Rng rng)
     : cfg_(config), host_start_(host_start_ns), rng_(rng) {
     if (cfg_.format != "GREY" && cfg_.format != "YUYV" && cfg_.format != "MJPEG") {
-        throw std::invalid_argument("camera format '" + cfg_.format + "': expected GREY, YUYV or MJPEG");
+        throw std::invalid_argument("camera format '" + cfg_.format +
+                                    "': expected GREY, YUYV or MJPEG");
     }
 }
 
@@ -91,12 +96,14 @@ void CameraStream::frame(std::int64_t k, const std::vector<std::uint8_t>& pixels
     V4l2FrameInfo info;
     info.sequence = seq;
     info.timestamp_ns = hostNs(host_start_, t_stamp + 2e-5 * rng_.uniform());
-    info.flags = kFlagMapped | kFlagTimestampMonotonic | (cfg_.start_of_exposure ? kFlagTstampSrcSoe : 0u);
+    info.flags =
+        kFlagMapped | kFlagTimestampMonotonic | (cfg_.start_of_exposure ? kFlagTstampSrcSoe : 0u);
     info.bytesused = static_cast<std::uint32_t>(packed_.size());
     info.t_exposure_start = t0;
     info.exposure_ns = fromSeconds(cfg_.exposure_s);
     info.readout_ns = fromSeconds(readout);
-    info.t_dequeue_ns = hostNs(host_start_, t0 + cfg_.exposure_s + readout + cfg_.clock.delay(rng_));
+    info.t_dequeue_ns =
+        hostNs(host_start_, t0 + cfg_.exposure_s + readout + cfg_.clock.delay(rng_));
     last_ = info;
     out.push_back({info.t_dequeue_ns, cfg_.channel, encodeCameraRecord(info, cfg_, packed_)});
 }

@@ -27,7 +27,8 @@ ScanRequest meRequest(const LaserConfig& laser) {
 
 }  // namespace
 
-HokuyoStream::HokuyoStream(const HokuyoStreamConfig& config, const LaserConfig& laser, TimeNs host_start_ns, Rng rng)
+HokuyoStream::HokuyoStream(const HokuyoStreamConfig& config, const LaserConfig& laser,
+                           TimeNs host_start_ns, Rng rng)
     : cfg_(config), laser_(laser), host_start_(host_start_ns), rng_(rng) {}
 
 std::uint32_t HokuyoStream::timestampMs(double t) const {
@@ -35,7 +36,8 @@ std::uint32_t HokuyoStream::timestampMs(double t) const {
     return static_cast<std::uint32_t>(static_cast<std::uint64_t>(ms) & 0xFFFFFFu);
 }
 
-void HokuyoStream::deliver(double t_send, const std::string& bytes, std::vector<StreamMessage>& out) {
+void HokuyoStream::deliver(double t_send, const std::string& bytes,
+                           std::vector<StreamMessage>& out) {
     // Segments serialise on the link one after another, then wait for the reader to wake up.
     double t = std::max(t_send, link_free_at_);
     std::vector<std::pair<double, std::size_t>> segments;  // arrival time, end offset
@@ -55,7 +57,8 @@ void HokuyoStream::deliver(double t_send, const std::string& bytes, std::vector<
         StreamMessage m;
         m.t_host_rx = hostNs(host_start_, read_at);
         m.channel = SimChannel::kHokuyo;
-        m.bytes.assign(bytes.begin() + static_cast<long>(begin), bytes.begin() + static_cast<long>(end));
+        m.bytes.assign(bytes.begin() + static_cast<long>(begin),
+                       bytes.begin() + static_cast<long>(end));
         out.push_back(std::move(m));
         begin = end;
         ++k;
@@ -72,15 +75,16 @@ void HokuyoStream::handshake(double t, std::vector<StreamMessage>& out) {
                                      {"FIRM", "1.1.0(2012-12-06)"},
                                      {"PROT", "SCIP 2.0"},
                                      {"SERI", cfg_.serial}}),
-        hokuyo::encodeKeyValueReply("PP", "00",
-                                    {{"MODL", "UTM-30LX-EW"},
-                                     {"DMIN", std::to_string(laser_.dmin_mm)},
-                                     {"DMAX", std::to_string(laser_.dmax_mm)},
-                                     {"ARES", std::to_string(laser_.steps_per_rev)},
-                                     {"AMIN", "0"},
-                                     {"AMAX", std::to_string(laser_.steps - 1)},
-                                     {"AFRT", std::to_string(laser_.front_step)},
-                                     {"SCAN", std::to_string(static_cast<int>(std::lround(60.0 / laser_.scan_period_s)))}}),
+        hokuyo::encodeKeyValueReply(
+            "PP", "00",
+            {{"MODL", "UTM-30LX-EW"},
+             {"DMIN", std::to_string(laser_.dmin_mm)},
+             {"DMAX", std::to_string(laser_.dmax_mm)},
+             {"ARES", std::to_string(laser_.steps_per_rev)},
+             {"AMIN", "0"},
+             {"AMAX", std::to_string(laser_.steps - 1)},
+             {"AFRT", std::to_string(laser_.front_step)},
+             {"SCAN", std::to_string(static_cast<int>(std::lround(60.0 / laser_.scan_period_s)))}}),
         hokuyo::encodeKeyValueReply("II", "00",
                                     {{"MODL", "UTM-30LX-EW"},
                                      {"LASR", "OFF"},
@@ -111,9 +115,11 @@ void HokuyoStream::scan(const LaserScanTruth& scan, bool corrupt, std::vector<St
         std::size_t lines = 0, pos = 0;
         while (lines < 3 && pos < frame.size()) lines += frame[pos++] == '\n';
         const std::size_t at = pos + 5 + static_cast<std::size_t>(rng_.below(50));
-        if (at < frame.size() && frame[at] != '\n') frame[at] = static_cast<char>(frame[at] == '0' ? '1' : '0');
+        if (at < frame.size() && frame[at] != '\n')
+            frame[at] = static_cast<char>(frame[at] == '0' ? '1' : '0');
     }
-    const double t_last = scan.t_first_step + laser_.scan_period_s * (laser_.steps - 1) / laser_.steps_per_rev;
+    const double t_last =
+        scan.t_first_step + laser_.scan_period_s * (laser_.steps - 1) / laser_.steps_per_rev;
     deliver(t_last + cfg_.processing_s, frame, out);
 }
 

@@ -47,11 +47,13 @@ LaserScanTruth LaserModel::scan(double t0, const std::function<Eigen::Isometry3d
         const double r = h.t;
         out.true_range_m[k] = h.t;
         const Material& m = w.materials[w.triangle_material[h.triangle]];
-        const double cos_inc = std::abs(static_cast<double>(w.triangleNormal(h.triangle).dot(rays_[k].dir)));
+        const double cos_inc =
+            std::abs(static_cast<double>(w.triangleNormal(h.triangle).dot(rays_[k].dir)));
         const double power = m.reflectivity * cos_inc / std::max(r * r, 1.0);
         // Soft detection threshold: near the limit echoes come and go.
         const double margin = std::log(power / cfg_.min_return);
-        const bool detected = cos_inc > cfg_.glancing_cos && rng_.uniform() < 1.0 / (1.0 + std::exp(-margin / 0.15));
+        const bool detected =
+            cos_inc > cfg_.glancing_cos && rng_.uniform() < 1.0 / (1.0 + std::exp(-margin / 0.15));
         if (!detected) {
             out.ranges_mm[k] = cfg_.code_weak;
             out.intensities[k] = static_cast<std::uint32_t>(rng_.below(80));
@@ -67,9 +69,10 @@ LaserScanTruth LaserModel::scan(double t0, const std::function<Eigen::Isometry3d
             out.ranges_mm[k] = static_cast<std::uint32_t>(mm);
         }
         // Intensity (arbitrary units as the UTM reports them, saturating at close range).
-        const double intensity = 200.0 + 9000.0 * m.reflectivity * cos_inc * std::min(1.0, 3.0 / std::max(r, 1e-3));
-        out.intensities[k] = static_cast<std::uint32_t>(
-            std::clamp(intensity * (1.0 + rng_.gauss(0.03)), 0.0, 16000.0));  // 3-char field max 262143
+        const double intensity =
+            200.0 + 9000.0 * m.reflectivity * cos_inc * std::min(1.0, 3.0 / std::max(r, 1e-3));
+        out.intensities[k] = static_cast<std::uint32_t>(std::clamp(
+            intensity * (1.0 + rng_.gauss(0.03)), 0.0, 16000.0));  // 3-char field max 262143
     }
     return out;
 }

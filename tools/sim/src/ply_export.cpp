@@ -13,16 +13,21 @@ void put(std::ofstream& out, T v) {
     out.write(b, sizeof(T));
 }
 
-std::uint8_t toByte(float c) { return static_cast<std::uint8_t>(std::clamp(c, 0.0f, 1.0f) * 255.0f + 0.5f); }
+std::uint8_t toByte(float c) {
+    return static_cast<std::uint8_t>(std::clamp(c, 0.0f, 1.0f) * 255.0f + 0.5f);
+}
 
 }  // namespace
 
 Status writePly(const World& world, const std::string& path, bool binary) {
     std::ofstream out(path, std::ios::binary);
-    if (!out) return {StatusCode::kIoError, path + ": cannot open for writing (check the directory exists and is writable)"};
+    if (!out)
+        return {StatusCode::kIoError,
+                path + ": cannot open for writing (check the directory exists and is writable)"};
     out << "ply\nformat " << (binary ? "binary_little_endian" : "ascii") << " 1.0\n"
         << "comment handscan sim scene '" << world.name << "' in world coordinates (metres, z up)\n"
-        << "element vertex " << world.vertices.size() << "\nproperty float x\nproperty float y\nproperty float z\n"
+        << "element vertex " << world.vertices.size()
+        << "\nproperty float x\nproperty float y\nproperty float z\n"
         << "element face " << world.triangles.size()
         << "\nproperty list uchar int vertex_indices\nproperty ushort material\n"
         << "property uchar red\nproperty uchar green\nproperty uchar blue\nend_header\n";
@@ -47,8 +52,9 @@ Status writePly(const World& world, const std::string& path, bool binary) {
             put(out, toByte(c[1]));
             put(out, toByte(c[2]));
         } else {
-            out << "3 " << t[0] << ' ' << t[1] << ' ' << t[2] << ' ' << m << ' ' << int(toByte(c[0])) << ' '
-                << int(toByte(c[1])) << ' ' << int(toByte(c[2])) << '\n';
+            out << "3 " << t[0] << ' ' << t[1] << ' ' << t[2] << ' ' << m << ' '
+                << int(toByte(c[0])) << ' ' << int(toByte(c[1])) << ' ' << int(toByte(c[2]))
+                << '\n';
         }
     }
     out.flush();

@@ -21,20 +21,23 @@ Raycaster::Raycaster(const World& world) : world_(world), impl_(std::make_unique
     impl_->device = rtcNewDevice("threads=1,verbose=0");
     if (!impl_->device) {
         throw std::runtime_error("Embree: cannot create a device (error " +
-                                 std::to_string(static_cast<int>(rtcGetDeviceError(nullptr))) + ")");
+                                 std::to_string(static_cast<int>(rtcGetDeviceError(nullptr))) +
+                                 ")");
     }
     impl_->scene = rtcNewScene(impl_->device);
     rtcSetSceneBuildQuality(impl_->scene, RTC_BUILD_QUALITY_HIGH);
     RTCGeometry geom = rtcNewGeometry(impl_->device, RTC_GEOMETRY_TYPE_TRIANGLE);
-    auto* v = static_cast<float*>(rtcSetNewGeometryBuffer(geom, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3,
-                                                          3 * sizeof(float), world.vertices.size()));
+    auto* v = static_cast<float*>(rtcSetNewGeometryBuffer(geom, RTC_BUFFER_TYPE_VERTEX, 0,
+                                                          RTC_FORMAT_FLOAT3, 3 * sizeof(float),
+                                                          world.vertices.size()));
     for (std::size_t i = 0; i < world.vertices.size(); ++i) {
         v[3 * i] = world.vertices[i].x();
         v[3 * i + 1] = world.vertices[i].y();
         v[3 * i + 2] = world.vertices[i].z();
     }
-    auto* idx = static_cast<unsigned*>(rtcSetNewGeometryBuffer(geom, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3,
-                                                               3 * sizeof(unsigned), world.triangles.size()));
+    auto* idx = static_cast<unsigned*>(
+        rtcSetNewGeometryBuffer(geom, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3,
+                                3 * sizeof(unsigned), world.triangles.size()));
     for (std::size_t i = 0; i < world.triangles.size(); ++i) {
         for (int k = 0; k < 3; ++k) idx[3 * i + k] = world.triangles[i][k];
     }
@@ -90,14 +93,17 @@ RayHit Raycaster::cast(const Ray& ray) const {
 }
 
 void Raycaster::castBatch(std::span<const Ray> rays, std::span<RayHit> hits, bool coherent) const {
-    if (hits.size() < rays.size()) throw std::invalid_argument("Raycaster::castBatch: hits shorter than rays");
+    if (hits.size() < rays.size())
+        throw std::invalid_argument("Raycaster::castBatch: hits shorter than rays");
     RTCIntersectContext ctx;
     rtcInitIntersectContext(&ctx);
-    ctx.flags = coherent ? RTC_INTERSECT_CONTEXT_FLAG_COHERENT : RTC_INTERSECT_CONTEXT_FLAG_INCOHERENT;
+    ctx.flags =
+        coherent ? RTC_INTERSECT_CONTEXT_FLAG_COHERENT : RTC_INTERSECT_CONTEXT_FLAG_INCOHERENT;
     thread_local std::vector<RTCRayHit> buf;
     buf.resize(rays.size());
     for (std::size_t i = 0; i < rays.size(); ++i) fill(buf[i], rays[i]);
-    rtcIntersect1M(impl_->scene, &ctx, buf.data(), static_cast<unsigned>(buf.size()), sizeof(RTCRayHit));
+    rtcIntersect1M(impl_->scene, &ctx, buf.data(), static_cast<unsigned>(buf.size()),
+                   sizeof(RTCRayHit));
     for (std::size_t i = 0; i < rays.size(); ++i) hits[i] = result(buf[i]);
 }
 

@@ -26,48 +26,63 @@ Material mat(const char* name, float refl, float r, float g, float b, TextureId 
 struct Palette {
     std::uint16_t wall, wall_alt, floor, ceiling, wood, metal, black, poster, checker, shelf;
     explicit Palette(MeshBuilder& b)
-        : wall(b.addMaterial(mat("plaster", 0.80f, 0.85f, 0.82f, 0.74f, TextureId::kPlaster, 2.0f))),
-          wall_alt(b.addMaterial(mat("brick", 0.45f, 0.62f, 0.34f, 0.26f, TextureId::kBrick, 1.2f))),
+        : wall(
+              b.addMaterial(mat("plaster", 0.80f, 0.85f, 0.82f, 0.74f, TextureId::kPlaster, 2.0f))),
+          wall_alt(
+              b.addMaterial(mat("brick", 0.45f, 0.62f, 0.34f, 0.26f, TextureId::kBrick, 1.2f))),
           floor(b.addMaterial(mat("carpet", 0.25f, 0.35f, 0.38f, 0.45f, TextureId::kCarpet, 1.0f))),
-          ceiling(b.addMaterial(mat("ceiling", 0.85f, 0.92f, 0.92f, 0.90f, TextureId::kChecker, 1.2f))),
+          ceiling(
+              b.addMaterial(mat("ceiling", 0.85f, 0.92f, 0.92f, 0.90f, TextureId::kChecker, 1.2f))),
           wood(b.addMaterial(mat("wood", 0.55f, 0.62f, 0.45f, 0.30f, TextureId::kWood, 0.8f))),
-          metal(b.addMaterial(mat("metal", 0.60f, 0.55f, 0.57f, 0.60f, TextureId::kConcrete, 0.5f))),
-          black(b.addMaterial(mat("black plastic", 0.03f, 0.05f, 0.05f, 0.06f, TextureId::kPlain, 1.0f))),
+          metal(
+              b.addMaterial(mat("metal", 0.60f, 0.55f, 0.57f, 0.60f, TextureId::kConcrete, 0.5f))),
+          black(b.addMaterial(
+              mat("black plastic", 0.03f, 0.05f, 0.05f, 0.06f, TextureId::kPlain, 1.0f))),
           poster(b.addMaterial(mat("poster", 0.70f, 1.0f, 1.0f, 1.0f, TextureId::kPosters, 0.9f))),
-          checker(b.addMaterial(mat("checkerboard", 0.65f, 1.0f, 1.0f, 1.0f, TextureId::kChecker, 0.5f))),
-          shelf(b.addMaterial(mat("books", 0.50f, 0.9f, 0.85f, 0.8f, TextureId::kPosters, 0.35f))) {}
+          checker(b.addMaterial(
+              mat("checkerboard", 0.65f, 1.0f, 1.0f, 1.0f, TextureId::kChecker, 0.5f))),
+          shelf(b.addMaterial(mat("books", 0.50f, 0.9f, 0.85f, 0.8f, TextureId::kPosters, 0.35f))) {
+    }
 };
 
 // A poster 1 cm in front of a wall face: centre c, outward normal n (horizontal), size w x h.
-void poster(MeshBuilder& b, const Vector3d& c, const Vector3d& n, double w, double h, std::uint16_t m) {
+void poster(MeshBuilder& b, const Vector3d& c, const Vector3d& n, double w, double h,
+            std::uint16_t m) {
     const Vector3d side = Vector3d::UnitZ().cross(n).normalized();
     const Vector3d p = c + 0.01 * n;
     const Vector3d up = Vector3d::UnitZ();
-    b.addQuad(p - side * w / 2 - up * h / 2, p + side * w / 2 - up * h / 2, p + side * w / 2 + up * h / 2,
-              p - side * w / 2 + up * h / 2, m);
+    b.addQuad(p - side * w / 2 - up * h / 2, p + side * w / 2 - up * h / 2,
+              p + side * w / 2 + up * h / 2, p - side * w / 2 + up * h / 2, m);
 }
 
 // A table: top plus four legs.
-void table(MeshBuilder& b, const Vector2d& lo, const Vector2d& hi, double z0, double height, std::uint16_t top,
-           std::uint16_t legs) {
-    b.addBox(Vector3d(lo.x(), lo.y(), z0 + height - 0.04), Vector3d(hi.x(), hi.y(), z0 + height), top);
+void table(MeshBuilder& b, const Vector2d& lo, const Vector2d& hi, double z0, double height,
+           std::uint16_t top, std::uint16_t legs) {
+    b.addBox(Vector3d(lo.x(), lo.y(), z0 + height - 0.04), Vector3d(hi.x(), hi.y(), z0 + height),
+             top);
     const double r = 0.025, in = 0.06;
-    for (const Vector2d& p : {Vector2d(lo.x() + in, lo.y() + in), Vector2d(hi.x() - in, lo.y() + in),
-                              Vector2d(lo.x() + in, hi.y() - in), Vector2d(hi.x() - in, hi.y() - in)}) {
-        b.addCylinder(Vector3d(p.x(), p.y(), z0), Vector3d(p.x(), p.y(), z0 + height - 0.04), r, 8, legs);
+    for (const Vector2d& p :
+         {Vector2d(lo.x() + in, lo.y() + in), Vector2d(hi.x() - in, lo.y() + in),
+          Vector2d(lo.x() + in, hi.y() - in), Vector2d(hi.x() - in, hi.y() - in)}) {
+        b.addCylinder(Vector3d(p.x(), p.y(), z0), Vector3d(p.x(), p.y(), z0 + height - 0.04), r, 8,
+                      legs);
     }
 }
 
 // A chair: seat, back and legs.
-void chair(MeshBuilder& b, const Vector2d& c, double yaw, double z0, std::uint16_t seat, std::uint16_t legs) {
+void chair(MeshBuilder& b, const Vector2d& c, double yaw, double z0, std::uint16_t seat,
+           std::uint16_t legs) {
     const Eigen::Rotation2Dd R(yaw);
     auto P = [&](double x, double y, double z) {
         const Vector2d q = c + R * Vector2d(x, y);
         return Vector3d(q.x(), q.y(), z0 + z);
     };
-    b.addQuad(P(-0.22, -0.22, 0.45), P(0.22, -0.22, 0.45), P(0.22, 0.22, 0.45), P(-0.22, 0.22, 0.45), seat);
-    b.addQuad(P(-0.22, 0.22, 0.45), P(0.22, 0.22, 0.45), P(0.22, 0.24, 0.9), P(-0.22, 0.24, 0.9), seat);
-    for (const auto& xy : {Vector2d(-0.2, -0.2), Vector2d(0.2, -0.2), Vector2d(-0.2, 0.2), Vector2d(0.2, 0.2)}) {
+    b.addQuad(P(-0.22, -0.22, 0.45), P(0.22, -0.22, 0.45), P(0.22, 0.22, 0.45),
+              P(-0.22, 0.22, 0.45), seat);
+    b.addQuad(P(-0.22, 0.22, 0.45), P(0.22, 0.22, 0.45), P(0.22, 0.24, 0.9), P(-0.22, 0.24, 0.9),
+              seat);
+    for (const auto& xy :
+         {Vector2d(-0.2, -0.2), Vector2d(0.2, -0.2), Vector2d(-0.2, 0.2), Vector2d(0.2, 0.2)}) {
         b.addCylinder(P(xy.x(), xy.y(), 0.0), P(xy.x(), xy.y(), 0.45), 0.015, 6, legs);
     }
 }
@@ -100,7 +115,8 @@ void slabWithHoles(MeshBuilder& b, const Vector2d& lo, const Vector2d& hi, doubl
 }
 
 // Points of a racetrack loop (two straights joined by semicircles), counter-clockwise.
-std::vector<Vector3d> racetrack(const Vector2d& c0, const Vector2d& c1, double radius, double z, int arc_points) {
+std::vector<Vector3d> racetrack(const Vector2d& c0, const Vector2d& c1, double radius, double z,
+                                int arc_points) {
     std::vector<Vector3d> pts;
     const Vector2d d = (c1 - c0).normalized();
     const double a0 = std::atan2(d.y(), d.x());
@@ -136,8 +152,10 @@ Scene office() {
     b.addWall({14, 7}, {14, 12}, T, 0, H, {}, p.wall);
     // Posters and a calibration board along the corridor and in the rooms.
     // (Posters only where the wall is solid: none across a door.)
-    for (double x : {1.5, 6.0, 8.5, 12.5, 14.6, 18.7}) poster(b, {x, 5.0 + T / 2, 1.6}, {0, 1, 0}, 0.7, 1.0, p.poster);
-    for (double x : {2.0, 5.5, 8.2, 12.8, 14.9, 18.5}) poster(b, {x, 7.0 - T / 2, 1.5}, {0, -1, 0}, 0.6, 0.85, p.poster);
+    for (double x : {1.5, 6.0, 8.5, 12.5, 14.6, 18.7})
+        poster(b, {x, 5.0 + T / 2, 1.6}, {0, 1, 0}, 0.7, 1.0, p.poster);
+    for (double x : {2.0, 5.5, 8.2, 12.8, 14.9, 18.5})
+        poster(b, {x, 7.0 - T / 2, 1.5}, {0, -1, 0}, 0.6, 0.85, p.poster);
     poster(b, {19.9 - T / 2, 6.0, 1.5}, {-1, 0, 0}, 0.9, 0.9, p.checker);
     poster(b, {5.0, 0.0 + T / 2, 1.7}, {0, 1, 0}, 1.2, 0.8, p.poster);
     poster(b, {15.0, 12.0 - T / 2, 1.6}, {0, -1, 0}, 1.0, 0.7, p.poster);
@@ -152,7 +170,8 @@ Scene office() {
     b.addBox(Vector3d(8.5, 4.2, 0), Vector3d(9.8, 4.8, 1.1), p.metal);
     // South-east room (10..20 x 0..5): meeting table and chairs south of the walking line.
     table(b, {12.5, 0.4}, {17.0, 1.5}, 0, 0.74, p.wood, p.metal);
-    for (double x = 13.0; x < 17.0; x += 0.9) chair(b, {x, 1.75}, std::numbers::pi, 0, p.black, p.metal);
+    for (double x = 13.0; x < 17.0; x += 0.9)
+        chair(b, {x, 1.75}, std::numbers::pi, 0, p.black, p.metal);
     b.addBox(Vector3d(19.3, 3.4, 0), Vector3d(19.8, 4.8, 2.0), p.shelf);
     b.addBox(Vector3d(10.2, 3.8, 0), Vector3d(11.5, 4.8, 0.9), p.wood);
     // North rooms: a central table in the middle one (walked around), desks in the others.
@@ -165,14 +184,16 @@ Scene office() {
     b.addBox(Vector3d(19.2, 7.3, 0), Vector3d(19.8, 8.8, 1.2), p.metal);
     // Walking loop: corridor west, room SW through door A, door C into SE, door B back into the
     // corridor, north into the middle room around its table, back out and west to the start.
-    for (const Vector2d& q : {Vector2d(6.0, 6.0), Vector2d(3.5, 6.0), Vector2d(3.5, 4.2), Vector2d(4.5, 2.6),
-                              Vector2d(8.8, 2.5), Vector2d(11.2, 2.5), Vector2d(15.5, 2.6), Vector2d(16.5, 3.8),
-                              Vector2d(16.5, 6.0), Vector2d(13.0, 6.0), Vector2d(10.5, 6.0), Vector2d(10.5, 8.3),
-                              Vector2d(12.3, 9.6), Vector2d(10.5, 11.0), Vector2d(8.7, 9.6), Vector2d(10.5, 8.3),
-                              Vector2d(10.5, 6.0)}) {
+    for (const Vector2d& q :
+         {Vector2d(6.0, 6.0), Vector2d(3.5, 6.0), Vector2d(3.5, 4.2), Vector2d(4.5, 2.6),
+          Vector2d(8.8, 2.5), Vector2d(11.2, 2.5), Vector2d(15.5, 2.6), Vector2d(16.5, 3.8),
+          Vector2d(16.5, 6.0), Vector2d(13.0, 6.0), Vector2d(10.5, 6.0), Vector2d(10.5, 8.3),
+          Vector2d(12.3, 9.6), Vector2d(10.5, 11.0), Vector2d(8.7, 9.6), Vector2d(10.5, 8.3),
+          Vector2d(10.5, 6.0)}) {
         s.walk_loop.emplace_back(q.x(), q.y(), kHand);
     }
-    s.world.description = "office floor: corridor, five rooms, doors, desks, chairs, shelves, posters";
+    s.world.description =
+        "office floor: corridor, five rooms, doors, desks, chairs, shelves, posters";
     return s;
 }
 
@@ -183,12 +204,15 @@ Scene house() {
     Palette p(b);
     const double T = 0.15, storey = 3.0, slab = 0.2;
     const double W = 12.0, D = 9.0;
-    const std::pair<Vector2d, Vector2d> holeA{{0.3, 1.6}, {1.7, 6.4}}, holeB{{10.3, 2.6}, {11.7, 7.2}},
-        holeC{{3.8, 7.95}, {8.4, 8.95}};
+    const std::pair<Vector2d, Vector2d> holeA{{0.3, 1.6}, {1.7, 6.4}},
+        holeB{{10.3, 2.6}, {11.7, 7.2}}, holeC{{3.8, 7.95}, {8.4, 8.95}};
     b.addBox(Vector3d(-0.3, -0.3, -0.1), Vector3d(W + 0.3, D + 0.3, 0.0), p.floor);
-    slabWithHoles(b, {-0.3, -0.3}, {W + 0.3, D + 0.3}, storey - slab, storey, {holeA, holeB}, p.floor);
-    slabWithHoles(b, {-0.3, -0.3}, {W + 0.3, D + 0.3}, 2 * storey - slab, 2 * storey, {holeC}, p.floor);
-    slabWithHoles(b, {-0.3, -0.3}, {W + 0.3, D + 0.3}, 3 * storey - slab, 3 * storey, {}, p.ceiling);
+    slabWithHoles(b, {-0.3, -0.3}, {W + 0.3, D + 0.3}, storey - slab, storey, {holeA, holeB},
+                  p.floor);
+    slabWithHoles(b, {-0.3, -0.3}, {W + 0.3, D + 0.3}, 2 * storey - slab, 2 * storey, {holeC},
+                  p.floor);
+    slabWithHoles(b, {-0.3, -0.3}, {W + 0.3, D + 0.3}, 3 * storey - slab, 3 * storey, {},
+                  p.ceiling);
     for (int level = 0; level < 3; ++level) {
         const double z0 = level * storey, h = storey - (level == 0 ? slab : slab);
         b.addWall({0, 0}, {W, 0}, T, z0, h, {{4, 5.5, 0.9, 2.1}, {8, 9.5, 0.9, 2.1}}, p.wall);
@@ -226,14 +250,17 @@ Scene house() {
     // Loop: up stairs A, across the first floor, down stairs B, back through the partition door.
     const double up = storey + kHand;
     for (const Vector3d& q :
-         {Vector3d(3.0, 1.15, kHand), Vector3d(1.0, 1.1, kHand), Vector3d(1.0, 2.0, kHand), Vector3d(1.0, 6.2, up),
-          Vector3d(1.0, 7.2, up), Vector3d(3.0, 7.0, up), Vector3d(7.0, 6.9, up), Vector3d(8.8, 5.0, up),
-          Vector3d(9.6, 1.6, up), Vector3d(11.0, 1.4, up), Vector3d(11.0, 2.8, up), Vector3d(11.0, 7.0, kHand),
-          Vector3d(11.0, 7.9, kHand), Vector3d(8.5, 8.0, kHand), Vector3d(5.5, 6.5, kHand), Vector3d(5.5, 3.2, kHand),
-          Vector3d(4.5, 1.6, kHand)}) {
+         {Vector3d(3.0, 1.15, kHand), Vector3d(1.0, 1.1, kHand), Vector3d(1.0, 2.0, kHand),
+          Vector3d(1.0, 6.2, up), Vector3d(1.0, 7.2, up), Vector3d(3.0, 7.0, up),
+          Vector3d(7.0, 6.9, up), Vector3d(8.8, 5.0, up), Vector3d(9.6, 1.6, up),
+          Vector3d(11.0, 1.4, up), Vector3d(11.0, 2.8, up), Vector3d(11.0, 7.0, kHand),
+          Vector3d(11.0, 7.9, kHand), Vector3d(8.5, 8.0, kHand), Vector3d(5.5, 6.5, kHand),
+          Vector3d(5.5, 3.2, kHand), Vector3d(4.5, 1.6, kHand)}) {
         s.walk_loop.push_back(q);
     }
-    s.world.description = "three-storey house: rooms, three staircases, furniture (the loop climbs one stair, descends another)";
+    s.world.description =
+        "three-storey house: rooms, three staircases, furniture (the loop climbs one stair, "
+        "descends another)";
     return s;
 }
 
@@ -251,8 +278,11 @@ Scene corridor() {
     for (double x = 8.0; x < L - 2; x += 8.0) north.push_back({x, x + 0.9, 0, 2.05});
     b.addWall({0, -hw}, {L, -hw}, T, 0, H, south, p.wall);
     b.addWall({L, hw}, {0, hw}, T, 0, H, {}, p.wall);
-    for (const auto& o : south) b.addBox(Vector3d(o.from_m, -hw - 0.25, 0), Vector3d(o.to_m, -hw - 0.2, 2.05), p.wood);
-    for (const auto& o : north) b.addBox(Vector3d(L - o.to_m, hw - 0.07, 0), Vector3d(L - o.from_m, hw - 0.02, 2.05), p.wood);
+    for (const auto& o : south)
+        b.addBox(Vector3d(o.from_m, -hw - 0.25, 0), Vector3d(o.to_m, -hw - 0.2, 2.05), p.wood);
+    for (const auto& o : north)
+        b.addBox(Vector3d(L - o.to_m, hw - 0.07, 0), Vector3d(L - o.from_m, hw - 0.02, 2.05),
+                 p.wood);
     for (double sx : {-1.0, 1.0}) {
         const double x0 = sx < 0 ? -4.0 : L, x1 = sx < 0 ? 0.0 : L + 4.0;
         b.addWall({x0, -2.5}, {x1, -2.5}, T, 0, H, {}, p.wall);
@@ -266,12 +296,14 @@ Scene corridor() {
     poster(b, {L + 4.0 - T / 2, 0.0, 1.5}, {-1, 0, 0}, 1.0, 0.8, p.poster);
     poster(b, {L / 2, -hw + T / 2, 1.5}, {0, 1, 0}, 0.6, 0.8, p.poster);
     // Lanes at y = -+0.45 along the corridor, U-turns inside the lobbies.
-    for (const Vector2d& q : {Vector2d(25.0, -0.45), Vector2d(50.8, -0.45), Vector2d(52.2, -1.2), Vector2d(53.2, 0.0),
-                              Vector2d(52.2, 1.2), Vector2d(50.8, 0.45), Vector2d(-0.8, 0.45), Vector2d(-2.2, 1.2),
-                              Vector2d(-3.2, 0.0), Vector2d(-2.2, -1.2), Vector2d(-0.8, -0.45)}) {
+    for (const Vector2d& q :
+         {Vector2d(25.0, -0.45), Vector2d(50.8, -0.45), Vector2d(52.2, -1.2), Vector2d(53.2, 0.0),
+          Vector2d(52.2, 1.2), Vector2d(50.8, 0.45), Vector2d(-0.8, 0.45), Vector2d(-2.2, 1.2),
+          Vector2d(-3.2, 0.0), Vector2d(-2.2, -1.2), Vector2d(-0.8, -0.45)}) {
         s.walk_loop.emplace_back(q.x(), q.y(), kHand);
     }
-    s.world.description = "50 m corridor, 2.2 m wide, plain walls, a few door recesses, lobbies at the ends";
+    s.world.description =
+        "50 m corridor, 2.2 m wide, plain walls, a few door recesses, lobbies at the ends";
     return s;
 }
 
@@ -291,8 +323,9 @@ void tree(MeshBuilder& b, Rng& rng, const Vector3d& base, std::uint16_t bark, st
     for (int i = 0; i < main_branches; ++i) {
         const double az = 2 * std::numbers::pi * (i + rng.uniform(0, 0.6)) / main_branches;
         const double el = rng.uniform(0.5, 1.1);
-        stack.push_back({top, Vector3d(std::cos(az) * std::cos(el), std::sin(az) * std::cos(el), std::sin(el)),
-                         rng.uniform(1.0, 1.6), r0 * 0.5, 0});
+        stack.push_back(
+            {top, Vector3d(std::cos(az) * std::cos(el), std::sin(az) * std::cos(el), std::sin(el)),
+             rng.uniform(1.0, 1.6), r0 * 0.5, 0});
     }
     while (!stack.empty()) {
         const Branch br = stack.back();
@@ -302,15 +335,19 @@ void tree(MeshBuilder& b, Rng& rng, const Vector3d& base, std::uint16_t bark, st
         if (br.depth < 3) {
             const int forks = 2 + static_cast<int>(rng.below(2));
             for (int k = 0; k < forks; ++k) {
-                Vector3d d = br.dir + Vector3d(rng.gauss(0.5), rng.gauss(0.5), rng.gauss(0.3) + 0.15);
+                Vector3d d =
+                    br.dir + Vector3d(rng.gauss(0.5), rng.gauss(0.5), rng.gauss(0.3) + 0.15);
                 d.normalize();
-                stack.push_back({end, d, br.length * rng.uniform(0.55, 0.75), br.radius * 0.6, br.depth + 1});
+                stack.push_back(
+                    {end, d, br.length * rng.uniform(0.55, 0.75), br.radius * 0.6, br.depth + 1});
             }
         } else {
             for (int k = 0; k < 36; ++k) {
                 const Vector3d c = end + Vector3d(rng.gauss(0.3), rng.gauss(0.3), rng.gauss(0.2));
-                const Vector3d n = Vector3d(rng.gauss(), rng.gauss(), rng.gauss() + 1.0).normalized();
-                b.addLeaf(c, n, n.unitOrthogonal(), rng.uniform(0.07, 0.14), rng.uniform(0.04, 0.07), leaf);
+                const Vector3d n =
+                    Vector3d(rng.gauss(), rng.gauss(), rng.gauss() + 1.0).normalized();
+                b.addLeaf(c, n, n.unitOrthogonal(), rng.uniform(0.07, 0.14),
+                          rng.uniform(0.04, 0.07), leaf);
             }
         }
     }
@@ -336,10 +373,14 @@ Scene courtyard() {
     MeshBuilder b(s.world);
     Palette p(b);
     Rng rng(20260401, "courtyard");
-    const std::uint16_t paving = b.addMaterial(mat("paving", 0.35f, 0.55f, 0.52f, 0.48f, TextureId::kConcrete, 1.5f));
-    const std::uint16_t lawn = b.addMaterial(mat("lawn", 0.30f, 0.25f, 0.45f, 0.18f, TextureId::kGrass, 1.0f));
-    const std::uint16_t bark = b.addMaterial(mat("bark", 0.25f, 0.35f, 0.27f, 0.2f, TextureId::kBark, 0.6f));
-    const std::uint16_t leaf = b.addMaterial(mat("leaf", 0.45f, 0.2f, 0.5f, 0.15f, TextureId::kFoliage, 0.3f));
+    const std::uint16_t paving =
+        b.addMaterial(mat("paving", 0.35f, 0.55f, 0.52f, 0.48f, TextureId::kConcrete, 1.5f));
+    const std::uint16_t lawn =
+        b.addMaterial(mat("lawn", 0.30f, 0.25f, 0.45f, 0.18f, TextureId::kGrass, 1.0f));
+    const std::uint16_t bark =
+        b.addMaterial(mat("bark", 0.25f, 0.35f, 0.27f, 0.2f, TextureId::kBark, 0.6f));
+    const std::uint16_t leaf =
+        b.addMaterial(mat("leaf", 0.45f, 0.2f, 0.5f, 0.15f, TextureId::kFoliage, 0.3f));
     const double W = 30.0, D = 24.0, H = 8.0, T = 0.3;
     b.addBox(Vector3d(-1, -1, -0.1), Vector3d(W + 1, D + 1, 0), paving);
     b.addBox(Vector3d(9, 9, 0), Vector3d(21, 15, 0.02), lawn);
@@ -358,22 +399,27 @@ Scene courtyard() {
     b.addWall({W, 0}, {W, D}, T, 0, H, {}, p.wall);
     b.addWall({0, D}, {0, 0}, T, 0, H, {{10, 12.5, 0, 3.0}}, p.wall);
     // Trees inside the loop (on the lawn) and between the loop and the facades; bushes.
-    for (const Vector2d& q : {Vector2d(11, 11), Vector2d(15, 12.5), Vector2d(19, 11), Vector2d(13, 14),
-                              Vector2d(17.5, 14), Vector2d(3, 3), Vector2d(27, 3), Vector2d(3, 21),
-                              Vector2d(27, 21), Vector2d(15, 2.5), Vector2d(15, 21.5), Vector2d(27.5, 12)}) {
+    for (const Vector2d& q :
+         {Vector2d(11, 11), Vector2d(15, 12.5), Vector2d(19, 11), Vector2d(13, 14),
+          Vector2d(17.5, 14), Vector2d(3, 3), Vector2d(27, 3), Vector2d(3, 21), Vector2d(27, 21),
+          Vector2d(15, 2.5), Vector2d(15, 21.5), Vector2d(27.5, 12)}) {
         tree(b, rng, Vector3d(q.x(), q.y(), 0), bark, leaf);
     }
-    for (const Vector2d& q : {Vector2d(10, 13), Vector2d(20, 13.5), Vector2d(14, 10), Vector2d(2.5, 12),
-                              Vector2d(8, 2), Vector2d(22, 22.5), Vector2d(22, 2)}) {
+    for (const Vector2d& q :
+         {Vector2d(10, 13), Vector2d(20, 13.5), Vector2d(14, 10), Vector2d(2.5, 12), Vector2d(8, 2),
+          Vector2d(22, 22.5), Vector2d(22, 2)}) {
         bush(b, rng, Vector3d(q.x(), q.y(), 0.5), bark, leaf);
     }
-    for (double x = 9.5; x < 21; x += 2.5) b.addBox(Vector3d(x, 8.2, 0), Vector3d(x + 1.6, 8.6, 0.45), p.wood);
+    for (double x = 9.5; x < 21; x += 2.5)
+        b.addBox(Vector3d(x, 8.2, 0), Vector3d(x + 1.6, 8.6, 0.45), p.wood);
     // Loop around the lawn.
-    for (const Vector2d& q : {Vector2d(12, 6.5), Vector2d(24, 6.5), Vector2d(24.5, 12), Vector2d(24, 17.5),
-                              Vector2d(6, 17.5), Vector2d(5.5, 12), Vector2d(6, 6.5)}) {
+    for (const Vector2d& q :
+         {Vector2d(12, 6.5), Vector2d(24, 6.5), Vector2d(24.5, 12), Vector2d(24, 17.5),
+          Vector2d(6, 17.5), Vector2d(5.5, 12), Vector2d(6, 6.5)}) {
         s.walk_loop.emplace_back(q.x(), q.y(), kHand);
     }
-    s.world.description = "courtyard with trees (thin branches, leaves), bushes, benches and facades";
+    s.world.description =
+        "courtyard with trees (thin branches, leaves), bushes, benches and facades";
     return s;
 }
 
@@ -381,8 +427,10 @@ Scene tunnel() {
     Scene s;
     s.world.name = "tunnel";
     MeshBuilder b(s.world);
-    const std::uint16_t concrete = b.addMaterial(mat("shotcrete", 0.4f, 0.55f, 0.53f, 0.5f, TextureId::kConcrete, 3.0f));
-    const std::uint16_t road = b.addMaterial(mat("floor", 0.2f, 0.3f, 0.3f, 0.3f, TextureId::kPlaster, 2.0f));
+    const std::uint16_t concrete =
+        b.addMaterial(mat("shotcrete", 0.4f, 0.55f, 0.53f, 0.5f, TextureId::kConcrete, 3.0f));
+    const std::uint16_t road =
+        b.addMaterial(mat("floor", 0.2f, 0.3f, 0.3f, 0.3f, TextureId::kPlaster, 2.0f));
     const double L = 120.0, half_w = 3.0, wall_h = 2.0, R = 3.0;
     // Horseshoe cross-section: vertical walls to wall_h, then a semicircular vault, floor.
     std::vector<Vector2d> section;  // (y, z)
@@ -398,12 +446,16 @@ Scene tunnel() {
         for (std::size_t k = 0; k + 1 < section.size(); ++k) {
             const Vector2d& a = section[k];
             const Vector2d& c = section[k + 1];
-            b.addQuad({x0, a.x(), a.y()}, {x1, a.x(), a.y()}, {x1, c.x(), c.y()}, {x0, c.x(), c.y()}, concrete);
+            b.addQuad({x0, a.x(), a.y()}, {x1, a.x(), a.y()}, {x1, c.x(), c.y()},
+                      {x0, c.x(), c.y()}, concrete);
         }
-        b.addQuad({x0, -half_w, 0.0}, {x0, half_w, 0.0}, {x1, half_w, 0.0}, {x1, -half_w, 0.0}, road);
+        b.addQuad({x0, -half_w, 0.0}, {x0, half_w, 0.0}, {x1, half_w, 0.0}, {x1, -half_w, 0.0},
+                  road);
     }
-    for (const Vector3d& q : racetrack({5.0, 0.0}, {60.0, 0.0}, 1.3, kHand, 10)) s.walk_loop.push_back(q);
-    s.world.description = "120 m straight smooth tunnel (horseshoe section): laser degeneracy along its axis";
+    for (const Vector3d& q : racetrack({5.0, 0.0}, {60.0, 0.0}, 1.3, kHand, 10))
+        s.walk_loop.push_back(q);
+    s.world.description =
+        "120 m straight smooth tunnel (horseshoe section): laser degeneracy along its axis";
     return s;
 }
 
@@ -411,7 +463,8 @@ Scene field() {
     Scene s;
     s.world.name = "field";
     MeshBuilder b(s.world);
-    const std::uint16_t grass = b.addMaterial(mat("grass", 0.3f, 0.3f, 0.5f, 0.2f, TextureId::kGrass, 1.0f));
+    const std::uint16_t grass =
+        b.addMaterial(mat("grass", 0.3f, 0.3f, 0.5f, 0.2f, TextureId::kGrass, 1.0f));
     const int n = 20;
     const double half = 200.0;
     for (int i = 0; i < n; ++i) {
@@ -421,7 +474,8 @@ Scene field() {
             b.addQuad({x0, y0, 0}, {x1, y0, 0}, {x1, y1, 0}, {x0, y1, 0}, grass);
         }
     }
-    for (const Vector3d& q : racetrack({0.0, 0.0}, {25.0, 0.0}, 6.0, kHand, 12)) s.walk_loop.push_back(q);
+    for (const Vector3d& q : racetrack({0.0, 0.0}, {25.0, 0.0}, 6.0, kHand, 12))
+        s.walk_loop.push_back(q);
     s.world.description = "flat open grass field, 400 m square, nothing else: laser degeneracy";
     return s;
 }
@@ -447,9 +501,10 @@ Scene buildScene(const std::string& name) {
     if (name == "courtyard") return courtyard();
     if (name == "tunnel") return tunnel();
     if (name == "field") return field();
-    throw std::invalid_argument("unknown scene '" + name +
-                                "': expected one of office, house, corridor, courtyard, tunnel, field "
-                                "(or an .obj file path)");
+    throw std::invalid_argument(
+        "unknown scene '" + name +
+        "': expected one of office, house, corridor, courtyard, tunnel, field "
+        "(or an .obj file path)");
 }
 
 }  // namespace handscan::sim

@@ -36,7 +36,8 @@ std::vector<Eigen::Vector3d> fallbackLoop(const World& w) {
 // Indices (0..n-1) at which `count` faults happen, spread evenly.
 std::vector<std::int64_t> faultSlots(int count, std::int64_t n) {
     std::vector<std::int64_t> v;
-    for (int i = 0; i < count; ++i) v.push_back((static_cast<std::int64_t>(i) + 1) * n / (count + 1));
+    for (int i = 0; i < count; ++i)
+        v.push_back((static_cast<std::int64_t>(i) + 1) * n / (count + 1));
     return v;
 }
 
@@ -50,7 +51,8 @@ bool takeSlot(std::vector<std::int64_t>& slots, std::int64_t k) {
 
 }  // namespace
 
-Simulator::Simulator(const SimOptions& options, const DeviceConfig& device, const Calibration& calibration)
+Simulator::Simulator(const SimOptions& options, const DeviceConfig& device,
+                     const Calibration& calibration)
     : opt_(options), device_(device), cal_(calibration) {
     // Device defaults from device.yaml and the calibration.
     dev_.xsens.rate_hz = device.xsens.rate_hz;
@@ -95,7 +97,8 @@ Simulator::Simulator(const SimOptions& options, const DeviceConfig& device, cons
     dev_.tracking_render.motion_blur = dev_.colour_render.motion_blur = options.motion_blur;
     // Per-device clock offsets depend on the seed, so runs differ in more than noise.
     Rng clocks(options.seed, "clocks");
-    dev_.hokuyo.clock.offset_s = clocks.uniform(100.0, 16000.0);  // 24-bit ms counter wraps at 4.66 h
+    dev_.hokuyo.clock.offset_s =
+        clocks.uniform(100.0, 16000.0);  // 24-bit ms counter wraps at 4.66 h
     dev_.xsens.clock.offset_s = clocks.uniform(10.0, 400000.0);
     dev_.can.clock.offset_s = clocks.uniform(1.0, 1000.0);
 
@@ -151,16 +154,21 @@ Status Simulator::run(RecordingSink& sink, const std::function<void(double)>& pr
     std::unique_ptr<CameraRenderer> track_render, colour_render;
     std::unique_ptr<CameraStream> track_stream, colour_stream;
     if (opt_.cameras) {
-        track_render = std::make_unique<CameraRenderer>(cal_.tracking, dev_.tracking_render, *raycaster_, Rng(opt_.seed, "track-render"));
-        track_stream = std::make_unique<CameraStream>(dev_.tracking, h0, Rng(opt_.seed, "track-v4l2"));
+        track_render = std::make_unique<CameraRenderer>(
+            cal_.tracking, dev_.tracking_render, *raycaster_, Rng(opt_.seed, "track-render"));
+        track_stream =
+            std::make_unique<CameraStream>(dev_.tracking, h0, Rng(opt_.seed, "track-v4l2"));
         if (opt_.colour_camera) {
-            colour_render = std::make_unique<CameraRenderer>(cal_.colour, dev_.colour_render, *raycaster_, Rng(opt_.seed, "colour-render"));
-            colour_stream = std::make_unique<CameraStream>(dev_.colour, h0, Rng(opt_.seed, "colour-v4l2"));
+            colour_render = std::make_unique<CameraRenderer>(
+                cal_.colour, dev_.colour_render, *raycaster_, Rng(opt_.seed, "colour-render"));
+            colour_stream =
+                std::make_unique<CameraStream>(dev_.colour, h0, Rng(opt_.seed, "colour-v4l2"));
         }
     }
     const double scan_dev0 = dev_.hokuyo.clock.deviceSeconds(0.1);
     auto scanTime = [&](std::int64_t k) {  // the mirror turns on the sensor's clock
-        return dev_.hokuyo.clock.trueSeconds(scan_dev0 + static_cast<double>(k) * dev_.laser.scan_period_s);
+        return dev_.hokuyo.clock.trueSeconds(scan_dev0 +
+                                             static_cast<double>(k) * dev_.laser.scan_period_s);
     };
     const auto n_scans = static_cast<std::int64_t>(T / dev_.laser.scan_period_s);
     const auto n_imu = static_cast<std::int64_t>(T * dev_.xsens.rate_hz);
@@ -215,7 +223,8 @@ Status Simulator::run(RecordingSink& sink, const std::function<void(double)>& pr
                 hokuyo_down_until = t0 + 1.0;  // the driver notices the silence and reconnects
             }
             if (t0 < hokuyo_down_until) {
-                if (scanTime(k_scan + 1) >= hokuyo_down_until) hokuyo.handshake(hokuyo_down_until, batch);
+                if (scanTime(k_scan + 1) >= hokuyo_down_until)
+                    hokuyo.handshake(hokuyo_down_until, batch);
                 continue;
             }
             hokuyo.scan(s, takeSlot(scip_faults, k_scan), batch);
@@ -243,14 +252,19 @@ Status Simulator::run(RecordingSink& sink, const std::function<void(double)>& pr
         if (track_stream) {
             for (; k_track < n_frames && track_stream->exposureStart(k_track) < w1; ++k_track) {
                 const bool lost = takeSlot(frame_faults, k_track);
-                if (!lost) track_render->render(track_stream->exposureStart(k_track), [&](double t) { return trajectory_.at(t).T_world_body; }, pixels);
+                if (!lost)
+                    track_render->render(
+                        track_stream->exposureStart(k_track),
+                        [&](double t) { return trajectory_.at(t).T_world_body; }, pixels);
                 track_stream->frame(k_track, pixels, lost, batch);
                 stats_.tracking_frames += lost ? 0 : 1;
             }
         }
         if (colour_stream) {
             for (; colour_stream->exposureStart(k_colour) < w1; ++k_colour) {
-                colour_render->render(colour_stream->exposureStart(k_colour), [&](double t) { return colourCameraPose(t); }, pixels);
+                colour_render->render(
+                    colour_stream->exposureStart(k_colour),
+                    [&](double t) { return colourCameraPose(t); }, pixels);
                 colour_stream->frame(k_colour, pixels, false, batch);
                 ++stats_.colour_frames;
             }
@@ -262,14 +276,16 @@ Status Simulator::run(RecordingSink& sink, const std::function<void(double)>& pr
         if (progress) progress(w1);
     }
     if (Status s = flushBefore(std::numeric_limits<TimeNs>::max()); !s) return s;
-    stats_.camera_rays = (track_render ? track_render->raysCast() : 0) + (colour_render ? colour_render->raysCast() : 0);
+    stats_.camera_rays = (track_render ? track_render->raysCast() : 0) +
+                         (colour_render ? colour_render->raysCast() : 0);
     return Status::ok();
 }
 
 Status Simulator::writeGroundTruthTum(const std::string& path) const {
     std::ofstream out(path);
     if (!out) return {StatusCode::kIoError, path + ": cannot open for writing"};
-    out << "# ground truth of the body frame {C} in the gravity-aligned world frame; t on the host clock (s)\n"
+    out << "# ground truth of the body frame {C} in the gravity-aligned world frame; t on the host "
+           "clock (s)\n"
         << "# t x y z qx qy qz qw\n";
     char line[256];
     for (std::int64_t k = 0; static_cast<double>(k) / 200.0 <= opt_.duration_s + 1e-9; ++k) {
@@ -278,7 +294,8 @@ Status Simulator::writeGroundTruthTum(const std::string& path) const {
         const Eigen::Quaterniond q(T_wb.linear());
         const Eigen::Vector3d p = T_wb.translation();
         std::snprintf(line, sizeof(line), "%.9f %.9f %.9f %.9f %.9f %.9f %.9f %.9f\n",
-                      toSeconds(hostNs(opt_.host_start_ns, t)), p.x(), p.y(), p.z(), q.x(), q.y(), q.z(), q.w());
+                      toSeconds(hostNs(opt_.host_start_ns, t)), p.x(), p.y(), p.z(), q.x(), q.y(),
+                      q.z(), q.w());
         out << line;
     }
     out.flush();

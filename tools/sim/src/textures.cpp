@@ -72,12 +72,18 @@ Image generate(TextureId id) {
     switch (id) {
         case TextureId::kPlain: {
             Fbm f(2, 3, rng);
-            each([&](float u, float v) { const float g = 0.9f + 0.06f * f(u, v); return C{g, g, g}; });
+            each([&](float u, float v) {
+                const float g = 0.9f + 0.06f * f(u, v);
+                return C{g, g, g};
+            });
             break;
         }
         case TextureId::kPlaster: {
             Fbm f(4, 6, rng);
-            each([&](float u, float v) { const float g = 0.65f + 0.35f * f(u, v); return C{g, g, g}; });
+            each([&](float u, float v) {
+                const float g = 0.65f + 0.35f * f(u, v);
+                return C{g, g, g};
+            });
             break;
         }
         case TextureId::kConcrete: {
@@ -101,17 +107,24 @@ Image generate(TextureId id) {
         }
         case TextureId::kPosters: {
             Fbm f(8, 4, rng);
-            each([&](float u, float v) { const float g = 0.85f + 0.1f * f(u, v); return C{g, g, g}; });
-            for (int k = 0; k < 60; ++k) {  // rectangles, text-like bars and discs in random colours
+            each([&](float u, float v) {
+                const float g = 0.85f + 0.1f * f(u, v);
+                return C{g, g, g};
+            });
+            for (int k = 0; k < 60;
+                 ++k) {  // rectangles, text-like bars and discs in random colours
                 const int x0 = static_cast<int>(rng.below(N)), y0 = static_cast<int>(rng.below(N));
-                const int w = 8 + static_cast<int>(rng.below(120)), h = 4 + static_cast<int>(rng.below(90));
-                const C col{static_cast<float>(rng.uniform(0.05, 1)), static_cast<float>(rng.uniform(0.05, 1)),
+                const int w = 8 + static_cast<int>(rng.below(120)),
+                          h = 4 + static_cast<int>(rng.below(90));
+                const C col{static_cast<float>(rng.uniform(0.05, 1)),
+                            static_cast<float>(rng.uniform(0.05, 1)),
                             static_cast<float>(rng.uniform(0.05, 1))};
                 const bool disc = rng.chance(0.3);
                 for (int y = y0; y < y0 + h; ++y)
                     for (int x = x0; x < x0 + w; ++x) {
                         if (disc) {
-                            const float dx = (x - x0 - w / 2.0f) / (w / 2.0f), dy = (y - y0 - h / 2.0f) / (h / 2.0f);
+                            const float dx = (x - x0 - w / 2.0f) / (w / 2.0f),
+                                        dy = (y - y0 - h / 2.0f) / (h / 2.0f);
                             if (dx * dx + dy * dy > 1) continue;
                         }
                         set(img, x & (N - 1), y & (N - 1), col[0], col[1], col[2]);
@@ -145,7 +158,10 @@ Image generate(TextureId id) {
         case TextureId::kCarpet: {
             Fbm f(32, 4, rng);
             ValueNoise fine(256, rng);
-            each([&](float u, float v) { const float g = 0.4f + 0.3f * f(u, v) + 0.3f * fine(u, v); return C{g, g, g}; });
+            each([&](float u, float v) {
+                const float g = 0.4f + 0.3f * f(u, v) + 0.3f * fine(u, v);
+                return C{g, g, g};
+            });
             break;
         }
         case TextureId::kFoliage: {
@@ -184,7 +200,9 @@ Image generate(TextureId id) {
 }  // namespace
 
 TextureAtlas::TextureAtlas() {
-    auto toByte = [](float v) { return static_cast<std::uint8_t>(std::clamp(v, 0.0f, 1.0f) * 255.0f + 0.5f); };
+    auto toByte = [](float v) {
+        return static_cast<std::uint8_t>(std::clamp(v, 0.0f, 1.0f) * 255.0f + 0.5f);
+    };
     for (std::size_t i = 0; i < mips_.size(); ++i) {
         auto& chain = mips_[i];
         // Box-filtered mip chain, filtered in float and stored as bytes.
@@ -195,7 +213,9 @@ TextureAtlas::TextureAtlas() {
             l.texels.resize(level.size());
             l.grey.resize(level.size());
             for (std::size_t k = 0; k < level.size(); ++k) {
-                for (int c = 0; c < 4; ++c) l.texels[k][static_cast<std::size_t>(c)] = toByte(level[k][static_cast<std::size_t>(c)]);
+                for (int c = 0; c < 4; ++c)
+                    l.texels[k][static_cast<std::size_t>(c)] =
+                        toByte(level[k][static_cast<std::size_t>(c)]);
                 l.grey[k] = l.texels[k][3];
             }
             chain.push_back(std::move(l));
@@ -207,7 +227,8 @@ TextureAtlas::TextureAtlas() {
                     std::array<float, 4> sum{};
                     for (int dy = 0; dy < 2; ++dy)
                         for (int dx = 0; dx < 2; ++dx) {
-                            const auto& t = level[static_cast<std::size_t>(2 * y + dy) * size + 2 * x + dx];
+                            const auto& t =
+                                level[static_cast<std::size_t>(2 * y + dy) * size + 2 * x + dx];
                             for (int c = 0; c < 4; ++c) sum[c] += 0.25f * t[c];
                         }
                     next[static_cast<std::size_t>(y) * half + x] = sum;
@@ -227,7 +248,8 @@ const TextureAtlas::Level& TextureAtlas::level(TextureId id, float footprint) co
     const auto& chain = mips_[static_cast<std::size_t>(id)];
     const float texels = footprint * N;
     // Mip level = floor(log2(texels per pixel)), from the float's exponent.
-    const int lv = texels < 2.0f ? 0 : std::min(std::ilogb(texels), static_cast<int>(chain.size()) - 1);
+    const int lv =
+        texels < 2.0f ? 0 : std::min(std::ilogb(texels), static_cast<int>(chain.size()) - 1);
     return chain[static_cast<std::size_t>(lv)];
 }
 
@@ -244,7 +266,9 @@ Eigen::Vector3f TextureAtlas::rgb(TextureId id, float u, float v, float footprin
     return {s[0], s[1], s[2]};
 }
 
-float TextureAtlas::grey(TextureId id, float u, float v, float footprint) const { return sample(id, u, v, footprint)[3]; }
+float TextureAtlas::grey(TextureId id, float u, float v, float footprint) const {
+    return sample(id, u, v, footprint)[3];
+}
 
 void TextureAtlas::planarAxes(const Eigen::Vector3f& n, int& axis_u, int& axis_v, float& sign_v) {
     const Eigen::Vector3f a = n.cwiseAbs();
@@ -257,7 +281,8 @@ void TextureAtlas::planarAxes(const Eigen::Vector3f& n, int& axis_u, int& axis_v
     }
 }
 
-Eigen::Vector2f TextureAtlas::planarUv(const Eigen::Vector3f& p, const Eigen::Vector3f& n, float scale_m) {
+Eigen::Vector2f TextureAtlas::planarUv(const Eigen::Vector3f& p, const Eigen::Vector3f& n,
+                                       float scale_m) {
     int au, av;
     float sv;
     planarAxes(n, au, av, sv);

@@ -14,7 +14,8 @@ namespace {
 
 // Z-Y-X Euler (yaw psi, pitch theta, roll phi) -> rotation.
 Eigen::Matrix3d rotZYX(double yaw, double pitch, double roll) {
-    return (Eigen::AngleAxisd(yaw, Eigen::Vector3d::UnitZ()) * Eigen::AngleAxisd(pitch, Eigen::Vector3d::UnitY()) *
+    return (Eigen::AngleAxisd(yaw, Eigen::Vector3d::UnitZ()) *
+            Eigen::AngleAxisd(pitch, Eigen::Vector3d::UnitY()) *
             Eigen::AngleAxisd(roll, Eigen::Vector3d::UnitX()))
         .toRotationMatrix();
 }
@@ -28,7 +29,8 @@ Eigen::Matrix3d Trajectory::deviceFromCamera() {
     return R;
 }
 
-Trajectory::Trajectory(double dt, std::vector<Vector6d> control, double duration) : dt_(dt), c_(std::move(control)) {
+Trajectory::Trajectory(double dt, std::vector<Vector6d> control, double duration)
+    : dt_(dt), c_(std::move(control)) {
     const double last = c_.empty() ? 0.0 : dt_ * static_cast<double>(c_.size() - 1);
     duration_ = duration < 0.0 ? last : std::min(duration, last);
 }
@@ -49,8 +51,10 @@ BodyState Trajectory::at(double t) const {
     }
     // Uniform cubic B-spline basis over control points i-1 .. i+2 (indices clamped at the ends).
     const double x2 = x * x, x3 = x2 * x, m = 1.0 - x;
-    const double b[4] = {m * m * m / 6.0, (3 * x3 - 6 * x2 + 4) / 6.0, (-3 * x3 + 3 * x2 + 3 * x + 1) / 6.0, x3 / 6.0};
-    const double d[4] = {-m * m / 2.0, (3 * x2 - 4 * x) / 2.0, (-3 * x2 + 2 * x + 1) / 2.0, x2 / 2.0};
+    const double b[4] = {m * m * m / 6.0, (3 * x3 - 6 * x2 + 4) / 6.0,
+                         (-3 * x3 + 3 * x2 + 3 * x + 1) / 6.0, x3 / 6.0};
+    const double d[4] = {-m * m / 2.0, (3 * x2 - 4 * x) / 2.0, (-3 * x2 + 2 * x + 1) / 2.0,
+                         x2 / 2.0};
     const double dd[4] = {m, 3 * x - 2, -3 * x + 1, x};
     Vector6d p = Vector6d::Zero(), v = Vector6d::Zero(), a = Vector6d::Zero();
     for (int k = 0; k < 4; ++k) {
@@ -66,11 +70,13 @@ BodyState Trajectory::at(double t) const {
     const double ddpsi = a[3], ddth = a[4], ddph = a[5];
     const double sth = std::sin(th), cth = std::cos(th), sph = std::sin(ph), cph = std::cos(ph);
     // Body rates of a Z-Y-X Euler sequence and their exact time derivatives.
-    const Eigen::Vector3d w_f(dph - dpsi * sth, dth * cph + dpsi * cth * sph, -dth * sph + dpsi * cth * cph);
-    const Eigen::Vector3d al_f(
-        ddph - ddpsi * sth - dpsi * dth * cth,
-        ddth * cph - dth * dph * sph + ddpsi * cth * sph - dpsi * dth * sth * sph + dpsi * dph * cth * cph,
-        -ddth * sph - dth * dph * cph + ddpsi * cth * cph - dpsi * dth * sth * cph - dpsi * dph * cth * sph);
+    const Eigen::Vector3d w_f(dph - dpsi * sth, dth * cph + dpsi * cth * sph,
+                              -dth * sph + dpsi * cth * cph);
+    const Eigen::Vector3d al_f(ddph - ddpsi * sth - dpsi * dth * cth,
+                               ddth * cph - dth * dph * sph + ddpsi * cth * sph -
+                                   dpsi * dth * sth * sph + dpsi * dph * cth * cph,
+                               -ddth * sph - dth * dph * cph + ddpsi * cth * cph -
+                                   dpsi * dth * sth * cph - dpsi * dph * cth * sph);
     const Eigen::Matrix3d R_fc = deviceFromCamera();
     s.T_world_body.linear() = rotZYX(psi, th, ph) * R_fc;
     s.T_world_body.translation() = p.head<3>();
@@ -151,7 +157,8 @@ WalkPlan makeWalk(const std::vector<Eigen::Vector3d>& loop, const WalkOptions& o
         for (std::size_t i = 0; i < curve.size(); ++i)
             if ((curve[i] - loop[0]).norm() < (curve[start] - loop[0]).norm()) start = i;
         std::vector<Eigen::Vector3d> ring;
-        for (std::size_t k = 0; k <= curve.size(); ++k) ring.push_back(curve[(start + k) % curve.size()]);
+        for (std::size_t k = 0; k <= curve.size(); ++k)
+            ring.push_back(curve[(start + k) % curve.size()]);
         pts.push_back(ring[0]);
         double carry = 0.0;
         for (std::size_t i = 0; i + 1 < ring.size(); ++i) {
@@ -179,8 +186,10 @@ WalkPlan makeWalk(const std::vector<Eigen::Vector3d>& loop, const WalkOptions& o
     for (std::size_t i = 0; i < m; ++i) {
         const double s = ds * static_cast<double>(i);
         const Eigen::Vector3d a = P(s - 0.1), b = P(s), c = P(s + 0.1);
-        const Eigen::Vector2d t0 = (b - a).head<2>().normalized(), t1 = (c - b).head<2>().normalized();
-        const double kappa = std::abs(std::atan2(t0.x() * t1.y() - t0.y() * t1.x(), t0.dot(t1))) / 0.1;
+        const Eigen::Vector2d t0 = (b - a).head<2>().normalized(),
+                              t1 = (c - b).head<2>().normalized();
+        const double kappa =
+            std::abs(std::atan2(t0.x() * t1.y() - t0.y() * t1.x(), t0.dot(t1))) / 0.1;
         const double slope = std::abs(c.z() - a.z()) / 0.2;
         double v = kappa > 1e-6 ? std::sqrt(o.lateral_accel_mps2 / kappa) : 10.0;
         if (slope > 0.15) v = std::min(v, 0.6);  // stairs
@@ -195,9 +204,11 @@ WalkPlan makeWalk(const std::vector<Eigen::Vector3d>& loop, const WalkOptions& o
         smooth(v, 15, 3);
         const double acc = 0.5;
         v[0] = 0.0;
-        for (std::size_t i = 1; i < n; ++i) v[i] = std::min(v[i], std::sqrt(v[i - 1] * v[i - 1] + 2 * acc * ds));
+        for (std::size_t i = 1; i < n; ++i)
+            v[i] = std::min(v[i], std::sqrt(v[i - 1] * v[i - 1] + 2 * acc * ds));
         v[n - 1] = 0.0;
-        for (std::size_t i = n - 1; i-- > 0;) v[i] = std::min(v[i], std::sqrt(v[i + 1] * v[i + 1] + 2 * acc * ds));
+        for (std::size_t i = n - 1; i-- > 0;)
+            v[i] = std::min(v[i], std::sqrt(v[i + 1] * v[i + 1] + 2 * acc * ds));
         double t = 0.0;
         for (std::size_t i = 1; i < n; ++i) t += 2 * ds / (v[i] + v[i - 1] + 1e-9);
         return t;
@@ -220,7 +231,8 @@ WalkPlan makeWalk(const std::vector<Eigen::Vector3d>& loop, const WalkOptions& o
     plan.cruise_speed_mps = cruise;
     // Cumulative time at each arc-length sample.
     std::vector<double> tcum(v.size(), 0.0);
-    for (std::size_t i = 1; i < v.size(); ++i) tcum[i] = tcum[i - 1] + 2 * ds / (v[i] + v[i - 1] + 1e-9);
+    for (std::size_t i = 1; i < v.size(); ++i)
+        tcum[i] = tcum[i - 1] + 2 * ds / (v[i] + v[i - 1] + 1e-9);
     const double S = ds * static_cast<double>(v.size() - 1);
     auto sOfT = [&](double t) {  // arc length walked after t seconds of walking
         if (t <= 0) return 0.0;
@@ -230,11 +242,13 @@ WalkPlan makeWalk(const std::vector<Eigen::Vector3d>& loop, const WalkOptions& o
         const double f = (t - tcum[i]) / (tcum[i + 1] - tcum[i]);
         return ds * (static_cast<double>(i) + f);
     };
-    const double t_walk_end = o.still_start_s + (plan.closed ? tcum.back() : walk_time + o.still_end_s);
+    const double t_walk_end =
+        o.still_start_s + (plan.closed ? tcum.back() : walk_time + o.still_end_s);
     // 4. Control points every dt: position along the path plus gait, heading plus looking around.
     const double dt = 0.04;
     Rng phase_rng(o.seed, "walk");
-    const double ph1 = phase_rng.uniform(0, 6.28), ph2 = phase_rng.uniform(0, 6.28), ph3 = phase_rng.uniform(0, 6.28);
+    const double ph1 = phase_rng.uniform(0, 6.28), ph2 = phase_rng.uniform(0, 6.28),
+                 ph3 = phase_rng.uniform(0, 6.28);
     // Three control points past the end keep the spline's last interval free of clamping.
     const std::size_t count = static_cast<std::size_t>(std::ceil(o.duration_s / dt)) + 4;
     auto build = [&](double aggressive_gain) {
@@ -244,7 +258,8 @@ WalkPlan makeWalk(const std::vector<Eigen::Vector3d>& loop, const WalkOptions& o
             const double t = dt * static_cast<double>(k);
             const double s = sOfT(t - o.still_start_s);
             // Gate: 0 while still, 1 while walking (smooth), scales every walking motion.
-            const double g = smootherstep((t - o.still_start_s) / 1.5) * smootherstep((t_walk_end - t) / 1.5);
+            const double g =
+                smootherstep((t - o.still_start_s) / 1.5) * smootherstep((t_walk_end - t) / 1.5);
             const Eigen::Vector3d pos = P(s);
             const Eigen::Vector3d ahead = P(s + 0.5) - P(s);
             double yaw = std::atan2(ahead.y(), ahead.x());
@@ -253,9 +268,11 @@ WalkPlan makeWalk(const std::vector<Eigen::Vector3d>& loop, const WalkOptions& o
             const double gait = 2 * std::numbers::pi * s / 0.7;  // one bounce per 0.7 m step
             const Eigen::Vector3d left(-std::sin(yaw), std::cos(yaw), 0.0);
             Vector6d cp;
-            cp.head<3>() = pos + g * (0.015 * -std::cos(gait) * Eigen::Vector3d::UnitZ() + 0.02 * std::sin(gait / 2) * left);
+            cp.head<3>() = pos + g * (0.015 * -std::cos(gait) * Eigen::Vector3d::UnitZ() +
+                                      0.02 * std::sin(gait / 2) * left);
             double y = yaw + g * 0.35 * std::sin(2 * std::numbers::pi * t / 7.3 + ph1);
-            double p = -0.12 + g * (0.15 * std::sin(2 * std::numbers::pi * t / 9.1 + ph2) + 0.02 * std::sin(gait));
+            double p = -0.12 + g * (0.15 * std::sin(2 * std::numbers::pi * t / 9.1 + ph2) +
+                                    0.02 * std::sin(gait));
             double r = g * 0.04 * std::sin(gait / 2 + ph3);
             if (o.style == MotionStyle::kAggressive) {
                 y += aggressive_gain * g * 0.9 * std::sin(2 * std::numbers::pi * 0.9 * t + ph1);
@@ -271,7 +288,8 @@ WalkPlan makeWalk(const std::vector<Eigen::Vector3d>& loop, const WalkOptions& o
     };
     plan.trajectory = Trajectory(dt, build(1.0), o.duration_s);
     if (o.style == MotionStyle::kAggressive) {
-        // Scale the violent rotation until the peak rate is the requested one (Figure 30: 370 deg/s).
+        // Scale the violent rotation until the peak rate is the requested one (Figure 30: 370
+        // deg/s).
         double gain = 1.0;
         const double target = o.peak_rate_dps * std::numbers::pi / 180.0;
         for (int it = 0; it < 6; ++it) {
@@ -302,19 +320,23 @@ Result<Trajectory> loadTum(const std::string& path) {
         double qx, qy, qz, qw;
         if (!(ss >> p.t >> p.p.x() >> p.p.y() >> p.p.z() >> qx >> qy >> qz >> qw)) {
             return Status{StatusCode::kInvalidArgument,
-                          path + ":" + std::to_string(lineno) + ": expected 't x y z qx qy qz qw', got '" + line + "'"};
+                          path + ":" + std::to_string(lineno) +
+                              ": expected 't x y z qx qy qz qw', got '" + line + "'"};
         }
         p.q = Eigen::Quaterniond(qw, qx, qy, qz);
         if (std::abs(p.q.norm() - 1.0) > 1e-3) {
-            return Status{StatusCode::kInvalidArgument, path + ":" + std::to_string(lineno) + ": quaternion not unit"};
+            return Status{StatusCode::kInvalidArgument,
+                          path + ":" + std::to_string(lineno) + ": quaternion not unit"};
         }
         p.q.normalize();
         if (!poses.empty() && p.t <= poses.back().t) {
-            return Status{StatusCode::kInvalidArgument, path + ":" + std::to_string(lineno) + ": time not increasing"};
+            return Status{StatusCode::kInvalidArgument,
+                          path + ":" + std::to_string(lineno) + ": time not increasing"};
         }
         poses.push_back(p);
     }
-    if (poses.size() < 2) return Status{StatusCode::kInvalidArgument, path + ": needs at least two poses"};
+    if (poses.size() < 2)
+        return Status{StatusCode::kInvalidArgument, path + ": needs at least two poses"};
     const double dt = 0.01;
     const double t0 = poses.front().t, T = poses.back().t - t0;
     const Eigen::Matrix3d R_fc = Trajectory::deviceFromCamera();

@@ -7,7 +7,8 @@ namespace handscan::sim {
 
 Eigen::Vector3f World::triangleNormal(std::size_t i) const {
     const auto& t = triangles[i];
-    const Eigen::Vector3f n = (vertices[t[1]] - vertices[t[0]]).cross(vertices[t[2]] - vertices[t[0]]);
+    const Eigen::Vector3f n =
+        (vertices[t[1]] - vertices[t[0]]).cross(vertices[t[2]] - vertices[t[0]]);
     const float len = n.norm();
     return len > 0.0f ? Eigen::Vector3f(n / len) : Eigen::Vector3f::UnitZ();
 }

@@ -25,10 +25,12 @@ double XsensStream::sampleTime(std::int64_t k) const {
 
 std::uint32_t XsensStream::sampleTimeFine(std::int64_t k) const {
     const double device_s = first_sample_device_s_ + static_cast<double>(k) / cfg_.rate_hz;
-    return static_cast<std::uint32_t>(static_cast<std::uint64_t>(std::llround(device_s * 1e4)) & 0xFFFFFFFFu);
+    return static_cast<std::uint32_t>(static_cast<std::uint64_t>(std::llround(device_s * 1e4)) &
+                                      0xFFFFFFFFu);
 }
 
-void XsensStream::deliver(double t_send, std::vector<std::uint8_t> bytes, std::vector<StreamMessage>& out) {
+void XsensStream::deliver(double t_send, std::vector<std::uint8_t> bytes,
+                          std::vector<StreamMessage>& out) {
     const double byte_s = 10.0 / cfg_.baud;  // 8N1
     const double start = std::max(t_send, line_free_at_);
     const double end = start + byte_s * static_cast<double>(bytes.size());
@@ -40,8 +42,12 @@ void XsensStream::deliver(double t_send, std::vector<std::uint8_t> bytes, std::v
         const double t_cut = start + byte_s * static_cast<double>(cut);
         const TimeNs rx1 = hostNs(host_start_, t_cut + delay);
         const TimeNs rx2 = std::max(rx1 + 1, hostNs(host_start_, end + cfg_.clock.delay(rng_)));
-        out.push_back({rx1, SimChannel::kXsens, std::vector<std::uint8_t>(bytes.begin(), bytes.begin() + static_cast<long>(cut))});
-        out.push_back({rx2, SimChannel::kXsens, std::vector<std::uint8_t>(bytes.begin() + static_cast<long>(cut), bytes.end())});
+        out.push_back(
+            {rx1, SimChannel::kXsens,
+             std::vector<std::uint8_t>(bytes.begin(), bytes.begin() + static_cast<long>(cut))});
+        out.push_back(
+            {rx2, SimChannel::kXsens,
+             std::vector<std::uint8_t>(bytes.begin() + static_cast<long>(cut), bytes.end())});
         return;
     }
     out.push_back({hostNs(host_start_, end + delay), SimChannel::kXsens, std::move(bytes)});
@@ -57,14 +63,17 @@ void XsensStream::handshake(double t, std::vector<StreamMessage>& out) {
         {xs::xdi::kStatusWord, xs::kEveryPacket},
     };
     if (cfg_.delta_q_v) {
-        config.push_back({xs::withFormat(xs::xdi::kDeltaV, p), static_cast<std::uint16_t>(cfg_.rate_hz)});
-        config.push_back({xs::withFormat(xs::xdi::kDeltaQ, p), static_cast<std::uint16_t>(cfg_.rate_hz)});
+        config.push_back(
+            {xs::withFormat(xs::xdi::kDeltaV, p), static_cast<std::uint16_t>(cfg_.rate_hz)});
+        config.push_back(
+            {xs::withFormat(xs::xdi::kDeltaQ, p), static_cast<std::uint16_t>(cfg_.rate_hz)});
     }
     const std::vector<std::vector<std::uint8_t>> replies = {
         xs::encodeFrame(xs::MessageId::kGoToConfigAck),
         xs::encodeFrame(xs::MessageId::kDeviceId, xs::encodeDeviceId(cfg_.device_id)),
         xs::encodeFrame(xs::MessageId::kProductCode, xs::encodeProductCode("MTi-20-2A5G4")),
-        xs::encodeFrame(xs::MessageId::kSetOutputConfigurationAck, xs::encodeOutputConfiguration(config)),
+        xs::encodeFrame(xs::MessageId::kSetOutputConfigurationAck,
+                        xs::encodeOutputConfiguration(config)),
         xs::encodeFrame(xs::MessageId::kGoToMeasurementAck),
     };
     double at = t;
@@ -74,7 +83,8 @@ void XsensStream::handshake(double t, std::vector<StreamMessage>& out) {
     }
 }
 
-void XsensStream::sample(std::int64_t k, const ImuMeasurement& m, bool drop_byte, std::vector<StreamMessage>& out) {
+void XsensStream::sample(std::int64_t k, const ImuMeasurement& m, bool drop_byte,
+                         std::vector<StreamMessage>& out) {
     const auto p = static_cast<xs::Precision>(cfg_.precision & 3);
     const double dt = 1.0 / cfg_.rate_hz;
     std::uint32_t status = 0x3;  // self test ok, filter valid

@@ -10,7 +10,8 @@ namespace handscan::hokuyo {
 namespace {
 
 bool allDigits(std::string_view s) {
-    return !s.empty() && std::all_of(s.begin(), s.end(), [](char c) { return c >= '0' && c <= '9'; });
+    return !s.empty() &&
+           std::all_of(s.begin(), s.end(), [](char c) { return c >= '0' && c <= '9'; });
 }
 
 }  // namespace
@@ -23,8 +24,9 @@ std::vector<SourceScanFrame> splitScanFrames(std::string_view stream) {
     for (auto& e : events) {
         auto* f = std::get_if<ScipFrame>(&e);
         if (f == nullptr || !f->scan) continue;
-        frames.push_back({std::string(stream.substr(f->stream_offset, f->stream_end - f->stream_offset)),
-                          *f->scan_request, std::move(*f->scan)});
+        frames.push_back(
+            {std::string(stream.substr(f->stream_offset, f->stream_end - f->stream_offset)),
+             *f->scan_request, std::move(*f->scan)});
     }
     return frames;
 }
@@ -110,7 +112,8 @@ void FakeHokuyoSensor::onScanCommand(const std::string& command) {
     const std::string body = command.substr(0, command.find(';'));
     const bool stream = body[0] == 'M';
     auto reply = [&](const char* status) { out_ += encodeReply(command, status); };
-    if (body.size() != (stream ? 15u : 12u)) return reply("0C");  // malformed length (unconfirmed code)
+    if (body.size() != (stream ? 15u : 12u))
+        return reply("0C");  // malformed length (unconfirmed code)
     if (!allDigits(body.substr(2, 4))) return reply("01");
     if (!allDigits(body.substr(6, 4))) return reply("02");
     if (!allDigits(body.substr(10, 2))) return reply("03");
@@ -118,7 +121,8 @@ void FakeHokuyoSensor::onScanCommand(const std::string& command) {
     if (stream && !allDigits(body.substr(13, 2))) return reply("07");
     auto request = parseScanEcho(command);
     if (!request) return reply("0C");
-    if (request->start_step < ppInt("AMIN", 0) || request->end_step > ppInt("AMAX", 1080)) return reply("04");
+    if (request->start_step < ppInt("AMIN", 0) || request->end_step > ppInt("AMAX", 1080))
+        return reply("04");
     if (request->end_step < request->start_step) return reply("05");
     if (!stream) {
         if (!laser_on_) return reply("10");
@@ -154,7 +158,8 @@ std::optional<std::string> FakeHokuyoSensor::nextStreamFrame(std::uint32_t* time
     return encodeForRequest(frame, r);
 }
 
-std::string FakeHokuyoSensor::encodeForRequest(const SourceScanFrame& frame, const ScanRequest& r) const {
+std::string FakeHokuyoSensor::encodeForRequest(const SourceScanFrame& frame,
+                                               const ScanRequest& r) const {
     // Each requested value is the minimum over its cluster of steps (as the sensor merges them).
     const ScanRequest& src = frame.request;
     const int src_cluster = std::max(src.cluster, 1);

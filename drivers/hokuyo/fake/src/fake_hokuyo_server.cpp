@@ -72,7 +72,8 @@ void FakeHokuyoServer::serve() {
         }
         // Host commands (poll briefly; not at all when a frame is due).
         const bool frame_ready = frame || (sensor_.streaming() && !sensor_.sourceExhausted());
-        const TimeNs wait = frame_ready ? std::max<TimeNs>(0, next_due - monotonicNow()) : 10 * kNsPerMs;
+        const TimeNs wait =
+            frame_ready ? std::max<TimeNs>(0, next_due - monotonicNow()) : 10 * kNsPerMs;
         auto n = client->read(buf, std::min<TimeNs>(wait, 10 * kNsPerMs));
         if (!n) {
             drop_client();
@@ -122,8 +123,12 @@ void FakeHokuyoServer::serve() {
         for (const FakeLinkFault& f : options_.faults) {
             if (f.frame_index != index || f.byte_offset >= frame->size()) continue;
             switch (f.kind) {
-                case FakeLinkFault::Kind::kCorruptByte: (*frame)[f.byte_offset] ^= 0x01; break;
-                case FakeLinkFault::Kind::kDropByte: frame->erase(f.byte_offset, 1); break;
+                case FakeLinkFault::Kind::kCorruptByte:
+                    (*frame)[f.byte_offset] ^= 0x01;
+                    break;
+                case FakeLinkFault::Kind::kDropByte:
+                    frame->erase(f.byte_offset, 1);
+                    break;
                 case FakeLinkFault::Kind::kCloseMidFrame:
                     frame->resize(f.byte_offset);
                     close_after = true;

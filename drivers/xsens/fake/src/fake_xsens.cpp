@@ -25,8 +25,10 @@ bool supported(std::uint16_t xdi) {
         case xdi::kMagneticField:
         case xdi::kTemperature:
         case xdi::kStatusWord:
-        case xdi::kStatusByte: return true;
-        default: return false;
+        case xdi::kStatusByte:
+            return true;
+        default:
+            return false;
     }
 }
 
@@ -48,11 +50,13 @@ FakeXsens::FakeXsens(FakeXsensConfig config, FakeXsensFaults faults)
 }
 
 Eigen::Vector3d FakeXsens::accelAt(double t) {
-    return {0.3 * std::sin(kTwoPi * 0.5 * t), 0.2 * std::cos(kTwoPi * 0.3 * t), 9.81 + 0.05 * std::sin(kTwoPi * t)};
+    return {0.3 * std::sin(kTwoPi * 0.5 * t), 0.2 * std::cos(kTwoPi * 0.3 * t),
+            9.81 + 0.05 * std::sin(kTwoPi * t)};
 }
 
 Eigen::Vector3d FakeXsens::gyroAt(double t) {
-    return {0.5 * std::sin(kTwoPi * 0.25 * t), -0.2 * std::cos(kTwoPi * 0.4 * t), 1.5 * std::sin(kTwoPi * 0.1 * t)};
+    return {0.5 * std::sin(kTwoPi * 0.25 * t), -0.2 * std::cos(kTwoPi * 0.4 * t),
+            1.5 * std::sin(kTwoPi * 0.1 * t)};
 }
 
 void FakeXsens::receive(std::span<const std::uint8_t> bytes) {
@@ -84,7 +88,8 @@ void FakeXsens::handle(std::uint8_t mid, std::span<const std::uint8_t> payload) 
         const auto frame = encodeErrorFrame(code);
         output_.insert(output_.end(), frame.begin(), frame.end());
     };
-    if (awaiting_wakeup_ack_ && (mid == toByte(MessageId::kWakeUpAck) || mid == toByte(MessageId::kGoToConfig))) {
+    if (awaiting_wakeup_ack_ &&
+        (mid == toByte(MessageId::kWakeUpAck) || mid == toByte(MessageId::kGoToConfig))) {
         awaiting_wakeup_ack_ = false;  // the host caught the device: it stays in config mode
         measuring_ = false;
         if (mid == toByte(MessageId::kWakeUpAck)) return;
@@ -103,13 +108,18 @@ void FakeXsens::handle(std::uint8_t mid, std::span<const std::uint8_t> payload) 
             ++epoch_;
             reply(MessageId::kGoToMeasurementAck);
             return;
-        case MessageId::kReqDid: reply(MessageId::kDeviceId, encodeDeviceId(cfg_.device_id)); return;
+        case MessageId::kReqDid:
+            reply(MessageId::kDeviceId, encodeDeviceId(cfg_.device_id));
+            return;
         case MessageId::kReqProductCode:
             if (measuring_) return error(ErrorCode::kInvalidMessage);
             reply(MessageId::kProductCode, encodeProductCode(cfg_.product_code));
             return;
-        case MessageId::kWakeUp: reply(MessageId::kWakeUpAck); return;
-        case MessageId::kWakeUpAck: return;  // late (the device was caught by GoToConfig already)
+        case MessageId::kWakeUp:
+            reply(MessageId::kWakeUpAck);
+            return;
+        case MessageId::kWakeUpAck:
+            return;  // late (the device was caught by GoToConfig already)
         case MessageId::kReset:
             reply(MessageId::kResetAck);
             switch_after_take_ = true;  // reboot once the ack is on the wire
@@ -139,7 +149,8 @@ void FakeXsens::handle(std::uint8_t mid, std::span<const std::uint8_t> payload) 
             for (const auto& e : *entries) {
                 if (!supported(e.xdi)) return error(ErrorCode::kInvalidParameter);
                 if (e.rate_hz == kEveryPacket || e.rate_hz == 0) continue;
-                if (e.rate_hz > 400 || 400 % e.rate_hz != 0) return error(ErrorCode::kInvalidPeriod);
+                if (e.rate_hz > 400 || 400 % e.rate_hz != 0)
+                    return error(ErrorCode::kInvalidPeriod);
                 rate = std::max(rate, e.rate_hz);
             }
             outputs_ = *entries;
@@ -147,7 +158,9 @@ void FakeXsens::handle(std::uint8_t mid, std::span<const std::uint8_t> payload) 
             reply(MessageId::kSetOutputConfigurationAck, encodeOutputConfiguration(outputs_));
             return;
         }
-        default: error(ErrorCode::kInvalidMessage); return;
+        default:
+            error(ErrorCode::kInvalidMessage);
+            return;
     }
 }
 
@@ -183,28 +196,54 @@ bool FakeXsens::emitPacket() {
     for (const auto& e : outputs_) {
         const Precision prec = precisionOf(e.xdi);
         switch (xdiTypeOf(e.xdi)) {
-            case xdi::kPacketCounter: b.packetCounter(p.packet_counter); break;
-            case xdi::kSampleTimeFine: b.sampleTimeFine(p.sample_time_fine); break;
-            case xdi::kSampleTimeCoarse: b.sampleTimeCoarse(p.sample_time_fine / 10000u); break;
-            case xdi::kAcceleration: b.acceleration(p.accel_mps2, prec); break;
-            case xdi::kFreeAcceleration: b.freeAcceleration(p.accel_mps2 - Eigen::Vector3d(0, 0, 9.81), prec); break;
-            case xdi::kRateOfTurn: b.rateOfTurn(p.gyro_radps, prec); break;
-            case xdi::kDeltaV: b.deltaV(p.accel_mps2 * dt, prec); break;
+            case xdi::kPacketCounter:
+                b.packetCounter(p.packet_counter);
+                break;
+            case xdi::kSampleTimeFine:
+                b.sampleTimeFine(p.sample_time_fine);
+                break;
+            case xdi::kSampleTimeCoarse:
+                b.sampleTimeCoarse(p.sample_time_fine / 10000u);
+                break;
+            case xdi::kAcceleration:
+                b.acceleration(p.accel_mps2, prec);
+                break;
+            case xdi::kFreeAcceleration:
+                b.freeAcceleration(p.accel_mps2 - Eigen::Vector3d(0, 0, 9.81), prec);
+                break;
+            case xdi::kRateOfTurn:
+                b.rateOfTurn(p.gyro_radps, prec);
+                break;
+            case xdi::kDeltaV:
+                b.deltaV(p.accel_mps2 * dt, prec);
+                break;
             case xdi::kDeltaQ: {
                 // The rotation over one sample interval as a unit quaternion.
                 const Eigen::Vector3d half = p.gyro_radps * dt / 2.0;
                 const double angle = half.norm();
-                const Eigen::Vector3d axis = angle > 0 ? Eigen::Vector3d(half / angle) : Eigen::Vector3d::UnitX();
+                const Eigen::Vector3d axis =
+                    angle > 0 ? Eigen::Vector3d(half / angle) : Eigen::Vector3d::UnitX();
                 const Eigen::Vector3d v = std::sin(angle) * axis;
                 b.deltaQ(Eigen::Vector4d(std::cos(angle), v.x(), v.y(), v.z()), prec);
                 break;
             }
-            case xdi::kQuaternion: b.quaternion(Eigen::Vector4d(1, 0, 0, 0), prec, coordSysOf(e.xdi)); break;
-            case xdi::kMagneticField: b.magneticField(Eigen::Vector3d(0.4, 0.1, -0.9), prec); break;
-            case xdi::kTemperature: b.temperature(31.5, prec); break;
-            case xdi::kStatusWord: b.statusWord(p.status_word); break;
-            case xdi::kStatusByte: b.statusByte(static_cast<std::uint8_t>(p.status_word)); break;
-            default: break;
+            case xdi::kQuaternion:
+                b.quaternion(Eigen::Vector4d(1, 0, 0, 0), prec, coordSysOf(e.xdi));
+                break;
+            case xdi::kMagneticField:
+                b.magneticField(Eigen::Vector3d(0.4, 0.1, -0.9), prec);
+                break;
+            case xdi::kTemperature:
+                b.temperature(31.5, prec);
+                break;
+            case xdi::kStatusWord:
+                b.statusWord(p.status_word);
+                break;
+            case xdi::kStatusByte:
+                b.statusByte(static_cast<std::uint8_t>(p.status_word));
+                break;
+            default:
+                break;
         }
     }
     std::vector<std::uint8_t> frame = b.frame();

@@ -47,7 +47,9 @@ int FakeXsensUsbLayer::endpoints(std::vector<transport::UsbEndpoint>& out) {
     return transport::usb::kSuccess;
 }
 
-int FakeXsensUsbLayer::kernelDriverActive(int itf) { return itf == 1 && kernel_driver_bound ? 1 : 0; }
+int FakeXsensUsbLayer::kernelDriverActive(int itf) {
+    return itf == 1 && kernel_driver_bound ? 1 : 0;
+}
 
 int FakeXsensUsbLayer::detachKernelDriver(int itf) {
     calls.push_back("detach " + std::to_string(itf));
@@ -75,8 +77,8 @@ int FakeXsensUsbLayer::clearHalt(std::uint8_t ep) {
     return transport::usb::kSuccess;
 }
 
-int FakeXsensUsbLayer::bulkTransfer(std::uint8_t ep, std::uint8_t* data, int length, int* transferred,
-                                    unsigned /*timeout_ms*/) {
+int FakeXsensUsbLayer::bulkTransfer(std::uint8_t ep, std::uint8_t* data, int length,
+                                    int* transferred, unsigned /*timeout_ms*/) {
     *transferred = 0;
     if (!plugged_in) return transport::usb::kErrorNoDevice;
     if (!claimed_) return transport::usb::kErrorIo;
@@ -106,12 +108,18 @@ int FakeXsensUsbLayer::bulkTransfer(std::uint8_t ep, std::uint8_t* data, int len
 
 std::string FakeXsensUsbLayer::errorName(int code) {
     switch (code) {
-        case transport::usb::kErrorNoDevice: return "LIBUSB_ERROR_NO_DEVICE";
-        case transport::usb::kErrorBusy: return "LIBUSB_ERROR_BUSY";
-        case transport::usb::kErrorTimeout: return "LIBUSB_ERROR_TIMEOUT";
-        case transport::usb::kErrorPipe: return "LIBUSB_ERROR_PIPE";
-        case transport::usb::kErrorIo: return "LIBUSB_ERROR_IO";
-        default: return "LIBUSB_ERROR_" + std::to_string(code);
+        case transport::usb::kErrorNoDevice:
+            return "LIBUSB_ERROR_NO_DEVICE";
+        case transport::usb::kErrorBusy:
+            return "LIBUSB_ERROR_BUSY";
+        case transport::usb::kErrorTimeout:
+            return "LIBUSB_ERROR_TIMEOUT";
+        case transport::usb::kErrorPipe:
+            return "LIBUSB_ERROR_PIPE";
+        case transport::usb::kErrorIo:
+            return "LIBUSB_ERROR_IO";
+        default:
+            return "LIBUSB_ERROR_" + std::to_string(code);
     }
 }
 

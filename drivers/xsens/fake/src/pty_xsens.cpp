@@ -2,23 +2,25 @@
 
 #include <fcntl.h>
 #include <poll.h>
-#include <sys/eventfd.h>
 #include <stdlib.h>  // posix_openpt, grantpt, unlockpt, ptsname_r
+#include <sys/eventfd.h>
 #include <termios.h>
 #include <unistd.h>
 
-#include <cerrno>
 #include <algorithm>
+#include <cerrno>
 #include <cstring>
 #include <stdexcept>
 
 namespace handscan::xsens {
 
-PtyXsens::PtyXsens(FakeXsens& device, PtyXsensOptions options) : device_(device), options_(options) {
+PtyXsens::PtyXsens(FakeXsens& device, PtyXsensOptions options)
+    : device_(device), options_(options) {
     master_ = ::posix_openpt(O_RDWR | O_NOCTTY | O_NONBLOCK | O_CLOEXEC);
     if (master_ < 0) throw std::runtime_error(std::string("posix_openpt: ") + std::strerror(errno));
     char name[128];
-    if (::grantpt(master_) != 0 || ::unlockpt(master_) != 0 || ::ptsname_r(master_, name, sizeof name) != 0) {
+    if (::grantpt(master_) != 0 || ::unlockpt(master_) != 0 ||
+        ::ptsname_r(master_, name, sizeof name) != 0) {
         const std::string err = std::strerror(errno);
         ::close(master_);
         throw std::runtime_error("pty setup: " + err);
@@ -51,15 +53,24 @@ int hostBaudrate(int master) {
     termios tio{};
     if (::tcgetattr(master, &tio) != 0) return 0;
     switch (::cfgetospeed(&tio)) {
-        case B9600: return 9600;
-        case B19200: return 19200;
-        case B38400: return 38400;
-        case B57600: return 57600;
-        case B115200: return 115200;
-        case B230400: return 230400;
-        case B460800: return 460800;
-        case B921600: return 921600;
-        default: return 0;
+        case B9600:
+            return 9600;
+        case B19200:
+            return 19200;
+        case B38400:
+            return 38400;
+        case B57600:
+            return 57600;
+        case B115200:
+            return 115200;
+        case B230400:
+            return 230400;
+        case B460800:
+            return 460800;
+        case B921600:
+            return 921600;
+        default:
+            return 0;
     }
 }
 
@@ -143,7 +154,8 @@ void PtyXsens::run() {
         pollfd p[2]{{master_, POLLIN, 0}, {wake_fd_, POLLIN, 0}};
         const TimeNs now = monotonicNow();
         int wait_ms = 1;
-        if (options_.real_time && next_packet > now) wait_ms = static_cast<int>(std::min<TimeNs>((next_packet - now) / kNsPerMs, 5));
+        if (options_.real_time && next_packet > now)
+            wait_ms = static_cast<int>(std::min<TimeNs>((next_packet - now) / kNsPerMs, 5));
         if (!pending.empty()) wait_ms = std::min(wait_ms, 1);
         const int ready = ::poll(p, 2, wait_ms);
         if (ready > 0 && (p[1].revents & POLLIN) != 0) {
@@ -153,7 +165,8 @@ void PtyXsens::run() {
         if (ready > 0 && (p[0].revents & POLLIN) != 0) {
             const ssize_t n = ::read(master_, buf, sizeof buf);
             std::lock_guard lock(mutex_);
-            if (n > 0 && hostBaudrate(master_) == device_.baudrate()) {  // else the device hears noise
+            if (n > 0 &&
+                hostBaudrate(master_) == device_.baudrate()) {  // else the device hears noise
                 device_.receive(std::span<const std::uint8_t>(buf, static_cast<std::size_t>(n)));
             }
         } else if ((p[0].revents & POLLHUP) != 0) {
@@ -213,7 +226,8 @@ void PtyXsens::run() {
         // Nobody listening for long: a UART would lose these bytes too.
         constexpr std::size_t kMaxPending = 64 * 1024;
         if (pending.size() > kMaxPending) {
-            pending.erase(pending.begin(), pending.end() - static_cast<std::ptrdiff_t>(kMaxPending));
+            pending.erase(pending.begin(),
+                          pending.end() - static_cast<std::ptrdiff_t>(kMaxPending));
         }
         pending_bytes_ = pending.size();
     }

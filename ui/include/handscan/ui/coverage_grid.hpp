@@ -14,7 +14,7 @@
 namespace handscan::ui {
 
 struct CoverageImage {
-    int width = 0, height = 0;     // cells
+    int width = 0, height = 0;       // cells
     float min_x_m = 0, max_y_m = 0;  // world position of the top-left corner (row 0 = north edge)
     float cell_m = 0;
     std::vector<std::uint8_t> rgba;  // width * height * 4
@@ -26,7 +26,8 @@ public:
     explicit CoverageGrid(float cell_m = 0.25f, int max_cells_per_side = 1024);
     // Counts points at or below max_z_m (the UI passes the device height minus 0.5 m, so that
     // ceilings do not hide gaps in the floor).
-    void add(std::span<const shm::DisplayPoint> points, float max_z_m = std::numeric_limits<float>::infinity());
+    void add(std::span<const shm::DisplayPoint> points,
+             float max_z_m = std::numeric_limits<float>::infinity());
     void clear();
     std::size_t occupiedCells() const { return cells_.size(); }
     std::uint32_t countAt(float x_m, float y_m) const;

@@ -15,7 +15,8 @@ public:
     GlProgram(const GlProgram&) = delete;
     GlProgram& operator=(const GlProgram&) = delete;
 
-    [[nodiscard]] Status build(const std::string& name, const char* vertex_src, const char* fragment_src);
+    [[nodiscard]] Status build(const std::string& name, const char* vertex_src,
+                               const char* fragment_src);
     unsigned id() const { return id_; }
     int uniform(const char* name) const;
 

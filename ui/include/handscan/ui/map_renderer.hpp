@@ -63,7 +63,8 @@ public:
     // Draws into the current viewport. `view_proj` = projection * view. With more points than
     // `max_points` (0 = no limit), every k-th point is drawn so that a slow (software) renderer
     // stays interactive; the decimation is uniform because it strides through append order.
-    void draw(const Eigen::Matrix4f& view_proj, ColourMode mode, float point_size_px, std::size_t max_points = 0);
+    void draw(const Eigen::Matrix4f& view_proj, ColourMode mode, float point_size_px,
+              std::size_t max_points = 0);
     std::size_t lastDrawnPoints() const { return last_drawn_; }
 
     std::size_t pointCount() const { return points_.count(); }

@@ -22,7 +22,7 @@ struct WarningLimits {
     float max_turn_radps = 2.0f;          // ~115 deg/s
     float min_camera_brightness = 25.0f;  // mean grey level below which VIO loses features
     double min_free_storage_bytes = 2.0 * (1ull << 30);
-    float min_rate_fraction = 0.8f;       // sensor rate below this fraction of nominal
+    float min_rate_fraction = 0.8f;  // sensor rate below this fraction of nominal
 };
 
 struct Line {
@@ -35,17 +35,17 @@ enum class DofSource { kImu = 0, kVio = 1, kScan = 2 };
 const char* toString(DofSource s);
 
 struct StatusTexts {
-    Line connection;                 // "connected" / "waiting for pipeline (...)"
-    std::string scan_state;          // "IDLE" / "SCANNING" / "STOPPED"
-    std::string elapsed;             // "02:05"
-    std::string distance;            // "12.3 m"
-    std::string points;              // "1,234,567 points"
-    Line storage;                    // "free 12.3 of 58.0 GiB"
-    std::vector<Line> sensors;       // "hokuyo 40.0 Hz", "colour-cam LOST"
-    std::vector<Line> modules;       // "vio active", "scan-match degenerate tx"
-    std::vector<Line> warnings;      // operator can act on each
-    Line export_line;                // "" when idle, "export 45%", "exported ...: safe to remove"
-    std::string message;             // the pipeline's own note
+    Line connection;             // "connected" / "waiting for pipeline (...)"
+    std::string scan_state;      // "IDLE" / "SCANNING" / "STOPPED"
+    std::string elapsed;         // "02:05"
+    std::string distance;        // "12.3 m"
+    std::string points;          // "1,234,567 points"
+    Line storage;                // "free 12.3 of 58.0 GiB"
+    std::vector<Line> sensors;   // "hokuyo 40.0 Hz", "colour-cam LOST"
+    std::vector<Line> modules;   // "vio active", "scan-match degenerate tx"
+    std::vector<Line> warnings;  // operator can act on each
+    Line export_line;            // "" when idle, "export 45%", "exported ...: safe to remove"
+    std::string message;         // the pipeline's own note
     bool dof_valid = false;
     DofSource dof[shm::kDofCount] = {};
     bool vio_dof[shm::kDofCount] = {};
@@ -53,7 +53,8 @@ struct StatusTexts {
 };
 
 StatusTexts describeStatus(shm::Connection connection, const std::string& connection_message,
-                           const std::optional<shm::StatusBlock>& status, const std::optional<shm::PoseRecord>& pose,
+                           const std::optional<shm::StatusBlock>& status,
+                           const std::optional<shm::PoseRecord>& pose,
                            const WarningLimits& limits = {});
 
 // "1,234,567"

@@ -26,14 +26,14 @@ struct UiOptions {
     std::size_t max_draw_points = 0;
     std::optional<Eigen::Vector3f> camera_eye, camera_target;  // fixed free camera (tests, figures)
     float fov_y_deg = 60.0f;
-    std::string export_target;            // argument of the export command ("" = pipeline's default)
+    std::string export_target;  // argument of the export command ("" = pipeline's default)
     std::string font_path = "/usr/share/fonts/truetype/dejavu/DejaVuSans.ttf";
     // --screenshot mode
-    std::string screenshot_path;          // non-empty: render until the map is there, save, exit
+    std::string screenshot_path;  // non-empty: render until the map is there, save, exit
     std::uint64_t wait_points = 1;
     double timeout_s = 10.0;
-    std::string status_json_path;         // defaults to the screenshot path with .json
-    double max_seconds = 0;               // > 0: exit after this long (demos, tests)
+    std::string status_json_path;  // defaults to the screenshot path with .json
+    double max_seconds = 0;        // > 0: exit after this long (demos, tests)
 };
 
 // Runs the UI until the window is closed (or the screenshot is taken). Returns the exit code.

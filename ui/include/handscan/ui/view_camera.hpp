@@ -11,7 +11,8 @@ namespace handscan::ui {
 enum class CameraMode { kFollow = 0, kTopDown = 1, kFree = 2 };
 const char* toString(CameraMode mode);
 
-Eigen::Matrix4f lookAt(const Eigen::Vector3f& eye, const Eigen::Vector3f& target, const Eigen::Vector3f& up);
+Eigen::Matrix4f lookAt(const Eigen::Vector3f& eye, const Eigen::Vector3f& target,
+                       const Eigen::Vector3f& up);
 Eigen::Matrix4f perspective(float fov_y_rad, float aspect, float near_m, float far_m);
 Eigen::Matrix4f orthographic(float half_width, float half_height, float near_m, float far_m);
 
@@ -19,9 +20,9 @@ class ViewCamera {
 public:
     CameraMode mode = CameraMode::kFollow;
     float fov_y_deg = 60.0f;
-    float distance_m = 8.0f;          // follow / free: eye distance from the target
-    float yaw_rad = 0.0f;             // free: azimuth of the eye around the target; follow: offset
-    float pitch_rad = 0.6f;           // elevation of the eye above the target's horizon
+    float distance_m = 8.0f;  // follow / free: eye distance from the target
+    float yaw_rad = 0.0f;     // free: azimuth of the eye around the target; follow: offset
+    float pitch_rad = 0.6f;   // elevation of the eye above the target's horizon
     float top_down_half_height_m = 8.0f;
     Eigen::Vector3f target = Eigen::Vector3f::Zero();  // free / top-down centre
 

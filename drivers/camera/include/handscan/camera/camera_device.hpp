@@ -27,7 +27,8 @@ namespace handscan::camera {
 struct CameraConfig {
     std::uint32_t width = 640;
     std::uint32_t height = 480;
-    std::vector<PixelFormat> formats = {PixelFormat::kGrey8, PixelFormat::kYuyv, PixelFormat::kMjpeg};  // preference
+    std::vector<PixelFormat> formats = {PixelFormat::kGrey8, PixelFormat::kYuyv,
+                                        PixelFormat::kMjpeg};  // preference
     transport::V4l2Fraction frame_interval{1, 30};
     std::uint32_t buffer_count = 4;
     std::optional<TimeNs> exposure;  // manual exposure time; nullopt = automatic
@@ -36,17 +37,18 @@ struct CameraConfig {
 
 struct CameraStats {
     std::uint64_t frames = 0;
-    std::uint64_t dropped = 0;         // sequence gaps
-    std::uint64_t error_buffers = 0;   // V4L2_BUF_FLAG_ERROR or short payload
-    std::uint64_t host_timestamps = 0; // frames timed by the host (no monotonic device stamp)
-    std::uint64_t restarts = 0;        // sequence went backwards
-    std::uint64_t unrecorded = 0;      // frames the recording tap dropped (its coder fell behind)
+    std::uint64_t dropped = 0;          // sequence gaps
+    std::uint64_t error_buffers = 0;    // V4L2_BUF_FLAG_ERROR or short payload
+    std::uint64_t host_timestamps = 0;  // frames timed by the host (no monotonic device stamp)
+    std::uint64_t restarts = 0;         // sequence went backwards
+    std::uint64_t unrecorded = 0;       // frames the recording tap dropped (its coder fell behind)
 };
 
 class CameraDevice {
 public:
     using Clock = std::function<TimeNs()>;
-    CameraDevice(transport::V4l2Device& device, CameraConfig config, RawTap* tap = nullptr, Clock clock = monotonicNow);
+    CameraDevice(transport::V4l2Device& device, CameraConfig config, RawTap* tap = nullptr,
+                 Clock clock = monotonicNow);
     ~CameraDevice();
     CameraDevice(const CameraDevice&) = delete;
     CameraDevice& operator=(const CameraDevice&) = delete;

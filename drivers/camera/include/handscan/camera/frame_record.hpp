@@ -45,9 +45,10 @@ constexpr std::size_t kFrameRecordHeaderSize = 56;
 constexpr std::uint16_t kFrameRecordCodedVersion = 2;
 constexpr std::size_t kFrameRecordCodedHeaderSize = 64;
 constexpr std::uint32_t kMaxFrameDimension = 16384;
-constexpr std::uint32_t kMaxFramePayload = 64u << 20;  // 64 MiB: larger is corruption
+constexpr std::uint32_t kMaxFramePayload = 64u << 20;   // 64 MiB: larger is corruption
 constexpr TimeNs kMaxFrameTimestamp = TimeNs{1} << 62;  // ~146 years of ns
-constexpr std::uint32_t kMaxFrameStride = 4 * kMaxFrameDimension + 4096;  // 4 bytes/pixel + alignment
+constexpr std::uint32_t kMaxFrameStride =
+    4 * kMaxFrameDimension + 4096;  // 4 bytes/pixel + alignment
 
 struct FrameRecordHeader {
     std::uint32_t sequence = 0;
@@ -82,10 +83,12 @@ struct FrameRecordView {
 };
 
 // Header (bytesused taken from payload.size()) + payload, version 1.
-std::vector<std::uint8_t> encodeFrameRecord(const FrameRecordHeader& header, std::span<const std::uint8_t> payload);
+std::vector<std::uint8_t> encodeFrameRecord(const FrameRecordHeader& header,
+                                            std::span<const std::uint8_t> payload);
 // With `coding` kPng, a version-2 record holding the payload as PNG where the format allows
 // (canStorePng()), else the version-1 record.
-std::vector<std::uint8_t> encodeFrameRecord(const FrameRecordHeader& header, std::span<const std::uint8_t> payload,
+std::vector<std::uint8_t> encodeFrameRecord(const FrameRecordHeader& header,
+                                            std::span<const std::uint8_t> payload,
                                             FrameCoding coding);
 // One record from the start of `bytes`; kTruncated when it is incomplete, kProtocolError when
 // it is not a frame record or its fields are inconsistent (stride, sizes, dimensions) or a

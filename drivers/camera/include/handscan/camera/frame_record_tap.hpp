@@ -46,8 +46,8 @@ private:
     RawTap& tap_;
     const std::size_t max_queued_bytes_;
     mutable std::mutex mutex_;
-    std::condition_variable wake_;     // work queued, or stop
-    std::condition_variable idle_;     // the queue ran empty and nothing is being coded
+    std::condition_variable wake_;  // work queued, or stop
+    std::condition_variable idle_;  // the queue ran empty and nothing is being coded
     std::deque<Frame> queue_;
     std::size_t queued_bytes_ = 0;
     bool coding_ = false;

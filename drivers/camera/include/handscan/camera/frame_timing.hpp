@@ -21,7 +21,8 @@ struct FrameTime {
     TimestampSource source = TimestampSource::kEndOfFrame;
 };
 
-FrameTime midExposureTime(std::uint32_t buffer_flags, TimeNs buffer_timestamp, TimeNs exposure, TimeNs readout, TimeNs t_dequeue);
+FrameTime midExposureTime(std::uint32_t buffer_flags, TimeNs buffer_timestamp, TimeNs exposure,
+                          TimeNs readout, TimeNs t_dequeue);
 
 class SequenceTracker {
 public:

@@ -25,11 +25,12 @@ namespace handscan::camera {
 // Whether a buffer with this header can be stored as PNG (uncompressed format, whole lines).
 bool canStorePng(const FrameRecordHeader& header);
 // The PNG file of `buffer` (header.bytesused bytes, canStorePng(header) must hold).
-[[nodiscard]] Result<std::vector<std::uint8_t>> encodePngPayload(const FrameRecordHeader& header,
-                                                                 std::span<const std::uint8_t> buffer);
+[[nodiscard]] Result<std::vector<std::uint8_t>> encodePngPayload(
+    const FrameRecordHeader& header, std::span<const std::uint8_t> buffer);
 // Decodes a PNG payload back into the buffer's bytes; the PNG's size and pixel type must be the
 // ones the header implies (kProtocolError otherwise, naming what differs).
-[[nodiscard]] Status decodePngPayload(const FrameRecordHeader& header, std::span<const std::uint8_t> png,
+[[nodiscard]] Status decodePngPayload(const FrameRecordHeader& header,
+                                      std::span<const std::uint8_t> png,
                                       std::vector<std::uint8_t>& buffer);
 
 }  // namespace handscan::camera

@@ -26,8 +26,8 @@ struct ReplayDeviceConfig {
     std::uint32_t max_buffers = 8;
     std::uint32_t min_buffers = 2;
     std::vector<transport::V4l2Fraction> frame_intervals = {{1, 30}};
-    bool controls = true;                 // exposure controls exist
-    bool disconnect_at_end = false;       // after the last frame: ENODEV (unplugged) instead of EAGAIN
+    bool controls = true;            // exposure controls exist
+    bool disconnect_at_end = false;  // after the last frame: ENODEV (unplugged) instead of EAGAIN
 };
 
 class ReplayV4l2Device final : public transport::V4l2Device {

@@ -14,7 +14,8 @@ namespace handscan::gpio {
 
 class FakeGpioChip final : public GpioChip {
 public:
-    explicit FakeGpioChip(unsigned num_lines = 32, TimeNs start = 0) : num_lines_(num_lines), now_(start) {}
+    explicit FakeGpioChip(unsigned num_lines = 32, TimeNs start = 0)
+        : num_lines_(num_lines), now_(start) {}
 
     // An edge on input `line` at time t (logical level after it: rising = 1).
     void inject(unsigned line, TimeNs t, GpioEdgeType edge);
@@ -30,16 +31,22 @@ public:
     bool outputLevel(unsigned line) const;
     void advanceTo(TimeNs t) { now_ = t > now_ ? t : now_; }
 
-    Result<std::unique_ptr<GpioInput>> requestInput(unsigned offset, const InputRequest& request) override;
-    Result<std::unique_ptr<GpioOutput>> requestOutput(unsigned offset, bool active_low, bool initial_on) override;
-    Result<std::vector<std::size_t>> waitAny(std::span<GpioInput* const> inputs, TimeNs timeout) override;
+    Result<std::unique_ptr<GpioInput>> requestInput(unsigned offset,
+                                                    const InputRequest& request) override;
+    Result<std::unique_ptr<GpioOutput>> requestOutput(unsigned offset, bool active_low,
+                                                      bool initial_on) override;
+    Result<std::vector<std::size_t>> waitAny(std::span<GpioInput* const> inputs,
+                                             TimeNs timeout) override;
     TimeNs now() const override { return now_; }
     std::string describe() const override { return "fake gpiochip"; }
 
     // Used by the fake lines.
     Result<GpioEdge> pop(unsigned line);
     bool level(unsigned line) const;
-    void write(unsigned line, bool on) { writes_.push_back({now_, line, on}); outputs_[line] = on; }
+    void write(unsigned line, bool on) {
+        writes_.push_back({now_, line, on});
+        outputs_[line] = on;
+    }
     void release(unsigned line) { requested_.erase(line); }
 
 private:

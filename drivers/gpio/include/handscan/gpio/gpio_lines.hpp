@@ -41,16 +41,21 @@ public:
 class GpioChip {
 public:
     virtual ~GpioChip() = default;
-    [[nodiscard]] virtual Result<std::unique_ptr<GpioInput>> requestInput(unsigned offset, const InputRequest& request) = 0;
-    [[nodiscard]] virtual Result<std::unique_ptr<GpioOutput>> requestOutput(unsigned offset, bool active_low, bool initial_on) = 0;
+    [[nodiscard]] virtual Result<std::unique_ptr<GpioInput>> requestInput(
+        unsigned offset, const InputRequest& request) = 0;
+    [[nodiscard]] virtual Result<std::unique_ptr<GpioOutput>> requestOutput(unsigned offset,
+                                                                            bool active_low,
+                                                                            bool initial_on) = 0;
     // Waits at most `timeout` for events; returns the indices of `inputs` that have one.
-    [[nodiscard]] virtual Result<std::vector<std::size_t>> waitAny(std::span<GpioInput* const> inputs, TimeNs timeout) = 0;
+    [[nodiscard]] virtual Result<std::vector<std::size_t>> waitAny(
+        std::span<GpioInput* const> inputs, TimeNs timeout) = 0;
     virtual TimeNs now() const = 0;  // the clock the event timestamps are on
     virtual std::string describe() const = 0;
 };
 
 // libgpiod 1.6: `name` as gpiod_chip_open_lookup takes it ("gpiochip0", "/dev/gpiochip0", a label).
-Result<std::unique_ptr<GpioChip>> openGpiodChip(const std::string& name, const std::string& consumer = "handscan");
+Result<std::unique_ptr<GpioChip>> openGpiodChip(const std::string& name,
+                                                const std::string& consumer = "handscan");
 
 // Kernel line-event timestamps are CLOCK_MONOTONIC from Linux 5.7 on and CLOCK_REALTIME before
 // (libgpiod 1.6 cannot choose). Given both clocks read just after the event, decide which one

@@ -28,13 +28,13 @@
 namespace handscan::hokuyo {
 
 struct HokuyoDeviceConfig {
-    TimeNs reply_timeout_ns = 1 * kNsPerSec;       // per handshake command
-    TimeNs read_slice_ns = 50 * kNsPerMs;           // longest single wait in poll()
-    TimeNs stream_timeout_ns = 1 * kNsPerSec;       // no verified scan for this long: reconnect
+    TimeNs reply_timeout_ns = 1 * kNsPerSec;   // per handshake command
+    TimeNs read_slice_ns = 50 * kNsPerMs;      // longest single wait in poll()
+    TimeNs stream_timeout_ns = 1 * kNsPerSec;  // no verified scan for this long: reconnect
     TimeNs backoff_initial_ns = 100 * kNsPerMs;
-    TimeNs backoff_max_ns = 5 * kNsPerSec;          // device.yaml hokuyo.reconnect_max_backoff_s
-    int start_step = -1;                            // -1: AMIN from PP
-    int end_step = -1;                              // -1: AMAX from PP
+    TimeNs backoff_max_ns = 5 * kNsPerSec;  // device.yaml hokuyo.reconnect_max_backoff_s
+    int start_step = -1;                    // -1: AMIN from PP
+    int end_step = -1;                      // -1: AMAX from PP
     int cluster = 1;
     ScanTimingConfig timing;
 };
@@ -43,13 +43,13 @@ struct HokuyoDeviceConfig {
 HokuyoDeviceConfig hokuyoDeviceConfig(const HokuyoConfig& config);
 
 struct HokuyoDeviceStats {
-    std::uint64_t scans = 0;              // LaserScans handed out
-    std::uint64_t connects = 0;           // successful handshakes
-    std::uint64_t connect_failures = 0;   // open or handshake failed
-    std::uint64_t disconnects = 0;        // stream lost (drop, silence, sensor error)
-    std::uint64_t faults = 0;             // every fault reported
-    std::uint64_t missed_scans = 0;       // scans missing between consecutive timestamps
-    ScipParserStats parser;               // checksum failures, resyncs, discarded bytes
+    std::uint64_t scans = 0;             // LaserScans handed out
+    std::uint64_t connects = 0;          // successful handshakes
+    std::uint64_t connect_failures = 0;  // open or handshake failed
+    std::uint64_t disconnects = 0;       // stream lost (drop, silence, sensor error)
+    std::uint64_t faults = 0;            // every fault reported
+    std::uint64_t missed_scans = 0;      // scans missing between consecutive timestamps
+    ScipParserStats parser;              // checksum failures, resyncs, discarded bytes
 };
 
 class HokuyoDevice {
@@ -92,11 +92,11 @@ private:
 
     State state_ = State::kDisconnected;
     ScanStreamDecoder decoder_;
-    std::vector<LaserScan> ready_;        // decoded, not handed out yet
+    std::vector<LaserScan> ready_;  // decoded, not handed out yet
     std::deque<ScipEvent> pending_;
     std::vector<ScipEvent> scratch_;
     std::vector<std::uint8_t> rx_;
-    TimeNs last_rx_ = 0;                  // host time of the latest chunk
+    TimeNs last_rx_ = 0;  // host time of the latest chunk
     std::uint64_t frame_start_offset_ = 0;
 
     std::optional<SensorParameters> params_;

@@ -22,8 +22,8 @@
 namespace handscan::hokuyo {
 
 struct ScanTimingConfig {
-    double link_bps = 100e6;        // UTM-30LX-EW: 100BASE-TX
-    TimeNs extra_latency_ns = 0;    // any further fixed delay known from calibration
+    double link_bps = 100e6;      // UTM-30LX-EW: 100BASE-TX
+    TimeNs extra_latency_ns = 0;  // any further fixed delay known from calibration
 };
 
 class ScanTimestamper {

@@ -23,7 +23,7 @@
 
 namespace handscan::hokuyo {
 
-inline constexpr std::size_t kScipBlockChars = 64;   // data characters per line of range data
+inline constexpr std::size_t kScipBlockChars = 64;     // data characters per line of range data
 inline constexpr std::size_t kScipMaxLineChars = 128;  // longer than any legal SCIP line
 
 // --- sums and character encoding --------------------------------------------------------------
@@ -45,31 +45,31 @@ Result<std::uint32_t> decodeScipChars(std::string_view chars);
 enum class ScanEncoding : std::uint8_t { kTwoChar, kThreeChar, kThreeCharWithIntensity };
 
 struct ScanRequest {
-    char mode = 'M';          // 'M' (stream) or 'G' (single scan)
+    char mode = 'M';  // 'M' (stream) or 'G' (single scan)
     ScanEncoding encoding = ScanEncoding::kThreeCharWithIntensity;
-    int start_step = 0;       // 0..9999
-    int end_step = 1080;      // 0..9999
-    int cluster = 1;          // 0..99 steps merged into one value (0 is treated as 1)
-    int interval = 0;         // M* only: scans skipped between transmitted scans (0..9)
-    int count = 0;            // M* only: number of scans (0 = unlimited, 1..99); in a scan frame's
-                              // echo, the scans still to come
-    std::string tag;          // optional ";tag" (<= 16 characters) echoed back by the sensor
+    int start_step = 0;   // 0..9999
+    int end_step = 1080;  // 0..9999
+    int cluster = 1;      // 0..99 steps merged into one value (0 is treated as 1)
+    int interval = 0;     // M* only: scans skipped between transmitted scans (0..9)
+    int count = 0;        // M* only: number of scans (0 = unlimited, 1..99); in a scan frame's
+                          // echo, the scans still to come
+    std::string tag;      // optional ";tag" (<= 16 characters) echoed back by the sensor
 
-    std::string symbol() const;      // "ME", "GD", ...
-    int valuesPerScan() const;        // number of (range[, intensity]) values in one scan
-    int charsPerValue() const;        // 2, 3 or 6 (range + intensity)
+    std::string symbol() const;  // "ME", "GD", ...
+    int valuesPerScan() const;   // number of (range[, intensity]) values in one scan
+    int charsPerValue() const;   // 2, 3 or 6 (range + intensity)
     bool operator==(const ScanRequest&) const = default;
 };
 
 std::string encodeCommand(std::string_view symbol_and_parameters, std::string_view tag = {});
-std::string encodeScip20Command();                 // "SCIP2.0\n"
-std::string encodeVersionCommand();                // "VV\n"
-std::string encodeParametersCommand();             // "PP\n"
-std::string encodeStatusInfoCommand();             // "II\n"
-std::string encodeLaserOnCommand();                // "BM\n"
-std::string encodeQuitCommand();                   // "QT\n" (stop streaming, laser off)
-std::string encodeResetCommand();                  // "RS\n"
-std::string encodeTimeAdjustCommand(int mode);     // "TM0\n" enter, "TM1\n" read, "TM2\n" leave
+std::string encodeScip20Command();              // "SCIP2.0\n"
+std::string encodeVersionCommand();             // "VV\n"
+std::string encodeParametersCommand();          // "PP\n"
+std::string encodeStatusInfoCommand();          // "II\n"
+std::string encodeLaserOnCommand();             // "BM\n"
+std::string encodeQuitCommand();                // "QT\n" (stop streaming, laser off)
+std::string encodeResetCommand();               // "RS\n"
+std::string encodeTimeAdjustCommand(int mode);  // "TM0\n" enter, "TM1\n" read, "TM2\n" leave
 // The echo text of a scan request (no LF): "ME0000108001000" (+ ";tag").
 std::string encodeScanEcho(const ScanRequest& request);
 std::string encodeScanCommand(const ScanRequest& request);  // echo + LF
@@ -88,8 +88,8 @@ std::string encodeKeyValueReply(std::string_view echo, std::string_view status,
 
 // One scan as the sensor sends it.
 struct ScanPayload {
-    std::uint32_t timestamp_ms = 0;       // 24-bit sensor clock, milliseconds
-    std::vector<std::uint32_t> ranges;    // mm; values below DMIN are error codes
+    std::uint32_t timestamp_ms = 0;          // 24-bit sensor clock, milliseconds
+    std::vector<std::uint32_t> ranges;       // mm; values below DMIN are error codes
     std::vector<std::uint32_t> intensities;  // ME/GE only, same length as ranges
 };
 
@@ -97,8 +97,8 @@ struct ScanPayload {
 std::string encodeScanData(ScanEncoding encoding, const ScanPayload& scan);
 // Splits data characters into 64-character lines + sum + LF (the short last block included).
 void appendDataBlocks(std::string& out, std::string_view data);
-// A full streamed (M*, status "99") or fetched (G*, status "00") scan frame. For M*, `request.count`
-// must already hold the remaining count as the sensor echoes it.
+// A full streamed (M*, status "99") or fetched (G*, status "00") scan frame. For M*,
+// `request.count` must already hold the remaining count as the sensor echoes it.
 std::string encodeScanFrame(const ScanRequest& request, const ScanPayload& scan);
 // The acknowledgement of a scan request (echo, status, empty line), e.g. "00" or an error "04".
 std::string encodeScanAck(const ScanRequest& request, std::string_view status = "00");

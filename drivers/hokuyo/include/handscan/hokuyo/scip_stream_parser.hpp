@@ -24,9 +24,9 @@ namespace handscan::hokuyo {
 
 // One complete, verified reply.
 struct ScipFrame {
-    std::string echo;      // echo line as received, without LF ("ME0000108001000", "PP", "TM1")
-    std::string command;   // 2-character symbol ("ME", "PP", "TM") or "SCIP2.0"
-    std::string status;    // "00", "99", "0E", ... ("0" for a SCIP 1.1-style ack)
+    std::string echo;     // echo line as received, without LF ("ME0000108001000", "PP", "TM1")
+    std::string command;  // 2-character symbol ("ME", "PP", "TM") or "SCIP2.0"
+    std::string status;   // "00", "99", "0E", ... ("0" for a SCIP 1.1-style ack)
     // PP/VV/II: the KEY:VALUE items in order.
     std::vector<std::pair<std::string, std::string>> items;
     // Other replies with data (TM1, unsupported commands): line payloads without their sums.
@@ -45,18 +45,18 @@ struct ScipFrame {
 // A fault the parser recovered from; the damaged frame was dropped.
 struct ScipFault {
     StatusCode code = StatusCode::kProtocolError;  // kChecksumError, kProtocolError, kTruncated
-    std::string message;  // what and where ("... at stream byte 123456")
+    std::string message;                           // what and where ("... at stream byte 123456")
 };
 
 using ScipEvent = std::variant<ScipFrame, ScipFault>;
 
 struct ScipParserStats {
     std::uint64_t bytes = 0;
-    std::uint64_t frames = 0;             // verified frames emitted (scans included)
-    std::uint64_t scans = 0;              // frames carrying scan data
-    std::uint64_t checksum_failures = 0;  // lines whose sum did not match
-    std::uint64_t resyncs = 0;            // times the parser dropped a frame and searched again
-    std::uint64_t discarded_bytes = 0;    // bytes skipped while resynchronising
+    std::uint64_t frames = 0;               // verified frames emitted (scans included)
+    std::uint64_t scans = 0;                // frames carrying scan data
+    std::uint64_t checksum_failures = 0;    // lines whose sum did not match
+    std::uint64_t resyncs = 0;              // times the parser dropped a frame and searched again
+    std::uint64_t discarded_bytes = 0;      // bytes skipped while resynchronising
     std::uint64_t missing_terminators = 0;  // complete scans not followed by the empty line
 };
 
@@ -86,12 +86,12 @@ private:
     void fail(StatusCode code, const std::string& what, std::vector<ScipEvent>& out);
 
     State state_ = State::kIdle;
-    std::string line_;               // current line without LF
-    bool line_overflow_ = false;     // current line exceeded kScipMaxLineChars
-    std::uint64_t offset_ = 0;       // stream bytes consumed
-    std::uint64_t line_start_ = 0;   // stream offset of line_[0]
+    std::string line_;              // current line without LF
+    bool line_overflow_ = false;    // current line exceeded kScipMaxLineChars
+    std::uint64_t offset_ = 0;      // stream bytes consumed
+    std::uint64_t line_start_ = 0;  // stream offset of line_[0]
     ScipFrame frame_;
-    std::string scan_data_;          // concatenated block payloads of the current scan
+    std::string scan_data_;  // concatenated block payloads of the current scan
     std::size_t scan_expected_chars_ = 0;
     ScipParserStats stats_;
 };

@@ -26,7 +26,8 @@ struct CandumpRecord {
     std::int32_t time_us = 0;  // microseconds part (0..999999)
     std::string interface;     // "can0"
     CanFrame frame;
-    std::string trailer;       // anything after the frame (newer candump prints " R"/" T"), kept verbatim
+    std::string
+        trailer;  // anything after the frame (newer candump prints " R"/" T"), kept verbatim
 
     // Timestamp in ns (the recorder writes host CLOCK_MONOTONIC here).
     std::int64_t timeNs() const { return time_s * 1'000'000'000 + std::int64_t{time_us} * 1'000; }

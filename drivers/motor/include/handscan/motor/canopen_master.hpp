@@ -31,17 +31,20 @@ public:
     // One frame (tapped), or kTimeout / kDisconnected.
     [[nodiscard]] Result<transport::TimedCanFrame> receive(TimeNs timeout);
     // Receives and dispatches frames to the handler until `done()` holds or `timeout` passed.
-    [[nodiscard]] Status pumpUntil(const std::function<bool()>& done, TimeNs timeout, const std::string& what);
+    [[nodiscard]] Status pumpUntil(const std::function<bool()>& done, TimeNs timeout,
+                                   const std::string& what);
 
     // Expedited SDO write / read with `retries` extra attempts after a timeout. An abort is not
     // retried: its code is reported in plain words.
-    [[nodiscard]] Status sdoWrite(std::uint8_t node, std::uint16_t index, std::uint8_t sub, std::uint32_t value,
-                                  std::uint8_t size, TimeNs timeout, int retries);
-    [[nodiscard]] Result<std::uint32_t> sdoRead(std::uint8_t node, std::uint16_t index, std::uint8_t sub, TimeNs timeout,
-                                                int retries);
+    [[nodiscard]] Status sdoWrite(std::uint8_t node, std::uint16_t index, std::uint8_t sub,
+                                  std::uint32_t value, std::uint8_t size, TimeNs timeout,
+                                  int retries);
+    [[nodiscard]] Result<std::uint32_t> sdoRead(std::uint8_t node, std::uint16_t index,
+                                                std::uint8_t sub, TimeNs timeout, int retries);
 
 private:
-    Result<SdoMessage> sdoTransfer(const CanFrame& request, SdoKind expect, TimeNs timeout, int retries);
+    Result<SdoMessage> sdoTransfer(const CanFrame& request, SdoKind expect, TimeNs timeout,
+                                   int retries);
     void tap(TimeNs t, const CanFrame& frame);
 
     transport::CanBus& bus_;

@@ -25,29 +25,38 @@ namespace handscan::motor {
 
 struct DriveConfig {
     std::uint8_t node = 2;
-    double velocity_units_per_radps = 60.0 / (2.0 * 3.141592653589793);  // 60FFh unit: rpm by default
-    bool use_rpdo = false;  // RPDO1 mapped as controlword(16) + target velocity(32), else SDO writes
+    double velocity_units_per_radps =
+        60.0 / (2.0 * 3.141592653589793);  // 60FFh unit: rpm by default
+    bool use_rpdo =
+        false;  // RPDO1 mapped as controlword(16) + target velocity(32), else SDO writes
     int rpdo = 1;
 };
 
 struct MotorConfig {
     std::string interface = "can0";
     std::uint8_t encoder_node = 1;
-    UnwrapperConfig unwrap;                      // units per revolution / range, overwritten when read
-    bool read_resolution_from_device = true;     // SDO-read 6001h and 6002h at start
-    std::uint16_t cyclic_timer_ms = 1;           // 6200h: TPDO1 period
-    TimeNs tpdo_latency = 0;                     // position sampled -> TPDO1 received (calibration)
+    UnwrapperConfig unwrap;                   // units per revolution / range, overwritten when read
+    bool read_resolution_from_device = true;  // SDO-read 6001h and 6002h at start
+    std::uint16_t cyclic_timer_ms = 1;        // 6200h: TPDO1 period
+    TimeNs tpdo_latency = 0;                  // position sampled -> TPDO1 received (calibration)
     std::uint8_t tpdo1_transmission_type = kTransmissionEventManufacturer;
-    std::uint16_t heartbeat_ms = 100;            // 1017h producer heartbeat time
-    TimeNs heartbeat_timeout = 350 * kNsPerMs;   // silent encoder after this long without heartbeat
-    TimeNs tpdo_timeout = 50 * kNsPerMs;         // no position for this long is a fault too
+    std::uint16_t heartbeat_ms = 100;           // 1017h producer heartbeat time
+    TimeNs heartbeat_timeout = 350 * kNsPerMs;  // silent encoder after this long without heartbeat
+    TimeNs tpdo_timeout = 50 * kNsPerMs;        // no position for this long is a fault too
     TimeNs boot_timeout = 2 * kNsPerSec;
     TimeNs sdo_timeout = 100 * kNsPerMs;
     int sdo_retries = 2;
     std::optional<DriveConfig> drive;
 };
 
-enum class MotorState : std::uint8_t { kIdle, kBooting, kConfiguring, kStreaming, kFault, kStopped };
+enum class MotorState : std::uint8_t {
+    kIdle,
+    kBooting,
+    kConfiguring,
+    kStreaming,
+    kFault,
+    kStopped
+};
 const char* toString(MotorState s);
 
 struct MotorStats {
@@ -55,8 +64,8 @@ struct MotorStats {
     std::uint64_t positions = 0;
     std::uint64_t heartbeats = 0;
     std::uint64_t emergencies = 0;
-    std::uint64_t bad_frames = 0;       // frames from our nodes that did not decode
-    std::uint64_t late_positions = 0;   // TPDO1 gaps longer than 2.5 cyclic periods (lost frames)
+    std::uint64_t bad_frames = 0;      // frames from our nodes that did not decode
+    std::uint64_t late_positions = 0;  // TPDO1 gaps longer than 2.5 cyclic periods (lost frames)
     std::uint64_t wraps = 0;
 };
 
@@ -69,7 +78,8 @@ public:
     // `timeout`. An error is a latched fault (or a transport failure) naming the cause.
     [[nodiscard]] Result<std::optional<EncoderSample>> poll(TimeNs timeout);
     [[nodiscard]] Status setMotorSpeed(double speed_radps);
-    // Speed 0, drive shut down, encoder back to pre-operational (best effort, first error returned).
+    // Speed 0, drive shut down, encoder back to pre-operational (best effort, first error
+    // returned).
     [[nodiscard]] Status stop();
 
     MotorState state() const { return state_; }

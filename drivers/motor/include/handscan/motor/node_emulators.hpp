@@ -31,13 +31,13 @@ public:
 
 struct EncoderEmulatorConfig {
     std::uint8_t node = 1;
-    std::uint32_t units_per_revolution = 4096;      // 6001h
-    std::uint32_t total_range = 4096u * 4096u;      // 6002h (counter wraps here)
+    std::uint32_t units_per_revolution = 4096;  // 6001h
+    std::uint32_t total_range = 4096u * 4096u;  // 6002h (counter wraps here)
     double initial_angle_rad = 0.0;
     double speed_radps = 0.0;
-    TimeNs power_on = 0;                            // boot-up is sent at power_on + boot_duration
+    TimeNs power_on = 0;  // boot-up is sent at power_on + boot_duration
     TimeNs boot_duration = 20 * kNsPerMs;
-    TimeNs response_delay = 500 * kNsPerUs;         // SDO answer latency
+    TimeNs response_delay = 500 * kNsPerUs;  // SDO answer latency
 };
 
 class Cia406EncoderEmulator final : public CanNodeEmulator {
@@ -55,9 +55,9 @@ public:
     NmtState nmtState() const { return nmt_; }
 
     // Fault injection.
-    void setSilent(bool silent) { silent_ = silent; }                   // transmits nothing
-    void setHeartbeatLost(bool lost) { heartbeat_lost_ = lost; }        // TPDOs go on, heartbeats stop
-    void reboot(TimeNs t);                                              // power cycle at t
+    void setSilent(bool silent) { silent_ = silent; }             // transmits nothing
+    void setHeartbeatLost(bool lost) { heartbeat_lost_ = lost; }  // TPDOs go on, heartbeats stop
+    void reboot(TimeNs t);                                        // power cycle at t
     void sendEmergency(TimeNs t, std::uint16_t error_code, std::uint8_t error_register);
 
 private:

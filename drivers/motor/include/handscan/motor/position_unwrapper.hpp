@@ -13,9 +13,9 @@ namespace handscan::motor {
 
 struct UnwrapperConfig {
     std::uint32_t units_per_revolution = 4096;  // 6001h measuring units per revolution
-    std::uint64_t total_range = 0;              // 6002h total measuring range; 0 = 2^32 (u32 counter)
-    bool reverse = false;                       // negate the angle (mounting direction)
-    TimeNs speed_window = 20 * kNsPerMs;        // least-squares window of the speed estimate
+    std::uint64_t total_range = 0;        // 6002h total measuring range; 0 = 2^32 (u32 counter)
+    bool reverse = false;                 // negate the angle (mounting direction)
+    TimeNs speed_window = 20 * kNsPerMs;  // least-squares window of the speed estimate
 };
 
 class PositionUnwrapper {

@@ -59,7 +59,8 @@ class CandumpLogBus final : public transport::CanBus {
 public:
     // `in`: the log to play; `out` (may be null): where sent frames go as candump -l lines.
     CandumpLogBus(std::unique_ptr<std::istream> in, std::ostream* out, std::string name);
-    static Result<std::unique_ptr<CandumpLogBus>> openFile(const std::string& path, std::ostream* out = nullptr);
+    static Result<std::unique_ptr<CandumpLogBus>> openFile(const std::string& path,
+                                                           std::ostream* out = nullptr);
 
     TimeNs now() const { return now_; }
     std::uint64_t badLines() const { return bad_lines_; }

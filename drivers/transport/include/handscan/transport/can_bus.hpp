@@ -23,13 +23,13 @@ constexpr std::size_t kCanMaxDataLength = 8;
 constexpr std::size_t kCanFdMaxDataLength = 64;
 
 struct CanFrame {
-    std::uint32_t id = 0;       // 11-bit (SFF) or 29-bit (EFF) identifier, or error class bits (ERR)
-    bool extended = false;      // CAN_EFF_FLAG: 29-bit identifier
-    bool remote = false;        // CAN_RTR_FLAG: remote transmission request (no data bytes)
-    bool error = false;         // CAN_ERR_FLAG: error frame reported by the controller
-    bool fd = false;            // CAN FD frame (up to 64 data bytes)
+    std::uint32_t id = 0;   // 11-bit (SFF) or 29-bit (EFF) identifier, or error class bits (ERR)
+    bool extended = false;  // CAN_EFF_FLAG: 29-bit identifier
+    bool remote = false;    // CAN_RTR_FLAG: remote transmission request (no data bytes)
+    bool error = false;     // CAN_ERR_FLAG: error frame reported by the controller
+    bool fd = false;        // CAN FD frame (up to 64 data bytes)
     std::uint8_t fd_flags = 0;  // CAN FD flags (CANFD_BRS 0x01, CANFD_ESI 0x02)
-    std::uint8_t len = 0;       // payload length in bytes (the DLC for classic frames, also for RTR)
+    std::uint8_t len = 0;  // payload length in bytes (the DLC for classic frames, also for RTR)
     std::uint8_t len8_dlc = 0;  // classic CAN raw DLC 9..15 when len == 8 (0 = not used)
     std::array<std::uint8_t, kCanFdMaxDataLength> data{};
 
@@ -41,7 +41,8 @@ struct CanFrame {
 inline CanFrame makeCanFrame(std::uint32_t id, std::span<const std::uint8_t> bytes) {
     CanFrame f;
     f.id = id & kCanSffMask;
-    f.len = static_cast<std::uint8_t>(bytes.size() < kCanMaxDataLength ? bytes.size() : kCanMaxDataLength);
+    f.len = static_cast<std::uint8_t>(bytes.size() < kCanMaxDataLength ? bytes.size()
+                                                                       : kCanMaxDataLength);
     for (std::size_t i = 0; i < f.len; ++i) f.data[i] = bytes[i];
     return f;
 }
@@ -63,7 +64,8 @@ constexpr std::size_t kCanMaxFilters = 512;  // CAN_RAW_FILTER_MAX
 
 // The kernel-encoded can_id of a frame (identifier | EFF | RTR | ERR flags).
 inline std::uint32_t canIdWithFlags(const CanFrame& f) {
-    return f.id | (f.extended ? kCanEffFlag : 0u) | (f.remote ? kCanRtrFlag : 0u) | (f.error ? kCanErrFlag : 0u);
+    return f.id | (f.extended ? kCanEffFlag : 0u) | (f.remote ? kCanRtrFlag : 0u) |
+           (f.error ? kCanErrFlag : 0u);
 }
 
 // Filter that passes exactly the 11-bit data frames with identifier `id`.
@@ -98,8 +100,8 @@ public:
     virtual bool isOpen() const = 0;
     // Replaces the receive filters (empty = receive everything).
     virtual Status setFilters(std::span<const CanFilter> filters) = 0;
-    // Waits at most `timeout` for one frame. Returns nullopt-like kTimeout status when none arrived,
-    // kDisconnected when the link went away (interface down, end of a log file).
+    // Waits at most `timeout` for one frame. Returns nullopt-like kTimeout status when none
+    // arrived, kDisconnected when the link went away (interface down, end of a log file).
     virtual Result<TimedCanFrame> receive(TimeNs timeout) = 0;
     virtual Status send(const CanFrame& frame) = 0;
     // For messages: "socketcan can0", "candump-log /path/file.log".

@@ -13,7 +13,7 @@
 namespace handscan::transport {
 
 struct SerialConfig {
-    std::string path;     // /dev/ttyUSB0, /dev/serial/by-id/..., a pty slave in tests
+    std::string path;  // /dev/ttyUSB0, /dev/serial/by-id/..., a pty slave in tests
     int baud = 921600;
     bool exclusive = true;  // TIOCEXCL: refuse other openers while we hold the port
 };

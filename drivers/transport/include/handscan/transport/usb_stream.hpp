@@ -53,20 +53,23 @@ struct UsbEndpoint {
 class UsbDeviceLayer {
 public:
     virtual ~UsbDeviceLayer() = default;
-    virtual int init() = 0;                                          // libusb_init
-    virtual void exit() = 0;                                         // libusb_exit
-    virtual int listDevices(std::vector<UsbDeviceInfo>& out) = 0;    // libusb_get_device_list + _descriptor
-    virtual int open(const UsbDeviceInfo& device) = 0;               // libusb_open
-    virtual void close() = 0;                                        // libusb_close
-    virtual int endpoints(std::vector<UsbEndpoint>& out) = 0;        // libusb_get_active_config_descriptor
-    virtual int kernelDriverActive(int interface_number) = 0;        // libusb_kernel_driver_active
-    virtual int detachKernelDriver(int interface_number) = 0;        // libusb_detach_kernel_driver
-    virtual int claimInterface(int interface_number) = 0;            // libusb_claim_interface
-    virtual int releaseInterface(int interface_number) = 0;          // libusb_release_interface
-    virtual int clearHalt(std::uint8_t endpoint) = 0;                // libusb_clear_halt
-    virtual int bulkTransfer(std::uint8_t endpoint, std::uint8_t* data, int length, int* transferred,
-                             unsigned timeout_ms) = 0;               // libusb_bulk_transfer
-    virtual std::string errorName(int code) = 0;                     // libusb_error_name
+    virtual int init() = 0;   // libusb_init
+    virtual void exit() = 0;  // libusb_exit
+    virtual int listDevices(
+        std::vector<UsbDeviceInfo>& out) = 0;           // libusb_get_device_list + _descriptor
+    virtual int open(const UsbDeviceInfo& device) = 0;  // libusb_open
+    virtual void close() = 0;                           // libusb_close
+    virtual int endpoints(
+        std::vector<UsbEndpoint>& out) = 0;  // libusb_get_active_config_descriptor
+    virtual int kernelDriverActive(int interface_number) = 0;  // libusb_kernel_driver_active
+    virtual int detachKernelDriver(int interface_number) = 0;  // libusb_detach_kernel_driver
+    virtual int claimInterface(int interface_number) = 0;      // libusb_claim_interface
+    virtual int releaseInterface(int interface_number) = 0;    // libusb_release_interface
+    virtual int clearHalt(std::uint8_t endpoint) = 0;          // libusb_clear_halt
+    virtual int bulkTransfer(std::uint8_t endpoint, std::uint8_t* data, int length,
+                             int* transferred,
+                             unsigned timeout_ms) = 0;  // libusb_bulk_transfer
+    virtual std::string errorName(int code) = 0;        // libusb_error_name
 };
 
 #if defined(HANDSCAN_WITH_LIBUSB) && HANDSCAN_WITH_LIBUSB
@@ -74,8 +77,8 @@ std::unique_ptr<UsbDeviceLayer> makeLibusbDeviceLayer();
 #endif
 
 struct UsbConfig {
-    std::uint16_t vendor_id = 0x2639;           // Xsens
-    std::optional<std::uint16_t> product_id;    // any product of the vendor when unset
+    std::uint16_t vendor_id = 0x2639;         // Xsens
+    std::optional<std::uint16_t> product_id;  // any product of the vendor when unset
 };
 
 class UsbStream : public ByteStream {
@@ -104,7 +107,7 @@ private:
     int interface_ = -1;
     UsbEndpoint in_;
     UsbEndpoint out_;
-    std::vector<std::uint8_t> rx_;     // whole USB packets as received
+    std::vector<std::uint8_t> rx_;  // whole USB packets as received
     std::size_t rx_head_ = 0;
     std::size_t rx_size_ = 0;
 };

@@ -16,8 +16,10 @@
 namespace handscan::transport {
 
 constexpr std::uint32_t fourcc(char a, char b, char c, char d) {
-    return static_cast<std::uint32_t>(static_cast<unsigned char>(a)) | (static_cast<std::uint32_t>(static_cast<unsigned char>(b)) << 8) |
-           (static_cast<std::uint32_t>(static_cast<unsigned char>(c)) << 16) | (static_cast<std::uint32_t>(static_cast<unsigned char>(d)) << 24);
+    return static_cast<std::uint32_t>(static_cast<unsigned char>(a)) |
+           (static_cast<std::uint32_t>(static_cast<unsigned char>(b)) << 8) |
+           (static_cast<std::uint32_t>(static_cast<unsigned char>(c)) << 16) |
+           (static_cast<std::uint32_t>(static_cast<unsigned char>(d)) << 24);
 }
 constexpr std::uint32_t kFourccGrey = fourcc('G', 'R', 'E', 'Y');
 constexpr std::uint32_t kFourccYuyv = fourcc('Y', 'U', 'Y', 'V');
@@ -36,8 +38,9 @@ constexpr std::uint32_t kV4l2BufFlagTimestampCopy = 0x00004000;
 constexpr std::uint32_t kV4l2BufFlagTstampSrcMask = 0x00070000;
 constexpr std::uint32_t kV4l2BufFlagTstampSrcEof = 0x00000000;
 constexpr std::uint32_t kV4l2BufFlagTstampSrcSoe = 0x00010000;
-constexpr std::uint32_t kV4l2CidExposureAuto = 0x009A0901;      // V4L2_CID_EXPOSURE_AUTO
-constexpr std::uint32_t kV4l2CidExposureAbsolute = 0x009A0902;  // V4L2_CID_EXPOSURE_ABSOLUTE, 100 us units
+constexpr std::uint32_t kV4l2CidExposureAuto = 0x009A0901;  // V4L2_CID_EXPOSURE_AUTO
+constexpr std::uint32_t kV4l2CidExposureAbsolute =
+    0x009A0902;  // V4L2_CID_EXPOSURE_ABSOLUTE, 100 us units
 constexpr std::int32_t kV4l2ExposureManual = 1;
 constexpr std::int32_t kV4l2ExposureAperturePriority = 3;
 constexpr std::uint32_t kV4l2FieldNone = 1;
@@ -49,7 +52,9 @@ struct V4l2Capability {
     std::uint32_t capabilities = 0;
     std::uint32_t device_caps = 0;
     // The capabilities of this node (device_caps when the driver fills it, as V4L2 recommends).
-    std::uint32_t nodeCaps() const { return (capabilities & kV4l2CapDeviceCaps) ? device_caps : capabilities; }
+    std::uint32_t nodeCaps() const {
+        return (capabilities & kV4l2CapDeviceCaps) ? device_caps : capabilities;
+    }
 };
 
 struct V4l2PixFormat {
@@ -73,7 +78,7 @@ struct V4l2Buffer {
     std::uint32_t flags = 0;
     std::uint32_t field = kV4l2FieldNone;
     std::uint32_t sequence = 0;
-    TimeNs timestamp_ns = 0;  // tv_sec * 1e9 + tv_usec * 1e3
+    TimeNs timestamp_ns = 0;   // tv_sec * 1e9 + tv_usec * 1e3
     std::uint32_t offset = 0;  // m.offset: the mmap cookie
     std::uint32_t length = 0;  // buffer size
 };
@@ -83,21 +88,24 @@ public:
     virtual ~V4l2Device() = default;
     virtual Status open() = 0;  // O_RDWR | O_NONBLOCK
     virtual void close() = 0;
-    virtual Result<V4l2Capability> queryCapability() = 0;               // VIDIOC_QUERYCAP
-    virtual Result<V4l2PixFormat> setFormat(const V4l2PixFormat& f) = 0;  // VIDIOC_S_FMT (driver adjusts)
-    virtual Result<V4l2Fraction> setFrameInterval(V4l2Fraction t) = 0;  // VIDIOC_S_PARM timeperframe
+    virtual Result<V4l2Capability> queryCapability() = 0;  // VIDIOC_QUERYCAP
+    virtual Result<V4l2PixFormat> setFormat(
+        const V4l2PixFormat& f) = 0;  // VIDIOC_S_FMT (driver adjusts)
+    virtual Result<V4l2Fraction> setFrameInterval(
+        V4l2Fraction t) = 0;  // VIDIOC_S_PARM timeperframe
     virtual Result<std::uint32_t> requestBuffers(std::uint32_t count) = 0;  // VIDIOC_REQBUFS, MMAP
-    virtual Result<V4l2Buffer> queryBuffer(std::uint32_t index) = 0;    // VIDIOC_QUERYBUF
-    virtual Result<std::span<std::uint8_t>> map(std::uint32_t offset, std::uint32_t length) = 0;  // mmap
-    virtual void unmap(std::span<std::uint8_t> mapping) = 0;            // munmap
-    virtual Status queueBuffer(std::uint32_t index) = 0;                // VIDIOC_QBUF
-    virtual Result<V4l2Buffer> dequeueBuffer() = 0;                     // VIDIOC_DQBUF; kTimeout on EAGAIN
+    virtual Result<V4l2Buffer> queryBuffer(std::uint32_t index) = 0;        // VIDIOC_QUERYBUF
+    virtual Result<std::span<std::uint8_t>> map(std::uint32_t offset,
+                                                std::uint32_t length) = 0;  // mmap
+    virtual void unmap(std::span<std::uint8_t> mapping) = 0;                // munmap
+    virtual Status queueBuffer(std::uint32_t index) = 0;                    // VIDIOC_QBUF
+    virtual Result<V4l2Buffer> dequeueBuffer() = 0;  // VIDIOC_DQBUF; kTimeout on EAGAIN
     virtual Status streamOn() = 0;
     virtual Status streamOff() = 0;
-    virtual Result<bool> waitReadable(TimeNs timeout) = 0;              // poll(POLLIN)
+    virtual Result<bool> waitReadable(TimeNs timeout) = 0;                // poll(POLLIN)
     virtual Status setControl(std::uint32_t id, std::int32_t value) = 0;  // VIDIOC_S_CTRL
-    virtual Result<std::int32_t> getControl(std::uint32_t id) = 0;      // VIDIOC_G_CTRL
-    virtual std::string describe() const = 0;                           // "v4l2 /dev/video0"
+    virtual Result<std::int32_t> getControl(std::uint32_t id) = 0;        // VIDIOC_G_CTRL
+    virtual std::string describe() const = 0;                             // "v4l2 /dev/video0"
 };
 
 // The Linux implementation (V4L2 ioctls on a /dev/videoN node).

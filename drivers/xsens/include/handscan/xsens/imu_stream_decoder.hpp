@@ -28,8 +28,9 @@ namespace handscan::xsens {
 // clock fit places the lower envelope of the receive times, so a delay every frame has is
 // taken out before it, or every sample (and the whole IMU motion) comes out that much late.
 struct ImuFrameTiming {
-    TimeNs frame_latency_ns = 0;  // sample -> first byte at the host (processing, USB-serial bridge)
-    int baud = 0;                 // serial line rate: each frame's own wire time (8N1) is added; 0: USB
+    TimeNs frame_latency_ns =
+        0;         // sample -> first byte at the host (processing, USB-serial bridge)
+    int baud = 0;  // serial line rate: each frame's own wire time (8N1) is added; 0: USB
 
     // Receive time of the frame's last byte minus this = the sample's time on the host clock,
     // for the fastest delivery.
@@ -37,14 +38,14 @@ struct ImuFrameTiming {
 };
 
 struct ImuStreamStats {
-    std::uint64_t packets = 0;         // MTData2 frames received
-    std::uint64_t samples = 0;         // ImuSamples handed out
-    std::uint64_t gaps = 0;            // packet-counter discontinuities
-    std::uint64_t lost_packets = 0;    // packets missing across those gaps
-    std::uint64_t incomplete = 0;      // MTData2 without SampleTimeFine / Acceleration / RateOfTurn
-    std::uint64_t malformed = 0;       // MTData2 whose items could not be decoded
-    std::uint64_t device_errors = 0;   // Error (0x42) messages received
-    std::uint64_t restarts = 0;        // WakeUp seen (power glitch, reset)
+    std::uint64_t packets = 0;        // MTData2 frames received
+    std::uint64_t samples = 0;        // ImuSamples handed out
+    std::uint64_t gaps = 0;           // packet-counter discontinuities
+    std::uint64_t lost_packets = 0;   // packets missing across those gaps
+    std::uint64_t incomplete = 0;     // MTData2 without SampleTimeFine / Acceleration / RateOfTurn
+    std::uint64_t malformed = 0;      // MTData2 whose items could not be decoded
+    std::uint64_t device_errors = 0;  // Error (0x42) messages received
+    std::uint64_t restarts = 0;       // WakeUp seen (power glitch, reset)
     std::uint64_t checksum_failures = 0;
     std::uint64_t resyncs = 0;
 };

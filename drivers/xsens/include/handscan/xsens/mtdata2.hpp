@@ -28,14 +28,16 @@ struct XdiField {
 };
 
 struct MtData2Value {
-    std::uint16_t xdi = 0;              // as sent, with format bits
-    const XdiInfo* info = nullptr;      // nullptr: XDI not in the table
-    std::vector<std::uint8_t> raw;      // the item's bytes as sent
-    std::vector<XdiField> fields;       // decoded components (empty for opaque / unknown / bad)
-    std::string problem;                // why the item could not be decoded ("" when it was)
+    std::uint16_t xdi = 0;          // as sent, with format bits
+    const XdiInfo* info = nullptr;  // nullptr: XDI not in the table
+    std::vector<std::uint8_t> raw;  // the item's bytes as sent
+    std::vector<XdiField> fields;   // decoded components (empty for opaque / unknown / bad)
+    std::string problem;            // why the item could not be decoded ("" when it was)
 
     std::uint16_t type() const { return xdiTypeOf(xdi); }
-    std::string_view name() const { return info != nullptr ? info->name : std::string_view("Unknown"); }
+    std::string_view name() const {
+        return info != nullptr ? info->name : std::string_view("Unknown");
+    }
     Precision precision() const { return precisionOf(xdi); }
     CoordSys coordSys() const { return coordSysOf(xdi); }
     bool decoded() const { return problem.empty() && !fields.empty(); }
@@ -44,8 +46,8 @@ struct MtData2Value {
 struct MtData2Packet {
     std::vector<MtData2Value> values;  // in wire order
 
-    const MtData2Value* find(std::uint16_t type) const;  // by quantity id (format bits ignored)
-    std::optional<double> scalar(std::uint16_t type) const;           // first field
+    const MtData2Value* find(std::uint16_t type) const;      // by quantity id (format bits ignored)
+    std::optional<double> scalar(std::uint16_t type) const;  // first field
     std::optional<Eigen::Vector3d> vector3(std::uint16_t type) const;  // three components
     std::optional<Eigen::Vector4d> vector4(std::uint16_t type) const;  // q0..q3
     std::optional<std::uint64_t> integer(std::uint16_t type) const;    // single-integer items
@@ -71,7 +73,8 @@ public:
     MtData2Builder& statusWord(std::uint32_t status);
     MtData2Builder& statusByte(std::uint8_t status);
     MtData2Builder& acceleration(const Eigen::Vector3d& a_mps2, Precision p = Precision::kFloat32);
-    MtData2Builder& freeAcceleration(const Eigen::Vector3d& a_mps2, Precision p = Precision::kFloat32);
+    MtData2Builder& freeAcceleration(const Eigen::Vector3d& a_mps2,
+                                     Precision p = Precision::kFloat32);
     MtData2Builder& rateOfTurn(const Eigen::Vector3d& w_radps, Precision p = Precision::kFloat32);
     MtData2Builder& deltaV(const Eigen::Vector3d& dv_mps, Precision p = Precision::kFloat32);
     MtData2Builder& deltaQ(const Eigen::Vector4d& q0123, Precision p = Precision::kFloat32);

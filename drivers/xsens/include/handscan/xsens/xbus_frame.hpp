@@ -59,12 +59,13 @@ struct XbusFrameView {
 };
 
 // Checksum byte that makes Σ(BID..CS) ≡ 0 (mod 256) for the given BID, MID and payload.
-std::uint8_t xbusChecksum(std::uint8_t bus_id, std::uint8_t mid, std::span<const std::uint8_t> payload);
+std::uint8_t xbusChecksum(std::uint8_t bus_id, std::uint8_t mid,
+                          std::span<const std::uint8_t> payload);
 
 // Appends one complete frame (standard or, above 254 bytes, extended length) to `out`.
 // Payloads longer than kMaxPayload are a programming error: kInvalidArgument.
-Status appendFrame(std::vector<std::uint8_t>& out, std::uint8_t mid, std::span<const std::uint8_t> payload,
-                   std::uint8_t bus_id = kBusIdMaster);
+Status appendFrame(std::vector<std::uint8_t>& out, std::uint8_t mid,
+                   std::span<const std::uint8_t> payload, std::uint8_t bus_id = kBusIdMaster);
 // A complete frame as a new buffer (throws std::length_error above kMaxPayload: build-time use).
 std::vector<std::uint8_t> encodeFrame(MessageId mid, std::span<const std::uint8_t> payload = {},
                                       std::uint8_t bus_id = kBusIdMaster);

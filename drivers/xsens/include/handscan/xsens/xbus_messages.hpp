@@ -51,7 +51,8 @@ struct OutputConfigEntry {
 };
 
 std::vector<std::uint8_t> encodeOutputConfiguration(std::span<const OutputConfigEntry> entries);
-Result<std::vector<OutputConfigEntry>> decodeOutputConfiguration(std::span<const std::uint8_t> payload);
+Result<std::vector<OutputConfigEntry>> decodeOutputConfiguration(
+    std::span<const std::uint8_t> payload);
 
 // ---- SetBaudrate (0x18): 1 byte baud-rate id ----
 // Baud ids: 0x80 (and the older 0x0A) = 921600, 00 = 460800, 01 = 230400, 02 = 115200 (default),
@@ -62,7 +63,8 @@ std::optional<int> baudrateFromId(std::uint8_t id);
 // ---- DeviceID (0x01): u32 device id; ProductCode (0x1D): ASCII, space padded ----
 Result<std::uint32_t> decodeDeviceId(std::span<const std::uint8_t> payload);
 std::vector<std::uint8_t> encodeDeviceId(std::uint32_t device_id);
-std::string decodeProductCode(std::span<const std::uint8_t> payload);  // trailing spaces/NULs trimmed
+std::string decodeProductCode(
+    std::span<const std::uint8_t> payload);  // trailing spaces/NULs trimmed
 std::vector<std::uint8_t> encodeProductCode(const std::string& code);
 
 // ---- Big-endian helpers shared by the codecs ----
@@ -76,9 +78,12 @@ inline void putU32(std::vector<std::uint8_t>& out, std::uint32_t v) {
 inline void putU64(std::vector<std::uint8_t>& out, std::uint64_t v) {
     for (int s = 56; s >= 0; s -= 8) out.push_back(static_cast<std::uint8_t>(v >> s));
 }
-inline std::uint16_t getU16(const std::uint8_t* p) { return static_cast<std::uint16_t>((p[0] << 8) | p[1]); }
+inline std::uint16_t getU16(const std::uint8_t* p) {
+    return static_cast<std::uint16_t>((p[0] << 8) | p[1]);
+}
 inline std::uint32_t getU32(const std::uint8_t* p) {
-    return (std::uint32_t{p[0]} << 24) | (std::uint32_t{p[1]} << 16) | (std::uint32_t{p[2]} << 8) | p[3];
+    return (std::uint32_t{p[0]} << 24) | (std::uint32_t{p[1]} << 16) | (std::uint32_t{p[2]} << 8) |
+           p[3];
 }
 inline std::uint64_t getU64(const std::uint8_t* p) {
     return (std::uint64_t{getU32(p)} << 32) | getU32(p + 4);

@@ -42,8 +42,8 @@ private:
     void skip(std::size_t n);  // drops n bytes of garbage, counting one resync per garbage run
 
     std::vector<std::uint8_t> buffer_;
-    std::size_t head_ = 0;       // first byte not consumed yet
-    bool in_garbage_ = false;    // inside a run of skipped bytes (one resync per run)
+    std::size_t head_ = 0;     // first byte not consumed yet
+    bool in_garbage_ = false;  // inside a run of skipped bytes (one resync per run)
     XbusParserStats stats_;
 };
 

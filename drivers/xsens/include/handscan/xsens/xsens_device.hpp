@@ -28,10 +28,10 @@ namespace handscan::xsens {
 
 struct XsensDeviceConfig {
     std::uint16_t output_rate_hz = 200;
-    bool delta_q_delta_v = false;                // also request DeltaQ and DeltaV (SDI outputs)
-    Precision precision = Precision::kFloat32;   // number format of the real-valued outputs
-    TimeNs reply_timeout = 200 * kNsPerMs;       // wait for an ack before resending
-    int attempts = 5;                            // sends per request (GoToConfig while streaming)
+    bool delta_q_delta_v = false;                  // also request DeltaQ and DeltaV (SDI outputs)
+    Precision precision = Precision::kFloat32;     // number format of the real-valued outputs
+    TimeNs reply_timeout = 200 * kNsPerMs;         // wait for an ack before resending
+    int attempts = 5;                              // sends per request (GoToConfig while streaming)
     std::function<TimeNs()> clock = monotonicNow;  // host receive time (tests inject a fake)
     // Serial links: the rate to run at, and how to retune the host side (SerialStream::
     // setBaudrate). When set, configure() finds a device that talks at another rate (the MTi
@@ -51,7 +51,8 @@ struct XsensDeviceStats : ImuStreamStats {
 
 class XsensDevice {
 public:
-    XsensDevice(transport::ByteStream& stream, XsensDeviceConfig config = {}, RawTap* tap = nullptr);
+    XsensDevice(transport::ByteStream& stream, XsensDeviceConfig config = {},
+                RawTap* tap = nullptr);
 
     // Opens the stream if needed and runs the handshake. On failure the message says which step
     // failed, what the device answered and what to check.

@@ -29,10 +29,10 @@ enum class XsensDriverState { kStopped, kConnecting, kStreaming };
 
 struct XsensHealth {
     XsensDriverState state = XsensDriverState::kStopped;
-    XsensDeviceStats stats;      // of the current connection
-    std::uint64_t samples = 0;   // handed to the sink since start()
+    XsensDeviceStats stats;     // of the current connection
+    std::uint64_t samples = 0;  // handed to the sink since start()
     int reconnects = 0;
-    std::string last_problem;    // what went wrong last (empty when nothing did)
+    std::string last_problem;  // what went wrong last (empty when nothing did)
 };
 
 struct XsensDriverOptions {

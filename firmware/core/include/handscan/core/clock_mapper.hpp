@@ -18,13 +18,13 @@
 namespace handscan {
 
 struct ClockMapperConfig {
-    int counter_bits = 64;           // width of the device counter (24 for Hokuyo ms, 32 for Xsens)
-    double tick_ns = 1.0;            // nanoseconds per device tick (1e6: ms counter, 1e5: 10 kHz)
-    TimeNs window_ns = 300 * kNsPerSec;   // how much history the fit uses
-    int buckets = 120;               // lower-envelope points kept over the window
-    TimeNs outlier_ns = 50 * kNsPerMs;    // a point this far *below* the line is an outlier
-    TimeNs reset_ns = 2 * kNsPerSec;      // |residual| beyond this, repeatedly, is a restart
-    int reset_after = 3;             // consecutive gross residuals that mean a restart
+    int counter_bits = 64;  // width of the device counter (24 for Hokuyo ms, 32 for Xsens)
+    double tick_ns = 1.0;   // nanoseconds per device tick (1e6: ms counter, 1e5: 10 kHz)
+    TimeNs window_ns = 300 * kNsPerSec;  // how much history the fit uses
+    int buckets = 120;                   // lower-envelope points kept over the window
+    TimeNs outlier_ns = 50 * kNsPerMs;   // a point this far *below* the line is an outlier
+    TimeNs reset_ns = 2 * kNsPerSec;     // |residual| beyond this, repeatedly, is a restart
+    int reset_after = 3;                 // consecutive gross residuals that mean a restart
 };
 
 class ClockMapper {

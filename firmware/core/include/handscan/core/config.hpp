@@ -29,11 +29,11 @@ struct HokuyoConfig {
 };
 
 struct XsensConfig {
-    std::string transport = "serial";      // serial | usb
+    std::string transport = "serial";  // serial | usb
     std::string serial_path = "/dev/ttyUSB0";
     int baud = 921600;
     int rate_hz = 200;
-    bool delta_q_v = false;                // also request DeltaQ/DeltaV
+    bool delta_q_v = false;  // also request DeltaQ/DeltaV
     // Fixed delay from a sample's SampleTimeFine to its frame's first byte reaching the host
     // (output processing + USB-serial bridge; calibration). The frame's wire time at `baud` is
     // added per frame. Uncompensated, the whole IMU motion runs this late against the laser:
@@ -49,7 +49,7 @@ struct MotorConfig {
     int tpdo_period_ms = 5;
     double heartbeat_timeout_s = 0.5;
     double target_speed_rev_s = 1.0;
-    std::string sweep_boundary = "half";   // half | full revolution
+    std::string sweep_boundary = "half";  // half | full revolution
     // Fixed delay from the encoder sampling its position to the TPDO1 frame's receive time (the
     // frame on the bus, the adapter; calibration). The receive times cannot show it, and at
     // 1 rev/s every 0.1 ms of it turns the shaft angle, and so the sweep, by 0.036 deg.
@@ -62,7 +62,7 @@ struct CameraConfig {
     int width = 640;
     int height = 512;
     double fps = 50.0;
-    std::string format = "GREY";           // GREY | YUYV | MJPEG
+    std::string format = "GREY";  // GREY | YUYV | MJPEG
     double exposure_ms = 5.0;
 };
 
@@ -100,7 +100,7 @@ struct CameraIntrinsics {
     std::array<double, 4> intrinsics{};            // fu fv pu pv
     std::string distortion_model = "equidistant";  // equidistant | radtan | none
     std::vector<double> distortion_coeffs;
-    std::array<int, 2> resolution{};               // width height
+    std::array<int, 2> resolution{};  // width height
     Eigen::Isometry3d T_cam_imu = Eigen::Isometry3d::Identity();
     double timeshift_cam_imu_s = 0.0;
 };
@@ -112,8 +112,8 @@ struct Calibration {
     // Shaft base frame {B} (the shaft at encoder angle 0) -> tracking camera {C} (the body frame).
     Eigen::Isometry3d T_camera_shaftbase = Eigen::Isometry3d::Identity();
     double encoder_zero_offset_rad = 0.0;
-    CameraIntrinsics tracking;                     // cam0 of the camchain
-    CameraIntrinsics colour;                       // cam1 of the camchain
+    CameraIntrinsics tracking;                                            // cam0 of the camchain
+    CameraIntrinsics colour;                                              // cam1 of the camchain
     Eigen::Isometry3d T_colour_tracking = Eigen::Isometry3d::Identity();  // cam1 T_cn_cnm1
     // IMU {I} -> tracking camera {C}: the inverse of cam0's T_cam_imu, kept for convenience.
     Eigen::Isometry3d T_camera_imu() const { return tracking.T_cam_imu; }

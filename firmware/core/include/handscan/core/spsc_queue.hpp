@@ -60,7 +60,8 @@ public:
     }
 
 private:
-    static constexpr std::size_t kLine = 64;  // keep producer and consumer indices on separate lines
+    static constexpr std::size_t kLine =
+        64;  // keep producer and consumer indices on separate lines
     std::size_t mask_ = 0;
     std::unique_ptr<std::optional<T>[]> slots_;
     alignas(kLine) std::atomic<std::size_t> head_{0};  // written by the producer

@@ -45,8 +45,8 @@ private:
 template <typename T>
 class [[nodiscard]] Result {
 public:
-    Result(T value) : v_(std::move(value)) {}          // NOLINT(google-explicit-constructor)
-    Result(Status status) : v_(std::move(status)) {}   // NOLINT(google-explicit-constructor)
+    Result(T value) : v_(std::move(value)) {}         // NOLINT(google-explicit-constructor)
+    Result(Status status) : v_(std::move(status)) {}  // NOLINT(google-explicit-constructor)
 
     bool isOk() const { return std::holds_alternative<T>(v_); }
     explicit operator bool() const { return isOk(); }

@@ -13,7 +13,9 @@ constexpr TimeNs kNsPerMs = 1'000'000;
 constexpr TimeNs kNsPerSec = 1'000'000'000;
 
 constexpr double toSeconds(TimeNs t) { return static_cast<double>(t) * 1e-9; }
-constexpr TimeNs fromSeconds(double s) { return static_cast<TimeNs>(s * 1e9 + (s >= 0 ? 0.5 : -0.5)); }
+constexpr TimeNs fromSeconds(double s) {
+    return static_cast<TimeNs>(s * 1e9 + (s >= 0 ? 0.5 : -0.5));
+}
 
 // The host's CLOCK_MONOTONIC now.
 TimeNs monotonicNow();

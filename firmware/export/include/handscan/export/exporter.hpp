@@ -18,29 +18,31 @@ namespace handscan::exporter {
 
 struct ExportOptions {
     std::vector<std::string> formats{"ply", "las"};  // ply | las
-    double voxel_m = 0.0;                             // 0: full resolution
-    std::string scan_name;                            // output sub-folder; default from the journal file
+    double voxel_m = 0.0;                            // 0: full resolution
+    std::string scan_name;  // output sub-folder; default from the journal file
     // fraction in [0, 1] and what is being done
     std::function<void(double fraction, const std::string& stage)> progress;
-    WriteFaults faults;                               // test hook
+    WriteFaults faults;  // test hook
 };
 
 struct ExportReport {
     std::string directory;
     std::vector<std::string> files;
-    std::uint64_t points = 0;          // points written (after voxel filtering)
+    std::uint64_t points = 0;  // points written (after voxel filtering)
     std::uint64_t journal_points = 0;
     std::uint64_t bytes = 0;
     Bounds bounds;
     double seconds = 0.0;
-    std::string journal_damage;        // non-empty when the journal was recovered after a crash
+    std::string journal_damage;  // non-empty when the journal was recovered after a crash
 };
 
 // `source` is a journal file or a directory holding `journal.hsj`.
-Result<ExportReport> exportScan(const std::string& source, const std::string& target_dir, const ExportOptions& options);
+Result<ExportReport> exportScan(const std::string& source, const std::string& target_dir,
+                                const ExportOptions& options);
 // Same onto the USB stick; the report's directory is on the stick. Fails clearly when there is
 // no stick, or when `paths` show the target is not removable.
-Result<ExportReport> exportToUsb(const std::string& source, const ExportOptions& options, const SystemPaths& paths = {});
+Result<ExportReport> exportToUsb(const std::string& source, const ExportOptions& options,
+                                 const SystemPaths& paths = {});
 
 // Resolves a journal file from `source` (file, or directory with journal.hsj).
 Result<std::string> findJournal(const std::string& source);

@@ -17,8 +17,10 @@
 namespace handscan::exporter {
 
 struct Bounds {
-    double min[3] = {std::numeric_limits<double>::max(), std::numeric_limits<double>::max(), std::numeric_limits<double>::max()};
-    double max[3] = {std::numeric_limits<double>::lowest(), std::numeric_limits<double>::lowest(), std::numeric_limits<double>::lowest()};
+    double min[3] = {std::numeric_limits<double>::max(), std::numeric_limits<double>::max(),
+                     std::numeric_limits<double>::max()};
+    double max[3] = {std::numeric_limits<double>::lowest(), std::numeric_limits<double>::lowest(),
+                     std::numeric_limits<double>::lowest()};
     void add(double x, double y, double z) {
         const double v[3] = {x, y, z};
         for (int i = 0; i < 3; ++i) {

@@ -57,8 +57,8 @@ public:
     bool directIo() const { return direct_.load(); }
 
 private:
-    Status handOff();                      // the full current buffer to the I/O thread
-    Status ioFailure(int err);             // the I/O thread's error as a Status
+    Status handOff();           // the full current buffer to the I/O thread
+    Status ioFailure(int err);  // the I/O thread's error as a Status
     int writeAt(std::span<const std::uint8_t> bytes, std::uint64_t offset);  // errno or 0
     Status verify();
     Status fail(const std::string& what, int err);
@@ -69,13 +69,13 @@ private:
     int fd_ = -1;
     std::atomic<bool> direct_{false};
     std::unique_ptr<BufferPipeline> pipe_;
-    std::size_t fill_ = 0;                 // bytes in the current buffer
-    std::uint64_t flushed_ = 0;            // bytes handed to the I/O thread (offset of the current buffer)
-    std::size_t header_bytes_ = 0;         // the reserved header region at offset 0
-    std::vector<std::uint8_t> header_;     // its final content (patchHeader)
+    std::size_t fill_ = 0;          // bytes in the current buffer
+    std::uint64_t flushed_ = 0;     // bytes handed to the I/O thread (offset of the current buffer)
+    std::size_t header_bytes_ = 0;  // the reserved header region at offset 0
+    std::vector<std::uint8_t> header_;  // its final content (patchHeader)
     // Owned by the I/O thread while it runs; read after BufferPipeline::finish().
-    std::uint32_t crc_ = 0;                // over everything after the header region
-    std::uint64_t error_offset_ = 0;       // where the I/O thread's write failed
+    std::uint32_t crc_ = 0;           // over everything after the header region
+    std::uint64_t error_offset_ = 0;  // where the I/O thread's write failed
     bool committed_ = false;
 };
 

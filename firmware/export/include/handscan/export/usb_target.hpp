@@ -20,7 +20,7 @@ struct SystemPaths {
 
 struct MountedVolume {
     std::string mount_point;
-    std::string device;      // /dev/sdb1
+    std::string device;  // /dev/sdb1
     std::string fs_type;
     unsigned major = 0, minor = 0;
     bool read_only = false;

@@ -25,14 +25,15 @@ public:
     // The exact sums of one voxel (88 bytes, no padding: it is spilled to disk as is).
     struct Cell {
         std::uint64_t key = 0;
-        std::uint64_t n = 0;               // 0: empty slot
-        std::int64_t t_s = 0, t_ns = 0;    // time: sums of the whole seconds and of the nanoseconds
-        std::uint64_t x = 0, y = 0, z = 0; // sums of the offsets inside the voxel, in voxel / 2^32
+        std::uint64_t n = 0;             // 0: empty slot
+        std::int64_t t_s = 0, t_ns = 0;  // time: sums of the whole seconds and of the nanoseconds
+        std::uint64_t x = 0, y = 0, z = 0;  // sums of the offsets inside the voxel, in voxel / 2^32
         std::uint64_t r = 0, g = 0, b = 0, i = 0;
     };
 
     // `initial_bits`: the table starts with 2^initial_bits slots (it doubles as voxels come).
-    explicit VoxelFilter(double voxel_m, unsigned initial_bits = 12) : voxel_(voxel_m), inv_(1.0 / voxel_m), bits_(initial_bits) {
+    explicit VoxelFilter(double voxel_m, unsigned initial_bits = 12)
+        : voxel_(voxel_m), inv_(1.0 / voxel_m), bits_(initial_bits) {
         cells_.resize(std::size_t{1} << bits_);
     }
 
@@ -84,7 +85,9 @@ public:
     template <class Fn>
     void forEachCellSpread(Fn&& fn) const {
         const std::size_t mask = cells_.size() - 1;
-        const std::size_t stride = (static_cast<std::size_t>(static_cast<double>(cells_.size()) * 0.6180339887) | 1) & mask;
+        const std::size_t stride =
+            (static_cast<std::size_t>(static_cast<double>(cells_.size()) * 0.6180339887) | 1) &
+            mask;
         for (std::size_t i = 0, s = 0; i < cells_.size(); ++i, s = (s + stride) & mask) {
             if (cells_[s].n != 0) fn(cells_[s]);
         }
@@ -99,24 +102,36 @@ public:
     // Heap bytes the table holds (what a memory budget counts).
     std::size_t memoryBytes() const { return cells_.capacity() * sizeof(Cell); }
     // The voxel index along one axis of a coordinate (the key's per-axis part, before packing).
-    std::int64_t voxelIndex(float v) const { return static_cast<std::int64_t>(std::floor(v * inv_)); }
+    std::int64_t voxelIndex(float v) const {
+        return static_cast<std::int64_t>(std::floor(v * inv_));
+    }
 
     // The voxel's point: centroid, mean time, colour and intensity.
     journal::MapPoint point(const Cell& c) const {
         const double n = static_cast<double>(c.n);
-        auto mean8 = [n](std::uint64_t sum) { return static_cast<std::uint8_t>(std::lround(static_cast<double>(sum) / n)); };
+        auto mean8 = [n](std::uint64_t sum) {
+            return static_cast<std::uint8_t>(std::lround(static_cast<double>(sum) / n));
+        };
         auto axis = [&](std::uint64_t k, std::uint64_t sum) {
-            const double index = static_cast<double>(static_cast<std::int64_t>(k & 0x1FFFFF) - (1 << 20));
+            const double index =
+                static_cast<double>(static_cast<std::int64_t>(k & 0x1FFFFF) - (1 << 20));
             return static_cast<float>((index + static_cast<double>(sum) / n * 0x1p-32) * voxel_);
         };
         const double t = static_cast<double>(c.t_s) / n + static_cast<double>(c.t_ns) / n * 1e-9;
-        return {t, axis(c.key, c.x), axis(c.key >> 21, c.y), axis(c.key >> 42, c.z), mean8(c.r), mean8(c.g), mean8(c.b),
+        return {t,
+                axis(c.key, c.x),
+                axis(c.key >> 21, c.y),
+                axis(c.key >> 42, c.z),
+                mean8(c.r),
+                mean8(c.g),
+                mean8(c.b),
                 static_cast<std::uint16_t>(std::lround(static_cast<double>(c.i) / n))};
     }
 
     // The order of the output: by time, so that it does not depend on the hash table's layout.
     static bool before(const journal::MapPoint& l, const journal::MapPoint& r) {
-        return l.t_s != r.t_s ? l.t_s < r.t_s : (l.x != r.x ? l.x < r.x : (l.y != r.y ? l.y < r.y : l.z < r.z));
+        return l.t_s != r.t_s ? l.t_s < r.t_s
+                              : (l.x != r.x ? l.x < r.x : (l.y != r.y ? l.y < r.y : l.z < r.z));
     }
 
     std::vector<journal::MapPoint> take() const {
@@ -130,13 +145,19 @@ public:
 private:
     // 21 bits per axis around the origin: +-10 km at 1 cm voxels.
     static std::uint64_t key(double fx, double fy, double fz) {
-        auto cell = [](double f) { return static_cast<std::uint64_t>(static_cast<std::int64_t>(f) + (1 << 20)) & 0x1FFFFF; };
+        auto cell = [](double f) {
+            return static_cast<std::uint64_t>(static_cast<std::int64_t>(f) + (1 << 20)) & 0x1FFFFF;
+        };
         return cell(fx) | (cell(fy) << 21) | (cell(fz) << 42);
     }
     // An offset in [0, 1) voxel as 32-bit fixed point: rounded per point, so sums are exact.
-    static std::uint64_t fixedOffset(double f) { return static_cast<std::uint64_t>(std::llround(f * 0x1p32)); }
+    static std::uint64_t fixedOffset(double f) {
+        return static_cast<std::uint64_t>(std::llround(f * 0x1p32));
+    }
     // Fibonacci hashing: the multiply spreads neighbouring voxel keys over the whole table.
-    std::size_t slot(std::uint64_t k) const { return static_cast<std::size_t>((k * 0x9E3779B97F4A7C15ull) >> (64 - bits_)); }
+    std::size_t slot(std::uint64_t k) const {
+        return static_cast<std::size_t>((k * 0x9E3779B97F4A7C15ull) >> (64 - bits_));
+    }
 
     Cell& find(std::uint64_t k) {
         const std::size_t mask = cells_.size() - 1;

@@ -23,21 +23,27 @@ constexpr std::size_t kChunkHeaderBytes = 40;
 constexpr std::size_t kPointRecordBytes = 28;
 constexpr std::size_t kPoseRecordBytes = 64;
 
-enum class ChunkKind : std::uint16_t { kMetadata = 1, kPoints = 2, kTrajectory = 3, kEndOfScan = 4 };
+enum class ChunkKind : std::uint16_t {
+    kMetadata = 1,
+    kPoints = 2,
+    kTrajectory = 3,
+    kEndOfScan = 4
+};
 
 struct ChunkHeader {
     std::uint32_t magic = kChunkMagic;
     std::uint16_t version = kFormatVersion;
     ChunkKind kind = ChunkKind::kPoints;
-    std::uint64_t sequence = 0;       // 0, 1, 2, ... in file order
+    std::uint64_t sequence = 0;  // 0, 1, 2, ... in file order
     std::uint32_t record_count = 0;
     std::uint32_t payload_bytes = 0;
-    double t_last_s = 0.0;            // newest time inside (points / poses), for "lost at most"
+    double t_last_s = 0.0;  // newest time inside (points / poses), for "lost at most"
     std::uint32_t payload_crc = 0;
-    std::uint32_t header_crc = 0;     // over the 36 bytes before it
+    std::uint32_t header_crc = 0;  // over the 36 bytes before it
 };
 
-std::vector<std::uint8_t> encodeHeader(const ChunkHeader& header);  // fills both CRCs' slots as given
+std::vector<std::uint8_t> encodeHeader(
+    const ChunkHeader& header);  // fills both CRCs' slots as given
 // Decodes and checks magic, version and header CRC. False when any fails.
 bool decodeHeader(std::span<const std::uint8_t> bytes, ChunkHeader& out);
 

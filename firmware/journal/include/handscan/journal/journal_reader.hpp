@@ -19,11 +19,11 @@ struct JournalSummary {
     std::uint64_t chunks = 0;
     std::uint64_t points = 0;
     std::vector<TrajectoryPose> trajectory;
-    std::uint64_t good_bytes = 0;   // the intact prefix
+    std::uint64_t good_bytes = 0;  // the intact prefix
     std::uint64_t file_bytes = 0;
-    bool finished = false;          // the scan was stopped normally (end-of-scan chunk present)
-    std::string damage;             // empty when the file is intact, else what was cut and why
-    double t_last_s = 0.0;          // newest time in the intact prefix
+    bool finished = false;  // the scan was stopped normally (end-of-scan chunk present)
+    std::string damage;     // empty when the file is intact, else what was cut and why
+    double t_last_s = 0.0;  // newest time in the intact prefix
 };
 
 class JournalReader {

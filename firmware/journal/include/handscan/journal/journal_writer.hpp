@@ -18,19 +18,21 @@
 namespace handscan::journal {
 
 struct JournalOptions {
-    double flush_interval_s = 0.5;               // at most this much is lost on a power cut
-    std::uint64_t reserve_bytes = 64ull << 20;   // never fill the disk beyond this reserve
-    std::uint64_t warn_bytes = 1ull << 30;       // lowSpace() (UI warning) when free < reserve + this
-    std::size_t max_chunk_points = 1u << 18;     // a chunk is written early when this many wait
+    double flush_interval_s = 0.5;              // at most this much is lost on a power cut
+    std::uint64_t reserve_bytes = 64ull << 20;  // never fill the disk beyond this reserve
+    std::uint64_t warn_bytes = 1ull << 30;    // lowSpace() (UI warning) when free < reserve + this
+    std::size_t max_chunk_points = 1u << 18;  // a chunk is written early when this many wait
 };
 
 class JournalWriter {
 public:
     // Starts a new journal file (fails if it exists). `metadata_json` is stored first.
-    static Result<std::unique_ptr<JournalWriter>> create(const std::string& path, const std::string& metadata_json,
+    static Result<std::unique_ptr<JournalWriter>> create(const std::string& path,
+                                                         const std::string& metadata_json,
                                                          JournalOptions options = {});
     // Continues a recovered journal: cuts any damaged tail and appends after the last good chunk.
-    static Result<std::unique_ptr<JournalWriter>> resume(const std::string& path, JournalOptions options = {});
+    static Result<std::unique_ptr<JournalWriter>> resume(const std::string& path,
+                                                         JournalOptions options = {});
     ~JournalWriter();
     JournalWriter(const JournalWriter&) = delete;
     JournalWriter& operator=(const JournalWriter&) = delete;
@@ -54,7 +56,8 @@ public:
 
 private:
     JournalWriter(std::string path, int fd, JournalOptions options);
-    Status writeChunk(int kind, std::uint32_t records, double t_last, const std::vector<std::uint8_t>& payload);
+    Status writeChunk(int kind, std::uint32_t records, double t_last,
+                      const std::vector<std::uint8_t>& payload);
     Status stop(Status reason);
     void refreshFreeSpace();
 

@@ -6,7 +6,7 @@
 namespace handscan::journal {
 
 struct MapPoint {
-    double t_s = 0.0;        // capture time, seconds of the scan clock (host monotonic / 1e9)
+    double t_s = 0.0;           // capture time, seconds of the scan clock (host monotonic / 1e9)
     float x = 0, y = 0, z = 0;  // metres, world frame of the scan (gravity aligned)
     std::uint8_t r = 0, g = 0, b = 0;
     std::uint16_t intensity = 0;

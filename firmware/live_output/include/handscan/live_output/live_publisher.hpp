@@ -21,20 +21,20 @@ namespace handscan::live_output {
 
 // One sensor as the status bar shows it.
 struct LiveSensor {
-    std::string name;            // "hokuyo", "xsens", "encoder", "tracking-cam", ...
+    std::string name;  // "hokuyo", "xsens", "encoder", "tracking-cam", ...
     bool connected = false;
     float rate_hz = 0;           // measured
     float expected_rate_hz = 0;  // nominal
     TimeNs last_sample_ns = 0;
-    std::string last_error;      // empty when healthy
+    std::string last_error;  // empty when healthy
 };
 
 // What the publisher cannot see itself.
 struct LiveStatus {
     std::vector<LiveSensor> sensors;
     shm::ScanState scan_state = shm::ScanState::kIdle;
-    std::uint64_t point_count = 0;           // full-resolution points of the current scan
-    std::string message;                     // the pipeline's note to the operator
+    std::uint64_t point_count = 0;  // full-resolution points of the current scan
+    std::string message;            // the pipeline's note to the operator
     std::optional<shm::ExportStatus> export_status;
     float camera_brightness = 0;
 };
@@ -42,8 +42,10 @@ struct LiveStatus {
 class LivePublisher {
 public:
     // `storage_dir`: whose file system's free space is shown as the device's storage.
-    static Result<std::unique_ptr<LivePublisher>> create(const shm::WriterOptions& options, std::string storage_dir);
-    static Result<std::unique_ptr<LivePublisher>> create(const std::string& name, std::string storage_dir);
+    static Result<std::unique_ptr<LivePublisher>> create(const shm::WriterOptions& options,
+                                                         std::string storage_dir);
+    static Result<std::unique_ptr<LivePublisher>> create(const std::string& name,
+                                                         std::string storage_dir);
 
     void pose(const PoseEstimate& pose);
     // The sweep's journaled points (sweepMapPoints) and its match, for the display map.

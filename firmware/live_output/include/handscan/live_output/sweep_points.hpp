@@ -12,7 +12,8 @@
 
 namespace handscan::live_output {
 
-std::vector<journal::MapPoint> sweepMapPoints(const lio::RegisteredSweep& sweep, const colour::ColourResult* colours);
+std::vector<journal::MapPoint> sweepMapPoints(const lio::RegisteredSweep& sweep,
+                                              const colour::ColourResult* colours);
 journal::TrajectoryPose trajectoryPose(const PoseEstimate& pose);
 
 }  // namespace handscan::live_output

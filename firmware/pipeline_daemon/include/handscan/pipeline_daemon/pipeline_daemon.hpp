@@ -24,19 +24,20 @@
 namespace handscan::pipeline_daemon {
 
 struct DaemonOptions {
-    std::string device_config;                // default: <config dir>/device.yaml
-    std::string calibration;                  // default: <config dir>/calibration.yaml
-    std::string journal_dir;                  // default: device.yaml storage.journal_dir
+    std::string device_config;  // default: <config dir>/device.yaml
+    std::string calibration;    // default: <config dir>/calibration.yaml
+    std::string journal_dir;    // default: device.yaml storage.journal_dir
     std::string shm_name = shm::kDefaultRegionName;
     std::size_t map_capacity_points = std::size_t{4} << 20;
-    TimeNs ready_timeout = 5 * kNsPerSec;     // READY=1 at the latest after this, devices or not
-    exporter::SystemPaths usb_paths;          // where the USB stick is looked for
+    TimeNs ready_timeout = 5 * kNsPerSec;  // READY=1 at the latest after this, devices or not
+    exporter::SystemPaths usb_paths;       // where the USB stick is looked for
     journal::JournalOptions journal;
 };
 
 class PipelineDaemon {
 public:
-    explicit PipelineDaemon(DaemonOptions options, std::unique_ptr<DeviceLinks> links = makeLinuxDeviceLinks());
+    explicit PipelineDaemon(DaemonOptions options,
+                            std::unique_ptr<DeviceLinks> links = makeLinuxDeviceLinks());
     ~PipelineDaemon();
     PipelineDaemon(const PipelineDaemon&) = delete;
     PipelineDaemon& operator=(const PipelineDaemon&) = delete;

@@ -11,8 +11,8 @@
 #include <condition_variable>
 #include <deque>
 #include <functional>
-#include <limits>
 #include <future>
+#include <limits>
 #include <memory>
 #include <mutex>
 #include <thread>
@@ -35,7 +35,8 @@ struct WorkerInputs {
 
 class PipelineWorker {
 public:
-    PipelineWorker(const DeviceConfig& device, const Calibration& calibration, std::unique_ptr<live_output::LivePublisher> publisher,
+    PipelineWorker(const DeviceConfig& device, const Calibration& calibration,
+                   std::unique_ptr<live_output::LivePublisher> publisher,
                    std::unique_ptr<ScanSession> session, SampleQueues& queues, WorkerInputs inputs);
     ~PipelineWorker();
     PipelineWorker(const PipelineWorker&) = delete;

@@ -22,7 +22,8 @@ namespace handscan::pipeline_daemon {
 
 class ScanSession {
 public:
-    explicit ScanSession(std::string journal_dir, journal::JournalOptions options = {}, std::string metadata_json = "{}")
+    explicit ScanSession(std::string journal_dir, journal::JournalOptions options = {},
+                         std::string metadata_json = "{}")
         : dir_(std::move(journal_dir)), options_(options), metadata_(std::move(metadata_json)) {}
     ~ScanSession();
 
@@ -37,7 +38,9 @@ public:
     // scan; the message says what was recovered (empty when there was nothing to recover).
     Result<std::string> recoverUnfinished();
     // start() would continue the current scan rather than begin a new one.
-    bool canResume() const { return state_ == shm::ScanState::kStopped && journal_ && !journal_->stopped() && resumable_; }
+    bool canResume() const {
+        return state_ == shm::ScanState::kStopped && journal_ && !journal_->stopped() && resumable_;
+    }
 
     void appendPose(const journal::TrajectoryPose& pose);
     void appendPoints(std::span<const journal::MapPoint> points);

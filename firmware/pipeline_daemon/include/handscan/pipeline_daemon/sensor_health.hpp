@@ -14,7 +14,8 @@ namespace handscan::pipeline_daemon {
 
 class SensorHealth {
 public:
-    SensorHealth(std::string name, float expected_rate_hz) : name_(std::move(name)), expected_hz_(expected_rate_hz) {}
+    SensorHealth(std::string name, float expected_rate_hz)
+        : name_(std::move(name)), expected_hz_(expected_rate_hz) {}
 
     // The device answers and streams (clears the error).
     void setConnected();

@@ -22,12 +22,12 @@ namespace handscan::pipeline_daemon {
 
 // Driver threads -> pipeline thread, one queue per stream (one producer each).
 struct SampleQueues {
-    SpscQueue<ImuSample> imu{4096};            // 20 s at 200 Hz
-    SpscQueue<EncoderSample> encoder{8192};    // 40 s at 200 Hz
-    SpscQueue<LaserScan> scans{512};           // 12 s at 40 Hz
-    SpscQueue<Image> colour_images{8};         // large frames: a few are enough for colouring
+    SpscQueue<ImuSample> imu{4096};          // 20 s at 200 Hz
+    SpscQueue<EncoderSample> encoder{8192};  // 40 s at 200 Hz
+    SpscQueue<LaserScan> scans{512};         // 12 s at 40 Hz
+    SpscQueue<Image> colour_images{8};       // large frames: a few are enough for colouring
     std::atomic<std::uint64_t> dropped{0};
-    std::atomic<float> camera_brightness{0};   // mean grey level of the tracking camera
+    std::atomic<float> camera_brightness{0};  // mean grey level of the tracking camera
 };
 
 // The operator's panel: what a button asks for, what the LEDs show.
@@ -41,7 +41,8 @@ struct PanelLeds {
 
 class SensorSource {
 public:
-    explicit SensorSource(std::string name, float expected_rate_hz) : health_(std::move(name), expected_rate_hz) {}
+    explicit SensorSource(std::string name, float expected_rate_hz)
+        : health_(std::move(name), expected_rate_hz) {}
     virtual ~SensorSource();
     SensorSource(const SensorSource&) = delete;
     SensorSource& operator=(const SensorSource&) = delete;

@@ -9,8 +9,8 @@
 //
 // Raw device streams (exact device bytes, replayed through the real drivers):
 //   /hokuyo/raw     handscan.scip2_tcp      TCP payload bytes from the UTM-30LX-EW exactly as each
-//                                           recv() returned them (SCIP 2.0; commands we sent are not
-//                                           included). Frames may span messages.
+//                                           recv() returned them (SCIP 2.0; commands we sent are
+//                                           not included). Frames may span messages.
 //   /xsens/raw      handscan.xbus_bytes     bytes read from the MTi's serial/USB port (Xbus
 //                                           MTData2 and replies), one message per read().
 //   /motor/can      handscan.candump_line   one CAN frame per message as a `candump -l` log line
@@ -51,30 +51,38 @@ struct ChannelSpec {
 };
 
 namespace channels {
-inline constexpr ChannelSpec kHokuyoRaw{"/hokuyo/raw", "handscan.scip2_tcp", true,
-                                        "Hokuyo UTM-30LX-EW SCIP 2.0 TCP payload bytes as received"};
+inline constexpr ChannelSpec kHokuyoRaw{
+    "/hokuyo/raw", "handscan.scip2_tcp", true,
+    "Hokuyo UTM-30LX-EW SCIP 2.0 TCP payload bytes as received"};
 inline constexpr ChannelSpec kXsensRaw{"/xsens/raw", "handscan.xbus_bytes", true,
                                        "Xsens MTi Xbus bytes as read from the serial/USB port"};
 inline constexpr ChannelSpec kMotorCan{"/motor/can", "handscan.candump_line", true,
                                        "one CAN frame per message as a candump -l log line"};
-inline constexpr ChannelSpec kCameraTrack{"/camera/track", "handscan.v4l2_buffer", true,
-                                          "tracking camera: one V4L2 buffer with its metadata per message (HSVF record: "
-                                          "v1 raw bytes, v2 GREY/YUYV as lossless PNG of stride x height)"};
-inline constexpr ChannelSpec kCameraColour{"/camera/colour", "handscan.v4l2_buffer", true,
-                                           "colour camera: one V4L2 buffer with its metadata per message (HSVF record: "
-                                           "v1 raw bytes, v2 GREY/YUYV as lossless PNG of stride x height)"};
-inline constexpr ChannelSpec kGpioEvents{"/gpio/events", "handscan.gpio_edge", true,
-                                         "GPIO line edges: i64 t_event_ns, u32 line, u8 edge (1 rising, 2 falling)"};
+inline constexpr ChannelSpec kCameraTrack{
+    "/camera/track", "handscan.v4l2_buffer", true,
+    "tracking camera: one V4L2 buffer with its metadata per message (HSVF record: "
+    "v1 raw bytes, v2 GREY/YUYV as lossless PNG of stride x height)"};
+inline constexpr ChannelSpec kCameraColour{
+    "/camera/colour", "handscan.v4l2_buffer", true,
+    "colour camera: one V4L2 buffer with its metadata per message (HSVF record: "
+    "v1 raw bytes, v2 GREY/YUYV as lossless PNG of stride x height)"};
+inline constexpr ChannelSpec kGpioEvents{
+    "/gpio/events", "handscan.gpio_edge", true,
+    "GPIO line edges: i64 t_event_ns, u32 line, u8 edge (1 rising, 2 falling)"};
 inline constexpr ChannelSpec kImuSamples{"/imu/samples", "handscan.imu_sample.v1", false,
                                          "decoded IMU samples (handscan/recording/channels.hpp)"};
-inline constexpr ChannelSpec kLaserScans{"/laser/scans", "handscan.laser_scan.v1", false,
-                                         "decoded 2D laser scans (handscan/recording/channels.hpp)"};
-inline constexpr ChannelSpec kEncoderAngle{"/encoder/angle", "handscan.encoder_sample.v1", false,
-                                           "decoded motor-encoder shaft angles (handscan/recording/channels.hpp)"};
-inline constexpr ChannelSpec kPoseEstimate{"/pose/estimate", "handscan.pose_estimate.v1", false,
-                                           "pipeline pose estimates T_world_body (handscan/recording/channels.hpp)"};
-inline constexpr ChannelSpec kGroundTruthPose{"/groundtruth/pose", "handscan.groundtruth_pose.v1", false,
-                                              "ground truth T_world_body: f64 t_s, x, y, z, qx, qy, qz, qw"};
+inline constexpr ChannelSpec kLaserScans{
+    "/laser/scans", "handscan.laser_scan.v1", false,
+    "decoded 2D laser scans (handscan/recording/channels.hpp)"};
+inline constexpr ChannelSpec kEncoderAngle{
+    "/encoder/angle", "handscan.encoder_sample.v1", false,
+    "decoded motor-encoder shaft angles (handscan/recording/channels.hpp)"};
+inline constexpr ChannelSpec kPoseEstimate{
+    "/pose/estimate", "handscan.pose_estimate.v1", false,
+    "pipeline pose estimates T_world_body (handscan/recording/channels.hpp)"};
+inline constexpr ChannelSpec kGroundTruthPose{
+    "/groundtruth/pose", "handscan.groundtruth_pose.v1", false,
+    "ground truth T_world_body: f64 t_s, x, y, z, qx, qy, qz, qw"};
 }  // namespace channels
 
 class McapWriter;
@@ -102,7 +110,8 @@ void encodeImuSample(const ImuSample& s, std::vector<std::uint8_t>& out);
 // ---- handscan.laser_scan.v1 (44 + 4 n + 4 + 2 ni + 4 + 2 ne bytes) -----------------------------
 //   i64 t_host_ns (step 0), u32 t_device_ms, i64 step_period_ns, i32 first_step,
 //   f64 angle_min_rad, f64 angle_increment_rad,
-//   u32 n, f32 ranges_m[n] (NaN = no return), u32 ni, u16 intensities[ni], u32 ne, u16 error_codes[ne]
+//   u32 n, f32 ranges_m[n] (NaN = no return), u32 ni, u16 intensities[ni], u32 ne, u16
+//   error_codes[ne]
 void encodeLaserScan(const LaserScan& s, std::vector<std::uint8_t>& out);
 [[nodiscard]] Result<LaserScan> decodeLaserScan(std::span<const std::uint8_t> bytes);
 

@@ -15,7 +15,8 @@
 namespace handscan::recording {
 
 // 0x89 'M' 'C' 'A' 'P' '0' '\r' '\n': begins and ends every MCAP file.
-inline constexpr std::array<std::uint8_t, 8> kMcapMagic = {0x89, 'M', 'C', 'A', 'P', 0x30, '\r', '\n'};
+inline constexpr std::array<std::uint8_t, 8> kMcapMagic = {0x89, 'M',  'C',  'A',
+                                                           'P',  0x30, '\r', '\n'};
 
 enum class Opcode : std::uint8_t {
     kHeader = 0x01,
@@ -40,7 +41,8 @@ inline constexpr std::size_t kRecordPrefixSize = 1 + 8;
 // Footer content: summary_start u64, summary_offset_start u64, summary_crc u32.
 inline constexpr std::size_t kFooterContentSize = 8 + 8 + 4;
 // Footer record + trailing magic: what an indexed reader reads first from the end of the file.
-inline constexpr std::size_t kFooterAndMagicSize = kRecordPrefixSize + kFooterContentSize + kMcapMagic.size();
+inline constexpr std::size_t kFooterAndMagicSize =
+    kRecordPrefixSize + kFooterContentSize + kMcapMagic.size();
 
 struct Header {
     std::string profile;  // "" or a custom profile ("x-" prefix)
@@ -50,7 +52,7 @@ struct Header {
 struct Footer {
     std::uint64_t summary_start = 0;         // 0: no summary section
     std::uint64_t summary_offset_start = 0;  // 0: no summary offset section
-    std::uint32_t summary_crc = 0;           // CRC32 of summary start .. footer's summary_offset_start
+    std::uint32_t summary_crc = 0;  // CRC32 of summary start .. footer's summary_offset_start
 };
 
 struct Schema {
@@ -100,8 +102,8 @@ struct MessageIndex {
 struct ChunkIndex {
     TimeNs message_start_time = 0;
     TimeNs message_end_time = 0;
-    std::uint64_t chunk_start_offset = 0;  // of the Chunk record's opcode
-    std::uint64_t chunk_length = 0;        // whole record, prefix included
+    std::uint64_t chunk_start_offset = 0;                          // of the Chunk record's opcode
+    std::uint64_t chunk_length = 0;                                // whole record, prefix included
     std::map<std::uint16_t, std::uint64_t> message_index_offsets;  // channel -> file offset
     std::uint64_t message_index_length = 0;
     std::string compression;

@@ -14,9 +14,9 @@
 #include <cstdint>
 #include <functional>
 #include <limits>
+#include <map>
 #include <memory>
 #include <optional>
-#include <map>
 #include <span>
 #include <string>
 #include <string_view>
@@ -47,7 +47,7 @@ struct RecordedMessage {
 };
 
 struct ReadOptions {
-    std::vector<std::string> topics;  // empty: every topic
+    std::vector<std::string> topics;                         // empty: every topic
     TimeNs start_time = std::numeric_limits<TimeNs>::min();  // inclusive
     TimeNs end_time = std::numeric_limits<TimeNs>::max();    // inclusive
 };
@@ -81,8 +81,8 @@ private:
 class McapReader {
 public:
     [[nodiscard]] static Result<std::unique_ptr<McapReader>> open(const std::string& path);
-    [[nodiscard]] static Result<std::unique_ptr<McapReader>> fromBuffer(std::vector<std::uint8_t> bytes,
-                                                                       std::string name = "<memory>");
+    [[nodiscard]] static Result<std::unique_ptr<McapReader>> fromBuffer(
+        std::vector<std::uint8_t> bytes, std::string name = "<memory>");
     ~McapReader();
     McapReader(const McapReader&) = delete;
     McapReader& operator=(const McapReader&) = delete;
@@ -110,7 +110,8 @@ public:
 
     [[nodiscard]] MessageIterator messages(ReadOptions options = {});
     // Calls `fn` for every message in order; returns the first I/O error.
-    [[nodiscard]] Status forEachMessage(const ReadOptions& options, const std::function<void(const RecordedMessage&)>& fn);
+    [[nodiscard]] Status forEachMessage(const ReadOptions& options,
+                                        const std::function<void(const RecordedMessage&)>& fn);
 
     // Reads the whole file and checks every CRC (chunks, data section, summary). Ok only if all
     // present CRCs match; the message names every mismatch.
@@ -128,7 +129,8 @@ private:
     // Reads, CRC-checks and decompresses a chunk; parses its schemas/channels.
     // Chunk corruption is reported in dropped() and returned with its code; kIoError means the
     // file itself could not be read.
-    [[nodiscard]] Result<std::shared_ptr<const std::vector<std::uint8_t>>> loadChunk(detail::ChunkRef& ref);
+    [[nodiscard]] Result<std::shared_ptr<const std::vector<std::uint8_t>>> loadChunk(
+        detail::ChunkRef& ref);
     void drop(std::uint64_t offset, std::uint64_t length, std::string reason);
 
     std::unique_ptr<detail::ByteSource> source_;

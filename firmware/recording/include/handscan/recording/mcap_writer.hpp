@@ -28,22 +28,23 @@
 namespace handscan::recording {
 
 struct McapWriterOptions {
-    std::string profile;                         // "" : handscan recordings follow no well-known profile
+    std::string profile;  // "" : handscan recordings follow no well-known profile
     std::string library = "handscan-recording";  // written to the Header
     std::string compression = "zstd";            // "" (none) or "zstd"
     int zstd_level = 1;                          // fast: the writer must keep up with camera images
     std::size_t chunk_size_bytes = 1u << 20;     // close a chunk at this many uncompressed bytes
-    TimeNs chunk_duration_ns = kNsPerSec;        // ... or when it spans this much log time (0: never)
-    bool sync_each_chunk = false;                // fdatasync() after every chunk (power-cut safety)
+    TimeNs chunk_duration_ns = kNsPerSec;  // ... or when it spans this much log time (0: never)
+    bool sync_each_chunk = false;          // fdatasync() after every chunk (power-cut safety)
 };
 
 class McapWriter {
 public:
     // Creates (truncates) `path` and writes the magic and Header.
     [[nodiscard]] static Result<std::unique_ptr<McapWriter>> create(const std::string& path,
-                                                                   McapWriterOptions options = {});
+                                                                    McapWriterOptions options = {});
     // A writer into memory (tests, simulators that post-process); see takeBuffer().
-    [[nodiscard]] static Result<std::unique_ptr<McapWriter>> inMemory(McapWriterOptions options = {});
+    [[nodiscard]] static Result<std::unique_ptr<McapWriter>> inMemory(
+        McapWriterOptions options = {});
 
     ~McapWriter();  // closes the file if close() was not called (errors are logged)
     McapWriter(const McapWriter&) = delete;
@@ -53,13 +54,14 @@ public:
     [[nodiscard]] Result<std::uint16_t> addSchema(std::string name, std::string encoding,
                                                   std::vector<std::uint8_t> data = {});
     // Registers a channel (topics must be unique); returns its id.
-    [[nodiscard]] Result<std::uint16_t> addChannel(std::string topic, std::string message_encoding,
-                                                   std::uint16_t schema_id = 0,
-                                                   std::map<std::string, std::string> metadata = {});
+    [[nodiscard]] Result<std::uint16_t> addChannel(
+        std::string topic, std::string message_encoding, std::uint16_t schema_id = 0,
+        std::map<std::string, std::string> metadata = {});
 
     // Appends one message. `log_time` is the host receive time; sequence numbers count per channel
     // and publish_time equals log_time.
-    [[nodiscard]] Status write(std::uint16_t channel_id, TimeNs log_time, std::span<const std::uint8_t> data);
+    [[nodiscard]] Status write(std::uint16_t channel_id, TimeNs log_time,
+                               std::span<const std::uint8_t> data);
     // Appends one message with an explicit header (sequence, publish_time).
     [[nodiscard]] Status write(const MessageHeader& header, std::span<const std::uint8_t> data);
 
@@ -96,11 +98,11 @@ private:
     std::vector<std::uint32_t> next_sequence_;  // per channel id
     std::vector<ChunkIndex> chunk_indexes_;
     Statistics stats_;
-    std::uint64_t offset_ = 0;     // bytes written so far
+    std::uint64_t offset_ = 0;  // bytes written so far
     Crc32 data_crc_;
     bool data_crc_active_ = true;  // the data-section CRC covers everything before Data End
     bool closed_ = false;
-    Status failed_;                // first write error: the writer stops and keeps reporting it
+    Status failed_;  // first write error: the writer stops and keeps reporting it
 };
 
 }  // namespace handscan::recording

@@ -39,9 +39,9 @@ inline McapWriterOptions recorderWriterDefaults() {
 
 struct RecorderOptions {
     McapWriterOptions mcap = recorderWriterDefaults();
-    std::size_t queue_messages = 2048;         // per channel
-    std::size_t queue_bytes = 64u << 20;       // per channel: bounds memory when images back up
-    TimeNs idle_sleep_ns = 2 * kNsPerMs;       // writer thread's nap when every queue is empty
+    std::size_t queue_messages = 2048;    // per channel
+    std::size_t queue_bytes = 64u << 20;  // per channel: bounds memory when images back up
+    TimeNs idle_sleep_ns = 2 * kNsPerMs;  // writer thread's nap when every queue is empty
 };
 
 struct ChannelCounters {
@@ -53,12 +53,14 @@ struct ChannelCounters {
 
 class Recorder {
 public:
-    [[nodiscard]] static Result<std::unique_ptr<Recorder>> create(const std::string& path, RecorderOptions options = {});
+    [[nodiscard]] static Result<std::unique_ptr<Recorder>> create(const std::string& path,
+                                                                  RecorderOptions options = {});
     ~Recorder();  // stop()s if still running
     Recorder(const Recorder&) = delete;
     Recorder& operator=(const Recorder&) = delete;
 
-    // Adds a channel before start() and returns the tap its driver writes to (owned by the Recorder).
+    // Adds a channel before start() and returns the tap its driver writes to (owned by the
+    // Recorder).
     [[nodiscard]] Result<RawTap*> addChannel(const ChannelSpec& spec);
 
     // Starts the writer thread.

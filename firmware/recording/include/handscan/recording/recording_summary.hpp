@@ -26,11 +26,11 @@ struct ChannelSummary {
     std::uint64_t bytes = 0;
     TimeNs first = 0;
     TimeNs last = 0;
-    double rate_hz = 0.0;              // (messages - 1) / (last - first); 0 with < 2 messages
+    double rate_hz = 0.0;  // (messages - 1) / (last - first); 0 with < 2 messages
     TimeNs median_period_ns = 0;
-    TimeNs largest_gap_ns = 0;         // longest interval between consecutive messages
-    TimeNs largest_gap_after = 0;      // log time of the message before that interval
-    std::uint64_t gaps = 0;            // intervals longer than kGapFactor x the median period
+    TimeNs largest_gap_ns = 0;     // longest interval between consecutive messages
+    TimeNs largest_gap_after = 0;  // log time of the message before that interval
+    std::uint64_t gaps = 0;        // intervals longer than kGapFactor x the median period
 
     static constexpr int kGapFactor = 3;
     TimeNs duration() const { return last - first; }
@@ -39,16 +39,16 @@ struct ChannelSummary {
 // One device's decoded stream: samples (scans, IMU samples, encoder positions, frames) per
 // second on the samples' own time stamps, next to the raw channel it was decoded from.
 struct DeviceSummary {
-    std::string device;          // "Hokuyo laser", "Xsens IMU", ...
-    std::string topic;           // the raw channel
-    std::string unit;            // "scans/s", "IMU samples/s", "positions/s", "frames/s", ...
-    std::uint64_t samples = 0;   // decoded
-    double rate_hz = 0.0;        // (samples - 1) / (last - first); 0 with < 2 samples
-    TimeNs first = 0;            // time of the first and last sample (host clock)
+    std::string device;         // "Hokuyo laser", "Xsens IMU", ...
+    std::string topic;          // the raw channel
+    std::string unit;           // "scans/s", "IMU samples/s", "positions/s", "frames/s", ...
+    std::uint64_t samples = 0;  // decoded
+    double rate_hz = 0.0;       // (samples - 1) / (last - first); 0 with < 2 samples
+    TimeNs first = 0;           // time of the first and last sample (host clock)
     TimeNs last = 0;
-    std::uint64_t lost = 0;      // samples missing according to the device's counters/sequence
-    std::uint64_t errors = 0;    // checksum failures, resyncs, undecodable messages
-    std::string last_error;      // the newest of those, for the operator
+    std::uint64_t lost = 0;    // samples missing according to the device's counters/sequence
+    std::uint64_t errors = 0;  // checksum failures, resyncs, undecodable messages
+    std::string last_error;    // the newest of those, for the operator
 };
 
 struct RecordingSummary {
@@ -57,7 +57,7 @@ struct RecordingSummary {
     std::string library;
     std::string profile;
     std::vector<ChannelSummary> channels;  // by channel id
-    std::vector<DeviceSummary> devices;    // filled by a device decoder, not by summarizeRecording()
+    std::vector<DeviceSummary> devices;  // filled by a device decoder, not by summarizeRecording()
     std::uint64_t messages = 0;
     TimeNs start = 0;
     TimeNs end = 0;

@@ -46,7 +46,8 @@ public:
             s.mean_us = m.sum_us / static_cast<double>(m.calls);
             // The same ranks as sorting all durations: element n/2 and element floor(0.99 n).
             s.p50_us = m.quantile(m.calls / 2);
-            s.p99_us = m.quantile(std::min(m.calls - 1, static_cast<std::uint64_t>(0.99 * static_cast<double>(m.calls))));
+            s.p99_us = m.quantile(std::min(
+                m.calls - 1, static_cast<std::uint64_t>(0.99 * static_cast<double>(m.calls))));
             s.max_us = m.max_us;
             s.total_ms = m.sum_us * 1e-3;
             out[name] = s;
@@ -66,7 +67,8 @@ private:
 
         static std::size_t bucket(double us) {
             if (!(us > kMinUs)) return 0;
-            return std::min(kBuckets - 1, static_cast<std::size_t>(std::log(us / kMinUs) / std::log(kRatio)));
+            return std::min(kBuckets - 1,
+                            static_cast<std::size_t>(std::log(us / kMinUs) / std::log(kRatio)));
         }
         void add(double us) {
             min_us = calls == 0 ? us : std::min(min_us, us);
@@ -94,7 +96,8 @@ private:
     };
 
     static double elapsedUs(std::chrono::steady_clock::time_point t0) {
-        return std::chrono::duration<double, std::micro>(std::chrono::steady_clock::now() - t0).count();
+        return std::chrono::duration<double, std::micro>(std::chrono::steady_clock::now() - t0)
+            .count();
     }
     std::map<std::string, Module> modules_;
 };

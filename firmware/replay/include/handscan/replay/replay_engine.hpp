@@ -20,9 +20,9 @@ namespace handscan::replay {
 struct ReplayOptions {
     std::string recording;
     std::string out_dir;
-    bool fast = false;                 // as fast as possible instead of recorded pace
-    double speed = 1.0;                // pace multiplier without --fast
-    bool use_laser = true;             // --modules imu: IMU prediction only
+    bool fast = false;      // as fast as possible instead of recorded pace
+    double speed = 1.0;     // pace multiplier without --fast
+    bool use_laser = true;  // --modules imu: IMU prediction only
     // Scan-matching poses correct the IMU predictor's pose, velocity, biases and gravity
     // direction (section 4.2) in the solved DOFs; the matcher's prior is then the integrated
     // pose. Off (--no-imu-feedback): the IMU runs open loop and its relative motion per sweep
@@ -33,11 +33,11 @@ struct ReplayOptions {
     std::function<Eigen::Isometry3d(TimeNs)> reference_motion;
     double reference_perturb_m = 0.0;
     double reference_perturb_deg = 0.0;
-    bool colourise = true;             // colour points from /camera/colour when recorded
-    std::string dump_sweeps_dir;       // each assembled sweep as PLY (x y z intensity t)
-    std::string device_config;         // default: <config dir>/device.yaml
-    std::string calibration;           // default: <config dir>/calibration.yaml
-    double map_voxel_m = 0.02;         // map.ply density
+    bool colourise = true;        // colour points from /camera/colour when recorded
+    std::string dump_sweeps_dir;  // each assembled sweep as PLY (x y z intensity t)
+    std::string device_config;    // default: <config dir>/device.yaml
+    std::string calibration;      // default: <config dir>/calibration.yaml
+    double map_voxel_m = 0.02;    // map.ply density
     // map.ply is built in tiles of this edge; when their voxel tables exceed the budget, the tiles
     // farthest from the sensor go to a scratch file in map_spill_dir (default: out_dir) and are
     // merged back at the end (same bytes as all in memory; see TiledVoxelMap).
@@ -45,11 +45,11 @@ struct ReplayOptions {
     double map_memory_mib = 256.0;
     std::string map_spill_dir;
     bool write_journal = true;
-    bool live = false;                 // publish to shared memory
-    bool hold = false;                 // keep the final state published until interrupted
-    std::string shm_name;              // default: the daemon's region
+    bool live = false;     // publish to shared memory
+    bool hold = false;     // keep the final state published until interrupted
+    std::string shm_name;  // default: the daemon's region
     std::function<void(double fraction)> progress;
-    std::function<bool()> interrupted; // polled while holding
+    std::function<bool()> interrupted;  // polled while holding
 };
 
 struct ReplayReport {

@@ -20,12 +20,12 @@
 namespace handscan::replay {
 
 struct StreamCounters {
-    std::uint64_t messages = 0;           // samples decoded
+    std::uint64_t messages = 0;  // samples decoded
     std::uint64_t checksum_failures = 0;
     std::uint64_t resyncs = 0;
-    std::uint64_t gaps = 0;               // lost messages (counter / sequence gaps)
-    std::uint64_t errors = 0;             // other faults (device errors, unusable frames)
-    std::string last_error;               // the newest fault, for status displays
+    std::uint64_t gaps = 0;    // lost messages (counter / sequence gaps)
+    std::uint64_t errors = 0;  // other faults (device errors, unusable frames)
+    std::string last_error;    // the newest fault, for status displays
 };
 
 // SCIP 2.0 stream of a UTM-30LX-class sensor: the PP reply gives the geometry, each ME/MD frame a
@@ -35,7 +35,9 @@ public:
     explicit HokuyoStreamDecoder(hokuyo::ScanTimingConfig timing = {}) : decoder_(timing) {}
     void feed(TimeNs t_rx, std::span<const std::uint8_t> bytes, std::vector<LaserScan>& out);
     StreamCounters counters() const;
-    const std::optional<hokuyo::SensorParameters>& parameters() const { return decoder_.parameters(); }
+    const std::optional<hokuyo::SensorParameters>& parameters() const {
+        return decoder_.parameters();
+    }
 
 private:
     hokuyo::ScanStreamDecoder decoder_;
@@ -66,8 +68,8 @@ private:
 struct EncoderStreamConfig {
     std::uint8_t node_id = 1;
     motor::UnwrapperConfig unwrapper;
-    TimeNs tpdo_period_ns = 5 * kNsPerMs;   // 6200h cyclic timer as configured
-    TimeNs tpdo_latency_ns = 0;             // position sampled -> frame received (motor.tpdo_latency_ms)
+    TimeNs tpdo_period_ns = 5 * kNsPerMs;  // 6200h cyclic timer as configured
+    TimeNs tpdo_latency_ns = 0;  // position sampled -> frame received (motor.tpdo_latency_ms)
 };
 
 class EncoderStreamDecoder {

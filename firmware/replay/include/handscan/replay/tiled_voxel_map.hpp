@@ -4,12 +4,13 @@
 // are flushed (their voxel sums, already deduplicated) to an unlinked scratch file as a fragment.
 // A flushed tile that receives points again starts a new fragment; a tile flushed with several
 // fragments on disk already is merged with them into one (so the scratch file holds about one copy
-// of the map, rewritten without the superseded fragments when they dominate). At the end every tile's
-// fragments are merged one tile at a time into a time-sorted run, and the runs are merged into
-// the output. Because the voxel sums are exact, the result equals, byte for byte, what one
+// of the map, rewritten without the superseded fragments when they dominate). At the end every
+// tile's fragments are merged one tile at a time into a time-sorted run, and the runs are merged
+// into the output. Because the voxel sums are exact, the result equals, byte for byte, what one
 // in-memory VoxelFilter fed the same points gives, whatever was flushed when.
 #pragma once
 
+#include <Eigen/Core>
 #include <cstdint>
 #include <functional>
 #include <map>
@@ -17,8 +18,6 @@
 #include <span>
 #include <string>
 #include <vector>
-
-#include <Eigen/Core>
 
 #include "handscan/core/status.hpp"
 #include "handscan/journal/map_point.hpp"
@@ -33,7 +32,8 @@ class SpillFile;
 
 struct TiledMapConfig {
     double voxel_m = 0.02;
-    double tile_m = 4.0;  // edge of a tile (rounded to whole voxels); small, so a flush is selective
+    double tile_m =
+        4.0;  // edge of a tile (rounded to whole voxels); small, so a flush is selective
     std::uint64_t memory_budget_bytes = 256ull << 20;  // voxel tables held in memory
     std::string spill_dir = ".";                       // where the scratch files go
     // Superseded fragments tolerated in the scratch file (beyond as many bytes as the live ones)
@@ -47,9 +47,9 @@ struct TiledMapStats {
     std::uint64_t peak_resident_bytes = 0;  // after any add(), before flushing
     std::uint64_t fragments_flushed = 0;
     std::uint64_t cells_flushed = 0;
-    std::uint64_t consolidations = 0;       // flushes that merged the tile's fragments into one
-    std::uint64_t compactions = 0;          // rewrites of the scratch file without dead fragments
-    std::uint64_t spill_bytes = 0;          // scratch file(s) now
+    std::uint64_t consolidations = 0;  // flushes that merged the tile's fragments into one
+    std::uint64_t compactions = 0;     // rewrites of the scratch file without dead fragments
+    std::uint64_t spill_bytes = 0;     // scratch file(s) now
     std::uint64_t peak_spill_bytes = 0;
     std::uint64_t spill_written_bytes = 0;  // all writes to the scratch files
 };
@@ -62,7 +62,8 @@ public:
     TiledVoxelMap& operator=(const TiledVoxelMap&) = delete;
 
     // Adds registered points; `sensor_world` (where the sensor is now) decides which tiles stay.
-    [[nodiscard]] Status add(std::span<const journal::MapPoint> points, const Eigen::Vector3d& sensor_world);
+    [[nodiscard]] Status add(std::span<const journal::MapPoint> points,
+                             const Eigen::Vector3d& sensor_world);
 
     using BeginFn = std::function<Status(std::uint64_t total_points)>;
     using SinkFn = std::function<Status(std::span<const journal::MapPoint> points)>;
@@ -80,7 +81,7 @@ private:
     };
     struct Tile {
         std::unique_ptr<exporter::VoxelFilter> voxels;  // null: not in memory
-        std::vector<Fragment> fragments;               // flushed, oldest first
+        std::vector<Fragment> fragments;                // flushed, oldest first
         Eigen::Vector3d centre = Eigen::Vector3d::Zero();
     };
 

@@ -37,7 +37,12 @@ enum class ScanState : std::uint8_t { kIdle = 0, kScanning = 1, kStopped = 2 };
 enum class ModuleState : std::uint8_t { kOff = 0, kActive = 1, kBypassed = 2 };
 enum class ExportState : std::uint8_t { kIdle = 0, kRunning = 1, kDone = 2, kFailed = 3 };
 enum class CommandType : std::uint32_t {
-    kNone = 0, kStartScan = 1, kStopScan = 2, kNewScan = 3, kExport = 4, kShutdown = 5,
+    kNone = 0,
+    kStartScan = 1,
+    kStopScan = 2,
+    kNewScan = 3,
+    kExport = 4,
+    kShutdown = 5,
 };
 enum class CommandState : std::uint32_t {
     kPending = 0,     // sent, the pipeline has not looked at it yet
@@ -45,7 +50,7 @@ enum class CommandState : std::uint32_t {
     kInProgress = 2,  // long command (export) running; progress in [0, 1]
     kDone = 3,
     kFailed = 4,
-    kRejected = 5,    // not allowed now (e.g. export while scanning)
+    kRejected = 5,  // not allowed now (e.g. export while scanning)
 };
 
 // One display point: voxel-downsampled, coloured, in the world frame.
@@ -59,13 +64,13 @@ struct DisplayPoint {
 // eigenvector direction of eq. (19)) was updated by the visual-inertial odometry (green), else by
 // scan matching (blue), else it holds the IMU prediction (orange).
 struct PoseRecord {
-    std::int64_t t_ns = 0;                        // host CLOCK_MONOTONIC
-    double position_m[3] = {0, 0, 0};             // p_world_body
-    double orientation_xyzw[4] = {0, 0, 0, 1};    // q_world_body
+    std::int64_t t_ns = 0;                          // host CLOCK_MONOTONIC
+    double position_m[3] = {0, 0, 0};               // p_world_body
+    double orientation_xyzw[4] = {0, 0, 0, 1};      // q_world_body
     float covariance_diag[6] = {0, 0, 0, 0, 0, 0};  // (rx ry rz tx ty tz), rad^2 and m^2
-    std::uint8_t vio_dof_mask = 0;                // bit i: DOF i solved by visual-inertial odometry
-    std::uint8_t scan_dof_mask = 0;               // bit i: DOF i solved by scan matching
-    std::uint8_t source = 0;                      // handscan::PoseSource of the estimate
+    std::uint8_t vio_dof_mask = 0;   // bit i: DOF i solved by visual-inertial odometry
+    std::uint8_t scan_dof_mask = 0;  // bit i: DOF i solved by scan matching
+    std::uint8_t source = 0;         // handscan::PoseSource of the estimate
     std::uint8_t reserved[5] = {};
 };
 
@@ -87,20 +92,20 @@ struct SensorStatus {
 };
 
 struct ModuleStatus {
-    char name[kNameChars] = {};        // "imu", "vio", "scan-match", "colour", ...
-    std::uint8_t state = 0;            // ModuleState
+    char name[kNameChars] = {};            // "imu", "vio", "scan-match", "colour", ...
+    std::uint8_t state = 0;                // ModuleState
     std::uint8_t degenerate_dof_mask = 0;  // directions below the eigenvalue threshold (eq. 19)
     std::uint8_t reserved[2] = {};
     float rate_hz = 0;
 };
 
 struct ExportStatus {
-    std::uint8_t state = 0;            // ExportState
-    std::uint8_t safe_to_remove = 0;   // 1 once the files are verified and the stick is synced
+    std::uint8_t state = 0;           // ExportState
+    std::uint8_t safe_to_remove = 0;  // 1 once the files are verified and the stick is synced
     std::uint8_t reserved[2] = {};
-    float progress = 0;                // 0..1
+    float progress = 0;  // 0..1
     std::uint64_t bytes_written = 0;
-    char target[kTextChars] = {};      // where the export goes (e.g. /media/usb0/scan-0007)
+    char target[kTextChars] = {};  // where the export goes (e.g. /media/usb0/scan-0007)
     char message[kTextChars] = {};
 };
 
@@ -111,33 +116,33 @@ struct StatusBlock {
     std::uint32_t module_count = 0;
     SensorStatus sensors[kMaxSensors] = {};
     ModuleStatus modules[kMaxModules] = {};
-    std::uint8_t scan_state = 0;       // ScanState
+    std::uint8_t scan_state = 0;  // ScanState
     std::uint8_t reserved[7] = {};
-    double elapsed_s = 0;              // scanning time of the current scan
-    double distance_m = 0;             // path length walked in the current scan
-    std::uint64_t point_count = 0;     // full-resolution map points (the display map is sparser)
+    double elapsed_s = 0;           // scanning time of the current scan
+    double distance_m = 0;          // path length walked in the current scan
+    std::uint64_t point_count = 0;  // full-resolution map points (the display map is sparser)
     std::uint64_t free_storage_bytes = 0;
     std::uint64_t total_storage_bytes = 0;
-    float linear_speed_mps = 0;        // for "moving too fast"
+    float linear_speed_mps = 0;  // for "moving too fast"
     float angular_speed_radps = 0;
-    float camera_brightness = 0;       // mean grey level 0..255 of the tracking camera ("too dark")
+    float camera_brightness = 0;  // mean grey level 0..255 of the tracking camera ("too dark")
     float reserved_f = 0;
     ExportStatus export_status = {};
-    char message[kTextChars] = {};     // the pipeline's own note to the operator
+    char message[kTextChars] = {};  // the pipeline's own note to the operator
 };
 
 struct CommandRequest {
-    std::uint64_t seq = 0;             // unique, increasing; 0 = slot never used
-    std::uint32_t type = 0;            // CommandType
-    std::uint32_t sender_pid = 0;      // the UI's process: its unread answers are freed when it dies
+    std::uint64_t seq = 0;         // unique, increasing; 0 = slot never used
+    std::uint32_t type = 0;        // CommandType
+    std::uint32_t sender_pid = 0;  // the UI's process: its unread answers are freed when it dies
     std::int64_t sent_ns = 0;
     char argument[kArgumentChars] = {};  // e.g. the export target directory
 };
 
 struct CommandAck {
-    std::uint64_t seq = 0;             // the request this answers
-    std::uint32_t state = 0;           // CommandState
-    float progress = 0;                // 0..1 while kInProgress
+    std::uint64_t seq = 0;    // the request this answers
+    std::uint32_t state = 0;  // CommandState
+    float progress = 0;       // 0..1 while kInProgress
     std::int64_t t_ns = 0;
     char message[kTextChars] = {};
 };
@@ -145,35 +150,35 @@ struct CommandAck {
 // ---- The region. Counters are 64-bit words accessed only through std::atomic_ref. ----
 
 struct PoseSlot {
-    std::uint64_t seq = 0;             // 2n+1 while pose n is written, 2n+2 once complete
+    std::uint64_t seq = 0;  // 2n+1 while pose n is written, 2n+2 once complete
     PoseRecord pose;
 };
 
 struct CommandSlot {
-    std::uint64_t request_lock = 0;    // seqlock, odd while a UI writes the request (CAS-claimed)
+    std::uint64_t request_lock = 0;  // seqlock, odd while a UI writes the request (CAS-claimed)
     CommandRequest request;
-    std::uint64_t ack_lock = 0;        // seqlock, odd while the pipeline writes the ack
+    std::uint64_t ack_lock = 0;  // seqlock, odd while the pipeline writes the ack
     CommandAck ack;
-    std::uint64_t collected_seq = 0;   // the sending UI has read the final answer to this request
+    std::uint64_t collected_seq = 0;  // the sending UI has read the final answer to this request
 };
 
 struct RegionHeader {
-    std::uint64_t magic = 0;           // stored last (release) once the region is initialised
+    std::uint64_t magic = 0;  // stored last (release) once the region is initialised
     std::uint32_t version = 0;
-    std::uint32_t header_bytes = 0;    // sizeof(RegionHeader), a second layout check
+    std::uint32_t header_bytes = 0;  // sizeof(RegionHeader), a second layout check
     std::uint64_t total_bytes = 0;
     std::uint64_t map_capacity_points = 0;
-    std::uint64_t points_offset = 0;   // byte offset of DisplayPoint[map_capacity_points]
-    std::uint64_t writer_nonce = 0;    // fresh per writer start: readers reset their caches on change
+    std::uint64_t points_offset = 0;  // byte offset of DisplayPoint[map_capacity_points]
+    std::uint64_t writer_nonce = 0;  // fresh per writer start: readers reset their caches on change
     std::uint64_t writer_pid = 0;
     std::int64_t writer_started_ns = 0;
-    std::uint64_t writer_state = 0;    // WriterState
-    std::int64_t heartbeat_ns = 0;     // writer's CLOCK_MONOTONIC at its last publish / tick
+    std::uint64_t writer_state = 0;  // WriterState
+    std::int64_t heartbeat_ns = 0;   // writer's CLOCK_MONOTONIC at its last publish / tick
 
-    std::uint64_t map_lock = 0;        // 2 * epoch; odd while a new scan resets the map
-    std::uint64_t map_points = 0;      // committed display points of this epoch
-    std::uint64_t track_points = 0;    // committed track points of this epoch
-    std::uint64_t pose_count = 0;      // poses published since the writer started
+    std::uint64_t map_lock = 0;      // 2 * epoch; odd while a new scan resets the map
+    std::uint64_t map_points = 0;    // committed display points of this epoch
+    std::uint64_t track_points = 0;  // committed track points of this epoch
+    std::uint64_t pose_count = 0;    // poses published since the writer started
 
     std::uint64_t status_lock = 0;
     StatusBlock status;
@@ -185,7 +190,8 @@ struct RegionHeader {
     TrackPoint track[kTrackCapacity];
 };
 
-static_assert(std::is_trivially_copyable_v<RegionHeader> && std::is_standard_layout_v<RegionHeader>);
+static_assert(std::is_trivially_copyable_v<RegionHeader> &&
+              std::is_standard_layout_v<RegionHeader>);
 static_assert(sizeof(DisplayPoint) == 16);
 static_assert(sizeof(PoseRecord) % 8 == 0 && sizeof(StatusBlock) % 8 == 0);
 static_assert(sizeof(CommandRequest) % 8 == 0 && sizeof(CommandAck) % 8 == 0);

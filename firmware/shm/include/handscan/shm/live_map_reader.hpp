@@ -21,16 +21,17 @@ namespace handscan::shm {
 
 struct ReaderOptions {
     std::string name = kDefaultRegionName;
-    TimeNs stale_after_ns = 2 * kNsPerSec;         // heartbeat age after which the writer is "not responding"
-    TimeNs recheck_interval_ns = 250 * kNsPerMs;   // how often poll() looks for a replaced region
+    TimeNs stale_after_ns =
+        2 * kNsPerSec;  // heartbeat age after which the writer is "not responding"
+    TimeNs recheck_interval_ns = 250 * kNsPerMs;  // how often poll() looks for a replaced region
 };
 
 enum class Connection {
     kWaiting,       // no region (pipeline not started) or still initialising
     kIncompatible,  // a region of another layout version: message() says which
     kConnected,
-    kStale,         // region there, but the writer has not published for stale_after_ns
-    kClosed,        // the writer went away cleanly; last data still readable
+    kStale,   // region there, but the writer has not published for stale_after_ns
+    kClosed,  // the writer went away cleanly; last data still readable
 };
 const char* toString(Connection c);
 
@@ -43,10 +44,10 @@ struct MapCursor {
 };
 
 struct MapDelta {
-    bool reset = false;                 // drop everything read before (new scan or new writer)
+    bool reset = false;  // drop everything read before (new scan or new writer)
     std::uint64_t epoch = 0;
-    std::vector<DisplayPoint> points;   // new points, in append order
-    std::vector<TrackPoint> track;      // new trajectory points
+    std::vector<DisplayPoint> points;  // new points, in append order
+    std::vector<TrackPoint> track;     // new trajectory points
 };
 
 class LiveMapReader {
@@ -74,7 +75,8 @@ public:
     std::uint64_t poseCount() const;
     // New map points and trajectory since `cursor` (at most max_points points). False if nothing
     // could be read consistently right now (new scan being started): try again next frame.
-    bool readMap(MapCursor& cursor, MapDelta& delta, std::size_t max_points = ~std::size_t{0}) const;
+    bool readMap(MapCursor& cursor, MapDelta& delta,
+                 std::size_t max_points = ~std::size_t{0}) const;
 
     // Sends a command; returns its sequence number for commandResult().
     Result<std::uint64_t> sendCommand(CommandType type, std::string_view argument = {});

@@ -28,9 +28,9 @@ namespace handscan::shm {
 struct WriterOptions {
     std::string name = kDefaultRegionName;
     std::size_t map_capacity_points = std::size_t{4} << 20;  // 64 MiB of display points
-    bool unlink_on_close = true;          // remove the name when the writer goes away cleanly
-    double track_min_step_m = 0.05;       // decimation of the stored trajectory
-    double track_max_interval_s = 1.0;    // ... but at least one track point per second
+    bool unlink_on_close = true;        // remove the name when the writer goes away cleanly
+    double track_min_step_m = 0.05;     // decimation of the stored trajectory
+    double track_max_interval_s = 1.0;  // ... but at least one track point per second
 };
 
 // A command taken from a UI.
@@ -44,7 +44,8 @@ struct Command {
 // Pose record of an estimate. Without explicit masks the estimate's own solved-DOF mask is
 // attributed to the module that produced it (VIO -> green, scan matching / integrated -> blue).
 PoseRecord toPoseRecord(const PoseEstimate& pose);
-PoseRecord toPoseRecord(const PoseEstimate& pose, std::uint8_t vio_dof_mask, std::uint8_t scan_dof_mask);
+PoseRecord toPoseRecord(const PoseEstimate& pose, std::uint8_t vio_dof_mask,
+                        std::uint8_t scan_dof_mask);
 
 class LiveMapWriter {
 public:
@@ -72,7 +73,8 @@ public:
     // The oldest command not yet returned, if any.
     std::optional<Command> pollCommand();
     // Answers command `seq` (call repeatedly with kInProgress for progress).
-    void ack(std::uint64_t seq, CommandState state, std::string_view message, float progress = 0.0f);
+    void ack(std::uint64_t seq, CommandState state, std::string_view message,
+             float progress = 0.0f);
 
     std::uint64_t epoch() const;
     std::uint64_t mapPoints() const;

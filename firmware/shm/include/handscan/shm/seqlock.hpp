@@ -14,8 +14,12 @@
 
 namespace handscan::shm {
 
-inline std::atomic_ref<std::uint64_t> atomicWord(std::uint64_t& word) { return std::atomic_ref<std::uint64_t>(word); }
-inline std::atomic_ref<std::int64_t> atomicWord(std::int64_t& word) { return std::atomic_ref<std::int64_t>(word); }
+inline std::atomic_ref<std::uint64_t> atomicWord(std::uint64_t& word) {
+    return std::atomic_ref<std::uint64_t>(word);
+}
+inline std::atomic_ref<std::int64_t> atomicWord(std::int64_t& word) {
+    return std::atomic_ref<std::int64_t>(word);
+}
 
 // Copies `bytes` (a multiple of 8, both sides 8-byte aligned) word by word with relaxed atomics.
 inline void loadWordsRelaxed(void* dst, const void* src, std::size_t bytes) {

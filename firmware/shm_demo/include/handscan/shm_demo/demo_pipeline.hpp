@@ -23,8 +23,8 @@ struct DemoFaults {
 
 struct DemoOptions {
     RoomOptions room;
-    int samples_per_second = 40000;       // surface samples drawn per second (before voxel filter)
-    std::string export_root = "/tmp";     // where an export without a target argument goes
+    int samples_per_second = 40000;    // surface samples drawn per second (before voxel filter)
+    std::string export_root = "/tmp";  // where an export without a target argument goes
     DemoFaults faults;
 };
 
@@ -48,7 +48,7 @@ private:
     SyntheticRoom room_;
     shm::ScanState state_ = shm::ScanState::kIdle;
     bool shutdown_ = false;
-    double scan_time_s_ = 0;        // walking time of this scan
+    double scan_time_s_ = 0;  // walking time of this scan
     double distance_m_ = 0;
     std::uint64_t points_ = 0;
     TimeNs last_step_ = 0;

@@ -34,31 +34,32 @@ namespace handscan::colour {
 using PoseAtFn = std::function<Eigen::Isometry3d(TimeNs)>;
 
 struct ColouriserConfig {
-    std::size_t max_images = 8;             // frames kept (8 at 5 Hz: 1.6 s, more than a sweep)
-    TimeNs max_time_offset_ns = 250 * kNsPerMs;  // a frame further than this from the point is not used
-    double min_depth_m = 0.05;              // closer than this to the colour camera: not coloured
-    double max_range_m = 12.0;              // farther: too few pixels per point and too much parallax
-    int zbuffer_cell_px = 8;                // z-buffer cell edge in image pixels
-    int zbuffer_splat_cells = 1;            // each point also occludes this many neighbouring cells
-    double occlusion_tolerance_m = 0.05;    // a point within this of the cell's nearest depth ...
+    std::size_t max_images = 8;  // frames kept (8 at 5 Hz: 1.6 s, more than a sweep)
+    TimeNs max_time_offset_ns =
+        250 * kNsPerMs;                   // a frame further than this from the point is not used
+    double min_depth_m = 0.05;            // closer than this to the colour camera: not coloured
+    double max_range_m = 12.0;            // farther: too few pixels per point and too much parallax
+    int zbuffer_cell_px = 8;              // z-buffer cell edge in image pixels
+    int zbuffer_splat_cells = 1;          // each point also occludes this many neighbouring cells
+    double occlusion_tolerance_m = 0.05;  // a point within this of the cell's nearest depth ...
     double occlusion_tolerance_rel = 0.03;  // ... plus this fraction of its depth is on the surface
     int border_px = 1;                      // samples need this many pixels to the image edge
 };
 
 enum class ColourStatus : std::uint8_t {
     kColoured = 0,
-    kNoImage,     // no frame within max_time_offset_ns of the point's time
-    kBehind,      // behind (or too close to) the colour camera
-    kOutside,     // projects outside the image
-    kTooFar,      // beyond max_range_m
-    kOccluded,    // a nearer surface covers it in the z-buffer
+    kNoImage,   // no frame within max_time_offset_ns of the point's time
+    kBehind,    // behind (or too close to) the colour camera
+    kOutside,   // projects outside the image
+    kTooFar,    // beyond max_range_m
+    kOccluded,  // a nearer surface covers it in the z-buffer
 };
 const char* toString(ColourStatus status);
 
 struct ColourResult {
     std::vector<std::array<std::uint8_t, 3>> rgb;  // R, G, B; {0, 0, 0} where not coloured
-    std::vector<ColourStatus> status;              // per point; for rejects: the closest frame's reason
-    std::vector<std::uint32_t> image_sequence;     // sequence of the frame that coloured each point
+    std::vector<ColourStatus> status;  // per point; for rejects: the closest frame's reason
+    std::vector<std::uint32_t> image_sequence;  // sequence of the frame that coloured each point
     std::size_t coloured = 0;
 
     bool valid(std::size_t i) const { return status[i] == ColourStatus::kColoured; }
@@ -77,13 +78,13 @@ public:
     // resolution, or a frame older than the buffer. The buffer is unchanged on error.
     [[nodiscard]] Status addImage(const Image& image);
 
-    // Colours each point (world frame, captured at times[i]); points.size() must equal times.size().
-    // `pose_at` is called once per buffered frame that some point can use, with that frame's
-    // mid-exposure t_host (so the pose history must cover the frames, not only the points).
+    // Colours each point (world frame, captured at times[i]); points.size() must equal
+    // times.size(). `pose_at` is called once per buffered frame that some point can use, with that
+    // frame's mid-exposure t_host (so the pose history must cover the frames, not only the points).
     // Cost: about 0.1 s of one core per million points per frame used (tests/bench/colour).
     // Never throws unless pose_at does: a size mismatch gives every point kNoImage.
-    ColourResult colourise(std::span<const Eigen::Vector3f> points_world, std::span<const TimeNs> times,
-                           const PoseAtFn& pose_at) const;
+    ColourResult colourise(std::span<const Eigen::Vector3f> points_world,
+                           std::span<const TimeNs> times, const PoseAtFn& pose_at) const;
 
     std::size_t imageCount() const { return images_.size(); }
     // Host times of the buffered frames, oldest first (empty when none).

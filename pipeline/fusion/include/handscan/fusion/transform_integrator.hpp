@@ -36,7 +36,7 @@ private:
 
     const imu::ImuPredictor& predictor_;
     std::optional<PoseEstimate> scan_;
-    std::deque<PoseEstimate> vio_;   // VIO poses since shortly before the last scan pose
+    std::deque<PoseEstimate> vio_;  // VIO poses since shortly before the last scan pose
 };
 
 }  // namespace handscan::fusion

@@ -13,9 +13,9 @@
 namespace handscan::imu {
 
 struct ImuHistoryEntry {
-    ImuSample sample;     // raw, as received
-    ImuReading reading;   // bias-corrected with the biases in effect when it was integrated
-    NavState state;       // predicted state at sample.t_host
+    ImuSample sample;    // raw, as received
+    ImuReading reading;  // bias-corrected with the biases in effect when it was integrated
+    NavState state;      // predicted state at sample.t_host
 };
 
 class ImuHistory {
@@ -41,7 +41,8 @@ public:
 
     // The state at time t in [front(), back() + max_extrapolation]; beyond back() the last reading
     // is held constant.
-    Result<NavState> stateAt(TimeNs t, TimeNs max_extrapolation, const Eigen::Vector3d& gravity) const;
+    Result<NavState> stateAt(TimeNs t, TimeNs max_extrapolation,
+                             const Eigen::Vector3d& gravity) const;
     // The bias-corrected reading at t (interpolated between raw samples) under biases b.
     ImuReading readingAt(TimeNs t, const ImuBiases& b) const;
     // IMU-only relative motion over [t0, t1] (both within the history) under biases b.

@@ -25,9 +25,9 @@ namespace handscan::imu {
 
 struct ImuPredictorConfig {
     double gravity_mps2 = 9.81;
-    double horizon_s = 15.0;             // history kept for poseAt() and the feedback window
-    double max_extrapolation_s = 0.05;   // how far past the newest sample predict() may go
-    double max_gap_s = 0.1;              // a longer gap between samples is counted as a dropout
+    double horizon_s = 15.0;            // history kept for poseAt() and the feedback window
+    double max_extrapolation_s = 0.05;  // how far past the newest sample predict() may go
+    double max_gap_s = 0.1;             // a longer gap between samples is counted as a dropout
     GravityAlignmentConfig alignment;
     BiasEstimatorConfig bias;
     UnsolvedMotionPriorConfig motion_prior;  // the velocity in unsolved directions (section 8)
@@ -67,8 +67,10 @@ public:
 
     // Feedback from the scan matcher / VIO: the body pose at time t, trusted only in the solved
     // DOFs (world-axis mask or projector, see dof_projector.hpp).
-    [[nodiscard]] Status correct(TimeNs t, const Eigen::Isometry3d& T_world_body, std::uint8_t solved_dof_mask);
-    [[nodiscard]] Status correct(TimeNs t, const Eigen::Isometry3d& T_world_body, const Matrix6d& solved);
+    [[nodiscard]] Status correct(TimeNs t, const Eigen::Isometry3d& T_world_body,
+                                 std::uint8_t solved_dof_mask);
+    [[nodiscard]] Status correct(TimeNs t, const Eigen::Isometry3d& T_world_body,
+                                 const Matrix6d& solved);
 
     const ImuBiases& biases() const { return biases_; }
     TimeNs newestTime() const { return history_.empty() ? 0 : history_.back(); }

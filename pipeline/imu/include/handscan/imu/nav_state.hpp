@@ -10,15 +10,15 @@
 namespace handscan::imu {
 
 struct ImuBiases {
-    Eigen::Vector3d gyro_radps = Eigen::Vector3d::Zero();   // b_omega of eq. (3), in {I}
-    Eigen::Vector3d accel_mps2 = Eigen::Vector3d::Zero();   // b_a of eq. (4), in {I}
+    Eigen::Vector3d gyro_radps = Eigen::Vector3d::Zero();  // b_omega of eq. (3), in {I}
+    Eigen::Vector3d accel_mps2 = Eigen::Vector3d::Zero();  // b_a of eq. (4), in {I}
 };
 
 struct NavState {
     TimeNs t = 0;
     Eigen::Matrix3d R_world_imu = Eigen::Matrix3d::Identity();
-    Eigen::Vector3d p_world_imu = Eigen::Vector3d::Zero();   // m
-    Eigen::Vector3d v_world_imu = Eigen::Vector3d::Zero();   // m/s
+    Eigen::Vector3d p_world_imu = Eigen::Vector3d::Zero();  // m
+    Eigen::Vector3d v_world_imu = Eigen::Vector3d::Zero();  // m/s
 
     Eigen::Isometry3d T_world_imu() const {
         Eigen::Isometry3d T = Eigen::Isometry3d::Identity();

@@ -13,15 +13,15 @@ namespace handscan::imu {
 
 struct Preintegrated {
     double dt_s = 0.0;
-    Eigen::Matrix3d dR = Eigen::Matrix3d::Identity();   // R_i^T R_j
-    Eigen::Vector3d dv = Eigen::Vector3d::Zero();       // R_i^T (v_j - v_i - g dt)
-    Eigen::Vector3d dp = Eigen::Vector3d::Zero();       // R_i^T (p_j - p_i - v_i dt - g dt^2 / 2)
-    Eigen::Matrix3d dR_dbg = Eigen::Matrix3d::Zero();   // right-perturbation Jacobian of dR
+    Eigen::Matrix3d dR = Eigen::Matrix3d::Identity();  // R_i^T R_j
+    Eigen::Vector3d dv = Eigen::Vector3d::Zero();      // R_i^T (v_j - v_i - g dt)
+    Eigen::Vector3d dp = Eigen::Vector3d::Zero();      // R_i^T (p_j - p_i - v_i dt - g dt^2 / 2)
+    Eigen::Matrix3d dR_dbg = Eigen::Matrix3d::Zero();  // right-perturbation Jacobian of dR
     Eigen::Matrix3d dv_dbg = Eigen::Matrix3d::Zero();
     Eigen::Matrix3d dv_dba = Eigen::Matrix3d::Zero();
     Eigen::Matrix3d dp_dbg = Eigen::Matrix3d::Zero();
     Eigen::Matrix3d dp_dba = Eigen::Matrix3d::Zero();
-    ImuBiases biases;                                   // linearisation point
+    ImuBiases biases;  // linearisation point
 
     // Increments re-evaluated at other biases (first order).
     Eigen::Matrix3d rotation(const ImuBiases& b) const;

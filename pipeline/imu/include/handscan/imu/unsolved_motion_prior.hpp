@@ -45,7 +45,7 @@ struct UnsolvedMotionPriorConfig {
     // 0.076 m with 20 s (+20 s); tunnel and field unchanged (never solved).
     double imu_trusted_s = 20.0;
     double imu_trust_ramp_s = 20.0;
-    double max_accel_error_mps2 = 0.5;   // 3 deg of tilt: beyond, the map frame is broken
+    double max_accel_error_mps2 = 0.5;  // 3 deg of tilt: beyond, the map frame is broken
 };
 
 class UnsolvedMotionPrior {

@@ -28,8 +28,8 @@ struct LioConfig {
     imu::ImuPredictorConfig imu;
     scan::SweepAssemblerConfig assembler;
     scan::LaserOdometryConfig odometry;
-    bool laser_enabled = true;   // false: IMU prediction only (--modules imu)
-    bool imu_feedback = true;    // scan-matching poses correct the IMU predictor (section 4.2)
+    bool laser_enabled = true;  // false: IMU prediction only (--modules imu)
+    bool imu_feedback = true;   // scan-matching poses correct the IMU predictor (section 4.2)
     // With feedback the matcher's prior is the corrected IMU prediction (eq. 18); its standard
     // deviations. Measured on simulated 60 s walks: the prediction at a sweep's start differs
     // from the match by 2-3 mm rms per axis. 5 mm (not 2 cm) lets the prior hold the matcher
@@ -66,7 +66,7 @@ struct LioConfig {
 
 // A registered sweep: its points in the world with their own times, after the match.
 struct RegisteredSweep {
-    scan::Sweep sweep;                 // as assembled (body frame at its start), for --dump-sweeps
+    scan::Sweep sweep;  // as assembled (body frame at its start), for --dump-sweeps
     scan::SweepResult result;
     std::vector<Eigen::Vector3f> points_world;
     std::vector<float> intensities;
@@ -78,8 +78,8 @@ struct LioStats {
     std::uint64_t scans = 0;
     std::uint64_t encoder_samples = 0;
     std::uint64_t sweeps = 0;
-    std::uint64_t unplaced_sweeps = 0;   // assembled without a motion estimate (before alignment)
-    std::uint64_t rejected = 0;       // samples a module refused (out of order, not finite)
+    std::uint64_t unplaced_sweeps = 0;  // assembled without a motion estimate (before alignment)
+    std::uint64_t rejected = 0;         // samples a module refused (out of order, not finite)
     std::uint64_t poses_out = 0;
 };
 

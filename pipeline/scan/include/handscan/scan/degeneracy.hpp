@@ -12,14 +12,22 @@ namespace handscan::scan {
 
 // Bits of the per-DOF solved mask, in the tangent order (rotation, translation) of se3.hpp and of
 // PoseEstimate::solved_dof_mask.
-enum DofBit : std::uint8_t { kRx = 1, kRy = 2, kRz = 4, kTx = 8, kTy = 16, kTz = 32, kAllDof = 0x3F };
+enum DofBit : std::uint8_t {
+    kRx = 1,
+    kRy = 2,
+    kRz = 4,
+    kTx = 8,
+    kTy = 16,
+    kTz = 32,
+    kAllDof = 0x3F
+};
 
 struct DegeneracyAnalysis {
-    Vector6d eigenvalues = Vector6d::Zero();   // lambda_1 >= ... >= lambda_6
-    Matrix6d V = Matrix6d::Identity();         // rows: eigenvectors v_1..v_6 (eq. 19)
-    Matrix6d projection = Matrix6d::Identity();// V^{-1} Vbar: projector onto solved directions
-    int well_conditioned = 6;                  // h of eq. (19)
-    std::uint8_t solved_dof_mask = kAllDof;    // DOF axes lying (mostly) in the solved subspace
+    Vector6d eigenvalues = Vector6d::Zero();     // lambda_1 >= ... >= lambda_6
+    Matrix6d V = Matrix6d::Identity();           // rows: eigenvectors v_1..v_6 (eq. 19)
+    Matrix6d projection = Matrix6d::Identity();  // V^{-1} Vbar: projector onto solved directions
+    int well_conditioned = 6;                    // h of eq. (19)
+    std::uint8_t solved_dof_mask = kAllDof;      // DOF axes lying (mostly) in the solved subspace
 };
 
 // Bit i set when at least `axis_fraction` of axis e_i (squared norm of its projection) lies in

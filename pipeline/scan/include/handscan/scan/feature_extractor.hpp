@@ -12,8 +12,8 @@
 namespace handscan::scan {
 
 struct FeatureConfig {
-    int half_window = 5;               // |C| = 2 * half_window neighbours along the line, eq. (12)
-    int regions_per_line = 6;          // sub-regions per scan line, each picks its own features
+    int half_window = 5;       // |C| = 2 * half_window neighbours along the line, eq. (12)
+    int regions_per_line = 6;  // sub-regions per scan line, each picks its own features
     int max_edges_per_region = 3;
     int max_planars_per_region = 30;
     // Thresholds on c in units of the line's angular step: c of eq. (12) is ~2.1 steps at a 90 deg
@@ -24,15 +24,15 @@ struct FeatureConfig {
     // 2 * half_window times), so an edge must also stand `edge_noise_factor` times above that.
     double range_noise_m = 0.01;
     double edge_noise_factor = 3.0;
-    double occlusion_ratio = 0.1;      // depth jump / range that marks an occluded boundary (B)
-    double max_incidence_deg = 75.0;   // beam vs surface normal beyond this: grazing (D), rejected
-    double min_range_m = 0.3;          // closer returns are too noisy for features
-    double planar_leaf_m = 0.15;       // planar points are thinned to one per leaf (constant density)
+    double occlusion_ratio = 0.1;     // depth jump / range that marks an occluded boundary (B)
+    double max_incidence_deg = 75.0;  // beam vs surface normal beyond this: grazing (D), rejected
+    double min_range_m = 0.3;         // closer returns are too noisy for features
+    double planar_leaf_m = 0.15;  // planar points are thinned to one per leaf (constant density)
 };
 
 struct FeatureCloud {
-    std::vector<Eigen::Vector3d> edges;    // E_m, body frame at the sweep's start
-    std::vector<Eigen::Vector3d> planars;  // H_m
+    std::vector<Eigen::Vector3d> edges;           // E_m, body frame at the sweep's start
+    std::vector<Eigen::Vector3d> planars;         // H_m
     std::vector<Eigen::Vector3d> planar_origins;  // laser centre that saw each planar point
 };
 

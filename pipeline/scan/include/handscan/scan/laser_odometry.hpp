@@ -35,8 +35,8 @@ struct LaserOdometryConfig {
     // pose error since the last refined sweep.
     double prior_sigma_rot_rad = 0.02;
     double prior_sigma_trans_m = 0.05;
-    int max_threads = 1;          // matcher threads for submit(); 1..4 (the paper's maximum)
-    std::size_t max_queued = 4;   // sweeps waiting for a free matcher before the oldest is dropped
+    int max_threads = 1;         // matcher threads for submit(); 1..4 (the paper's maximum)
+    std::size_t max_queued = 4;  // sweeps waiting for a free matcher before the oldest is dropped
 };
 
 // pose.solved_dof_mask and pose.covariance are in world axes (rx ry rz about, tx ty tz along the
@@ -44,18 +44,18 @@ struct LaserOdometryConfig {
 // own body-frame analysis.
 struct SweepResult {
     std::uint64_t sweep_index = 0;
-    PoseEstimate pose;                 // body pose at the sweep's start, solved mask, covariance
+    PoseEstimate pose;  // body pose at the sweep's start, solved mask, covariance
     Matrix6d solved_projector_world = Matrix6d::Zero();  // V^-1 Vbar of eq. (21) in world axes
     Eigen::Isometry3d T_world_prior = Eigen::Isometry3d::Identity();
     MatchResult match;
-    bool first_sweep = false;          // no map yet: pose = prior, nothing solved
-    std::size_t edges = 0;             // features extracted
+    bool first_sweep = false;  // no map yet: pose = prior, nothing solved
+    std::size_t edges = 0;     // features extracted
     std::size_t planars = 0;
     std::size_t local_map_points = 0;  // |Q_{m-1}|
     std::uint64_t map_sweeps = 0;      // sweeps merged into the map this one was matched against
     int matcher_thread = 0;
     double features_ms = 0.0;
-    double extract_ms = 0.0;           // rolling + fine voxels + k-d trees
+    double extract_ms = 0.0;  // rolling + fine voxels + k-d trees
     double match_ms = 0.0;
     double merge_ms = 0.0;
     double total_ms = 0.0;
@@ -69,7 +69,8 @@ public:
     LaserOdometry& operator=(const LaserOdometry&) = delete;
 
     // Synchronous: matches `sweep` against the map of every earlier sweep, then merges it.
-    SweepResult process(const Sweep& sweep, const std::optional<std::vector<PosePrior>>& priors = std::nullopt);
+    SweepResult process(const Sweep& sweep,
+                        const std::optional<std::vector<PosePrior>>& priors = std::nullopt);
 
     // Asynchronous (6.4): returns at once; results come from poll() in sweep order.
     void submit(Sweep sweep, std::optional<std::vector<PosePrior>> priors = std::nullopt);
@@ -93,14 +94,15 @@ private:
         std::optional<Job> job;
     };
 
-    SweepResult run(const Sweep& sweep, const std::optional<std::vector<PosePrior>>& priors, int thread);
+    SweepResult run(const Sweep& sweep, const std::optional<std::vector<PosePrior>>& priors,
+                    int thread);
     void workerLoop(int id);
     void startWorkers();
 
     LaserOdometryConfig config_;
     ScanMatcher matcher_;
 
-    mutable std::mutex map_mutex_;          // guards map_ and the last refined pose
+    mutable std::mutex map_mutex_;  // guards map_ and the last refined pose
     VoxelMap map_;
     std::uint64_t map_sweeps_ = 0;
     bool have_refined_ = false;
@@ -108,13 +110,13 @@ private:
     Eigen::Isometry3d T_world_refined_ = Eigen::Isometry3d::Identity();
     Eigen::Isometry3d T_world_refined_odom_ = Eigen::Isometry3d::Identity();
 
-    mutable std::mutex jobs_mutex_;         // guards everything below
+    mutable std::mutex jobs_mutex_;  // guards everything below
     std::condition_variable jobs_cv_;
     std::condition_variable done_cv_;
     std::vector<std::unique_ptr<Worker>> workers_;
     std::deque<Job> queued_;
     std::map<std::uint64_t, SweepResult> finished_;
-    std::map<std::uint64_t, int> in_flight_;   // sweep index -> 1 while queued or running
+    std::map<std::uint64_t, int> in_flight_;  // sweep index -> 1 while queued or running
     std::uint64_t dropped_ = 0;
     bool stopping_ = false;
 };

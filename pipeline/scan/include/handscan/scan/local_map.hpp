@@ -28,7 +28,8 @@ public:
     // Builder: the points that queries falling into coarse voxel `coarse` may see.
     // `planar_origins`: empty, or the laser centre that saw each planar point (NaN: unknown).
     void addVoxel(const VoxelKey& coarse, std::vector<Eigen::Vector3d> edges,
-                  std::vector<Eigen::Vector3d> planars, std::vector<Eigen::Vector3f> planar_origins = {});
+                  std::vector<Eigen::Vector3d> planars,
+                  std::vector<Eigen::Vector3f> planar_origins = {});
 
     // The k nearest map points of `kind` to `query` (world frame), closest first; returns how many
     // were found (0 when the query lies outside the extracted region). With `origins`, also the

@@ -15,6 +15,7 @@ namespace handscan::scan {
 
 [[nodiscard]] Status writeSweepPly(const std::string& path, const Sweep& sweep);
 // A plain x y z cloud (float32), e.g. the registered map.
-[[nodiscard]] Status writeCloudPly(const std::string& path, const std::vector<Eigen::Vector3f>& points);
+[[nodiscard]] Status writeCloudPly(const std::string& path,
+                                   const std::vector<Eigen::Vector3f>& points);
 
 }  // namespace handscan::scan

@@ -21,8 +21,8 @@ namespace handscan::scan {
 enum class RobustKernel : std::uint8_t { kNone = 0, kHuber = 1, kBisquare = 2 };
 
 struct ScanMatcherConfig {
-    int max_associations = 6;          // outer loop: nearest-neighbour search + cluster test
-    int max_iterations = 4;            // inner Gauss-Newton steps per association
+    int max_associations = 6;  // outer loop: nearest-neighbour search + cluster test
+    int max_iterations = 4;    // inner Gauss-Newton steps per association
     // Edge cluster size. The map keeps one edge point per 10 cm leaf, so 5 neighbours reach 40 cm
     // and more along an edge and, on cluttered real scans, take in points of a neighbouring edge
     // that still pass the eigenvalue test. 4 instead of 5: the 3DTK tilting scans
@@ -41,16 +41,18 @@ struct ScanMatcherConfig {
     // max_neighbour_dist_m) fit a quadric under each planar match, whose height at the query moves
     // the plane onto the surface; 0 or <= plane_neighbours: the cluster's plane as it is. Without
     // it the simulated tunnel's vault biased every match the same way: with ground-truth motion
-    // the map pitched 1.74 deg over 55 m (replay --reference-motion, 90 s seed 1; 0.34 deg with 16).
+    // the map pitched 1.74 deg over 55 m (replay --reference-motion, 90 s seed 1; 0.34 deg with
+    // 16).
     int curvature_neighbours = 16;
     // rms of those points about their quadric above which they are no smooth surface (a corner,
     // clutter) and the plane stands: the laser's noise, ~1 cm.
     double curvature_max_rms_m = 0.01;
-    double max_neighbour_dist_m = 1.0; // farthest cluster point from the query
-    double edge_eigen_ratio = 10.0;    // edge: lambda_max > ratio * lambda_mid (one large eigenvalue)
-    double edge_max_thickness_m = 0.05;// sqrt(lambda_mid): the cluster must be a thin segment
-    double plane_eigen_ratio = 0.1;    // plane: lambda_min < ratio * lambda_mid (one small eigenvalue)
-    double plane_max_thickness_m = 0.05;// every cluster point this close to the fitted plane
+    double max_neighbour_dist_m = 1.0;  // farthest cluster point from the query
+    double edge_eigen_ratio = 10.0;  // edge: lambda_max > ratio * lambda_mid (one large eigenvalue)
+    double edge_max_thickness_m = 0.05;  // sqrt(lambda_mid): the cluster must be a thin segment
+    double plane_eigen_ratio =
+        0.1;  // plane: lambda_min < ratio * lambda_mid (one small eigenvalue)
+    double plane_max_thickness_m = 0.05;  // every cluster point this close to the fitted plane
     // sqrt(lambda_mid) at least this: a cluster from a single scan line is a segment, whose
     // "normal" is any direction around it (far from the sensor, lines are wider apart than the
     // neighbour search, and such clusters would pull the pose sideways).
@@ -60,11 +62,11 @@ struct ScanMatcherConfig {
     // this tell no side.
     double view_side_margin_m = 0.1;
     RobustKernel kernel = RobustKernel::kBisquare;
-    double kernel_scale_m = 0.1;       // bisquare zero-weight distance / Huber corner
+    double kernel_scale_m = 0.1;  // bisquare zero-weight distance / Huber corner
     // Coarse to fine: the first association uses this scale, each later one half the previous,
     // down to kernel_scale_m, so a prior decimetres off still pulls in the far correspondences.
     double kernel_scale_initial_m = 0.5;
-    double laser_sigma_m = 0.03;       // feature-to-map distance noise (weights the prior against)
+    double laser_sigma_m = 0.03;  // feature-to-map distance noise (weights the prior against)
     // Section 8: a direction of the laser constraints alone is degraded when the standard
     // deviation they give it, laser_sigma_m / sqrt(lambda) for an eigenvalue lambda of
     // sum(w J^T J), exceeds this (rotations count as their displacement at 1 m). Stated as a
@@ -97,7 +99,7 @@ struct ScanMatcherConfig {
     double degeneracy_probe_offset_m = 0.05;
     double degeneracy_probe_min_return = 0.5;
     int degeneracy_probe_iterations = 2;
-    int min_correspondences = 20;      // fewer: the sweep constrains nothing
+    int min_correspondences = 20;  // fewer: the sweep constrains nothing
     double converged_rot_rad = 1e-5;
     double converged_trans_m = 1e-5;
 };
@@ -113,17 +115,17 @@ struct PosePrior {
 
 struct MatchResult {
     Eigen::Isometry3d T_world_body = Eigen::Isometry3d::Identity();
-    DegeneracyAnalysis degeneracy;      // of the last association; the solved mask is in here
-    Matrix6d covariance = Matrix6d::Identity();   // (rot, trans), from the final normal equations
+    DegeneracyAnalysis degeneracy;  // of the last association; the solved mask is in here
+    Matrix6d covariance = Matrix6d::Identity();  // (rot, trans), from the final normal equations
     int associations = 0;
     int iterations = 0;
     int edge_matches = 0;
     int plane_matches = 0;
-    double rms_m = 0.0;                 // weighted rms feature-to-map distance, last iteration
+    double rms_m = 0.0;  // weighted rms feature-to-map distance, last iteration
     bool converged = false;
-    bool enough_matches = false;        // false: pose = prior, mask 0
-    int probed_directions = 0;          // weak directions tested by re-association
-    int confirmed_directions = 0;       // of those, solved because they came back
+    bool enough_matches = false;   // false: pose = prior, mask 0
+    int probed_directions = 0;     // weak directions tested by re-association
+    int confirmed_directions = 0;  // of those, solved because they came back
 };
 
 class ScanMatcher {
@@ -132,7 +134,8 @@ public:
 
     // `features` in the body frame at the sweep's start; the search starts at priors[0]'s pose
     // (or `initial` when given).
-    MatchResult match(const FeatureCloud& features, const LocalMap& map, const std::vector<PosePrior>& priors,
+    MatchResult match(const FeatureCloud& features, const LocalMap& map,
+                      const std::vector<PosePrior>& priors,
                       const Eigen::Isometry3d* initial = nullptr) const;
 
     const ScanMatcherConfig& config() const { return config_; }
@@ -141,8 +144,8 @@ private:
     // When the pose moved off the laser's minimum along unit direction v (rot, trans) comes back
     // under fresh associations (see ScanMatcherConfig::degeneracy_probe_max_std_m): how far
     // that minimum lies from T along v; nullopt when it does not come back.
-    std::optional<double> comesBack(const FeatureCloud& features, const LocalMap& map, const Eigen::Isometry3d& T,
-                                    const Vector6d& v) const;
+    std::optional<double> comesBack(const FeatureCloud& features, const LocalMap& map,
+                                    const Eigen::Isometry3d& T, const Vector6d& v) const;
 
     ScanMatcherConfig config_;
 };

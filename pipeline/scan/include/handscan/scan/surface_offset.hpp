@@ -22,9 +22,10 @@ struct SurfaceOffsetLimits {
 // the matched pose follows it (the simulated tunnel pitched 1.7 deg over 55 m with ground-truth
 // motion). nullopt when the points cannot tell the height there (too few, along one line, the
 // query far outside them) or are no smooth surface (a corner, clutter): the plane stands.
-std::optional<double> surfaceOffsetAt(const Eigen::Vector3d* points, int n, const Eigen::Vector3d& c,
-                                      const Eigen::Vector3d& normal, const Eigen::Vector3d& t1,
-                                      const Eigen::Vector3d& t2, const Eigen::Vector3d& query,
+std::optional<double> surfaceOffsetAt(const Eigen::Vector3d* points, int n,
+                                      const Eigen::Vector3d& c, const Eigen::Vector3d& normal,
+                                      const Eigen::Vector3d& t1, const Eigen::Vector3d& t2,
+                                      const Eigen::Vector3d& query,
                                       const SurfaceOffsetLimits& limits = {});
 
 }  // namespace handscan::scan

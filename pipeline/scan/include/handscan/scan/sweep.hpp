@@ -20,8 +20,8 @@ namespace handscan::scan {
 using PoseAtFn = std::function<Eigen::Isometry3d(TimeNs)>;
 
 struct SweepPoint {
-    TimeNs t = 0;                                            // host time of this step
-    Eigen::Vector3d p_start = Eigen::Vector3d::Zero();       // m, body frame at the sweep's start
+    TimeNs t = 0;                                       // host time of this step
+    Eigen::Vector3d p_start = Eigen::Vector3d::Zero();  // m, body frame at the sweep's start
     // m, body frame at this step's own time (before motion compensation): lets a consumer
     // re-place the point when the motion estimate is corrected after assembly (IMU feedback).
     Eigen::Vector3d p_body = Eigen::Vector3d::Zero();
@@ -30,22 +30,22 @@ struct SweepPoint {
     // see ScanMatcher).
     Eigen::Vector3d origin_start = Eigen::Vector3d::Zero();
     Eigen::Vector3d origin_body = Eigen::Vector3d::Zero();
-    float range_m = 0.0F;                                    // measured range
-    float intensity = 0.0F;                                  // raw intensity (0 when absent)
-    std::uint16_t step = 0;                                  // index in the 2D scan (0..1080)
+    float range_m = 0.0F;    // measured range
+    float intensity = 0.0F;  // raw intensity (0 when absent)
+    std::uint16_t step = 0;  // index in the 2D scan (0..1080)
 };
 
 // The points of one 2D scan (or of the part of it inside this sweep), in step order.
 struct ScanLine {
-    std::size_t begin = 0;              // index into Sweep::points
-    std::size_t end = 0;                // one past the last point
-    double angle_increment_rad = 0.0;   // beam angle between consecutive steps
+    std::size_t begin = 0;             // index into Sweep::points
+    std::size_t end = 0;               // one past the last point
+    double angle_increment_rad = 0.0;  // beam angle between consecutive steps
 };
 
 struct Sweep {
-    TimeNs t_start = 0;                 // time of the first point
-    TimeNs t_end = 0;                   // time of the last point
-    std::uint64_t index = 0;            // running sweep number
+    TimeNs t_start = 0;       // time of the first point
+    TimeNs t_end = 0;         // time of the last point
+    std::uint64_t index = 0;  // running sweep number
     // Body pose at t_start according to the motion estimate used for assembly: the frame the
     // points are in, and the odometry the matcher's prior (eq. 16) is built from.
     Eigen::Isometry3d T_world_start_odom = Eigen::Isometry3d::Identity();

@@ -22,7 +22,7 @@ enum class SweepBoundary : std::uint8_t { kHalfRevolution = 0, kFullRevolution =
 
 struct SweepAssemblerConfig {
     SweepBoundary boundary = SweepBoundary::kHalfRevolution;
-    double min_range_m = 0.1;    // UTM-30LX guaranteed range 0.1-30 m
+    double min_range_m = 0.1;  // UTM-30LX guaranteed range 0.1-30 m
     double max_range_m = 30.0;
     // Encoder samples further apart than this do not bracket a step: its angle is unknown, the
     // point is dropped and counted (a CAN dropout must not smear the cloud).
@@ -37,7 +37,7 @@ struct SweepAssemblerConfig {
 struct SpinGeometry {
     Eigen::Isometry3d T_shaft_laser = Eigen::Isometry3d::Identity();
     Eigen::Isometry3d T_body_shaftbase = Eigen::Isometry3d::Identity();
-    double encoder_zero_offset_rad = 0.0;   // encoder angle at which {S} coincides with {B}
+    double encoder_zero_offset_rad = 0.0;  // encoder angle at which {S} coincides with {B}
 
     static SpinGeometry fromCalibration(const Calibration& c) {
         return {c.T_shaft_laser, c.T_camera_shaftbase, c.encoder_zero_offset_rad};
@@ -49,16 +49,17 @@ struct SpinGeometry {
 struct SweepAssemblerStats {
     std::uint64_t scans = 0;
     std::uint64_t points = 0;
-    std::uint64_t dropped_invalid_range = 0;   // NaN / out of [min, max]
-    std::uint64_t dropped_no_encoder = 0;      // step not bracketed by encoder samples
-    std::uint64_t dropped_scans_late = 0;      // encoder never caught up
+    std::uint64_t dropped_invalid_range = 0;  // NaN / out of [min, max]
+    std::uint64_t dropped_no_encoder = 0;     // step not bracketed by encoder samples
+    std::uint64_t dropped_scans_late = 0;     // encoder never caught up
     std::uint64_t sweeps = 0;
     std::uint64_t encoder_out_of_order = 0;
 };
 
 class SweepAssembler {
 public:
-    SweepAssembler(const SpinGeometry& geometry, const SweepAssemblerConfig& config, PoseAtFn pose_at);
+    SweepAssembler(const SpinGeometry& geometry, const SweepAssemblerConfig& config,
+                   PoseAtFn pose_at);
 
     // Encoder samples must come in time order; an older one is rejected.
     [[nodiscard]] Status addEncoder(const EncoderSample& sample);

@@ -13,9 +13,10 @@ using VoxelKey = Eigen::Vector3i;
 struct VoxelKeyHash {
     std::size_t operator()(const VoxelKey& k) const {
         // Three large primes (as in Teschner et al. 2003 spatial hashing).
-        return static_cast<std::size_t>((static_cast<std::uint64_t>(static_cast<std::uint32_t>(k.x())) * 73856093ULL) ^
-                                        (static_cast<std::uint64_t>(static_cast<std::uint32_t>(k.y())) * 19349669ULL) ^
-                                        (static_cast<std::uint64_t>(static_cast<std::uint32_t>(k.z())) * 83492791ULL));
+        return static_cast<std::size_t>(
+            (static_cast<std::uint64_t>(static_cast<std::uint32_t>(k.x())) * 73856093ULL) ^
+            (static_cast<std::uint64_t>(static_cast<std::uint32_t>(k.y())) * 19349669ULL) ^
+            (static_cast<std::uint64_t>(static_cast<std::uint32_t>(k.z())) * 83492791ULL));
     }
 };
 

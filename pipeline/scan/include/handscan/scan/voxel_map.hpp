@@ -19,23 +19,23 @@
 namespace handscan::scan {
 
 struct VoxelMapConfig {
-    double coarse_size_m = 10.0;                      // M voxels
-    int fine_per_coarse = 10;                         // S^j voxels: 1 m
-    Eigen::Vector3i window_voxels{11, 11, 7};         // 110 x 110 x 70 m kept around the sensor
-    int roll_margin_voxels = 3;                       // roll when the sensor is this close to an edge
-    double edge_leaf_m = 0.1;                         // constant density: one edge point per leaf
-    double planar_leaf_m = 0.2;                       // one planar point per leaf
-    int green_dilation = 1;                           // fine voxels around each green one extracted
+    double coarse_size_m = 10.0;               // M voxels
+    int fine_per_coarse = 10;                  // S^j voxels: 1 m
+    Eigen::Vector3i window_voxels{11, 11, 7};  // 110 x 110 x 70 m kept around the sensor
+    int roll_margin_voxels = 3;                // roll when the sensor is this close to an edge
+    double edge_leaf_m = 0.1;                  // constant density: one edge point per leaf
+    double planar_leaf_m = 0.2;                // one planar point per leaf
+    int green_dilation = 1;                    // fine voxels around each green one extracted
 };
 
 struct VoxelMapStats {
-    std::size_t points[2] = {0, 0};        // edge, planar points stored
+    std::size_t points[2] = {0, 0};  // edge, planar points stored
     std::size_t fine_cells = 0;
     std::size_t coarse_voxels_used = 0;
-    std::uint64_t truncated_points = 0;    // cleared by rolling (cumulative)
-    std::uint64_t rejected_outside = 0;    // insertions outside the window (cumulative)
-    std::uint64_t rejected_density = 0;    // insertions into an occupied leaf (cumulative)
-    std::size_t memory_bytes = 0;          // approximate heap use of the stored points and cells
+    std::uint64_t truncated_points = 0;  // cleared by rolling (cumulative)
+    std::uint64_t rejected_outside = 0;  // insertions outside the window (cumulative)
+    std::uint64_t rejected_density = 0;  // insertions into an occupied leaf (cumulative)
+    std::size_t memory_bytes = 0;        // approximate heap use of the stored points and cells
 };
 
 class VoxelMap {
@@ -67,7 +67,7 @@ public:
 private:
     struct FineCell {
         std::vector<Eigen::Vector3f> pts[2];
-        std::vector<Eigen::Vector3f> origins[2];   // per point; NaN when unknown
+        std::vector<Eigen::Vector3f> origins[2];  // per point; NaN when unknown
         std::vector<std::uint64_t> leaves[2];
     };
     struct CoarseVoxel {
@@ -85,7 +85,7 @@ private:
     double fine_size_m_;
     int leaves_per_axis_[2];
     std::vector<CoarseVoxel> slots_;
-    VoxelKey origin_ = VoxelKey::Zero();   // lower corner of the window (coarse index)
+    VoxelKey origin_ = VoxelKey::Zero();  // lower corner of the window (coarse index)
     bool has_origin_ = false;
     std::size_t stats_points_[2] = {0, 0};
     std::uint64_t truncated_ = 0;

@@ -17,8 +17,8 @@ namespace handscan::eval {
 // Closest point to p on triangle (a, b, c).
 Eigen::Vector3d closestPointOnTriangle(const Eigen::Vector3d& p, const Eigen::Vector3d& a,
                                        const Eigen::Vector3d& b, const Eigen::Vector3d& c);
-double pointTriangleDistance(const Eigen::Vector3d& p, const Eigen::Vector3d& a, const Eigen::Vector3d& b,
-                             const Eigen::Vector3d& c);
+double pointTriangleDistance(const Eigen::Vector3d& p, const Eigen::Vector3d& a,
+                             const Eigen::Vector3d& b, const Eigen::Vector3d& c);
 
 class MeshDistance {
 public:
@@ -44,6 +44,7 @@ struct MapErrorResult {
     double median_m = 0.0, p90_m = 0.0, p99_m = 0.0, mean_m = 0.0, max_m = 0.0;
 };
 // Distance of each map point to the nearest true triangle, as percentiles.
-MapErrorResult computeMapError(const std::vector<Eigen::Vector3d>& map_points, const MeshDistance& mesh);
+MapErrorResult computeMapError(const std::vector<Eigen::Vector3d>& map_points,
+                               const MeshDistance& mesh);
 
 }  // namespace handscan::eval

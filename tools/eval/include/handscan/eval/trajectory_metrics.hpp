@@ -23,7 +23,8 @@ struct PosePair {
 };
 
 // Pairs est poses with interpolated gt; gt gaps longer than max_gap_s are not interpolated over.
-std::vector<PosePair> associate(const Trajectory& gt, const Trajectory& est, double max_gap_s = 0.25);
+std::vector<PosePair> associate(const Trajectory& gt, const Trajectory& est,
+                                double max_gap_s = 0.25);
 
 // A path whose thinnest extent is below this fraction of its middle one counts as planar.
 inline constexpr double kPlanarPathRatio = 0.1;
@@ -57,7 +58,7 @@ AteResult computeAte(const std::vector<PosePair>& pairs);
 struct SegmentDrift {
     double length_m = 0.0;
     std::size_t segments = 0;
-    double translation_percent = 0.0;   // mean of |t_err| / length * 100
+    double translation_percent = 0.0;  // mean of |t_err| / length * 100
     double rotation_deg_per_m = 0.0;
 };
 struct DriftResult {
@@ -71,8 +72,8 @@ DriftResult computeDrift(const std::vector<PosePair>& pairs,
                          double start_spacing_m = 0.1);
 
 struct EndPointResult {
-    double error_m = 0.0;             // | est relative motion start->end - gt's | (translation)
-    double error_percent = 0.0;       // of the path length
+    double error_m = 0.0;        // | est relative motion start->end - gt's | (translation)
+    double error_percent = 0.0;  // of the path length
     double rotation_error_deg = 0.0;
     double gt_start_end_gap_m = 0.0;  // how far the ground truth's end is from its start
     bool is_loop = false;             // gt gap below 1% of the path or 0.5 m

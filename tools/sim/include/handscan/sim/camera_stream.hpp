@@ -19,7 +19,7 @@ struct CameraStreamConfig {
     ClockModel clock{0.0, 25.0, 0.004, 0.0005};  // frame oscillator; readout + USB + DQBUF delay
     double fps = 50.0;
     double exposure_s = 0.005;
-    std::string format = "GREY";   // GREY | YUYV | MJPEG
+    std::string format = "GREY";  // GREY | YUYV | MJPEG
     int width = 640;
     int height = 512;
     int mjpeg_quality = 85;
@@ -30,13 +30,13 @@ struct CameraStreamConfig {
 // One frame's V4L2 metadata as DQBUF reports it.
 struct V4l2FrameInfo {
     std::uint32_t sequence = 0;
-    TimeNs timestamp_ns = 0;   // CLOCK_MONOTONIC, start of exposure or end of frame
-    std::uint32_t flags = 0;   // V4L2_BUF_FLAG_* (timestamp type/source)
+    TimeNs timestamp_ns = 0;  // CLOCK_MONOTONIC, start of exposure or end of frame
+    std::uint32_t flags = 0;  // V4L2_BUF_FLAG_* (timestamp type/source)
     std::uint32_t bytesused = 0;
     double t_exposure_start = 0.0;  // simulation time
     TimeNs exposure_ns = 0;
-    TimeNs readout_ns = 0;          // end of exposure to the last line transferred
-    TimeNs t_dequeue_ns = 0;        // host time the driver dequeues the buffer
+    TimeNs readout_ns = 0;    // end of exposure to the last line transferred
+    TimeNs t_dequeue_ns = 0;  // host time the driver dequeues the buffer
 };
 
 class CameraStream {
@@ -47,7 +47,8 @@ public:
     double exposureStart(std::int64_t k) const;
     // Packs a rendered frame (grey: w*h bytes; colour: w*h*3 RGB) into the delivered format and
     // emits its buffer record. `lost`: the frame is dropped (its sequence number is used up).
-    void frame(std::int64_t k, const std::vector<std::uint8_t>& pixels, bool lost, std::vector<StreamMessage>& out);
+    void frame(std::int64_t k, const std::vector<std::uint8_t>& pixels, bool lost,
+               std::vector<StreamMessage>& out);
     const V4l2FrameInfo& lastInfo() const { return last_; }
 
 private:
@@ -60,13 +61,16 @@ private:
 };
 
 // Pixel packing as a UVC/V4L2 camera delivers it (BT.601 limited range for YUYV; JPEG 4:2:2).
-void rgbToYuyv(const std::vector<std::uint8_t>& rgb, int width, int height, std::vector<std::uint8_t>& out);
-void rgbToMjpeg(const std::vector<std::uint8_t>& rgb, int width, int height, int quality, std::vector<std::uint8_t>& out);
+void rgbToYuyv(const std::vector<std::uint8_t>& rgb, int width, int height,
+               std::vector<std::uint8_t>& out);
+void rgbToMjpeg(const std::vector<std::uint8_t>& rgb, int width, int height, int quality,
+                std::vector<std::uint8_t>& out);
 
 // The recording payload of one buffer (the camera codec's V4L2 buffer record), and whether this
 // build has that codec (drivers/camera).
 bool cameraRecordsAvailable();
-std::vector<std::uint8_t> encodeCameraRecord(const V4l2FrameInfo& info, const CameraStreamConfig& config,
+std::vector<std::uint8_t> encodeCameraRecord(const V4l2FrameInfo& info,
+                                             const CameraStreamConfig& config,
                                              const std::vector<std::uint8_t>& data);
 
 }  // namespace handscan::sim

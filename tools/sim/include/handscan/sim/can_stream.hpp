@@ -11,9 +11,9 @@
 #include <vector>
 
 #include "handscan/sim/device_clock.hpp"
-#include "handscan/transport/can_bus.hpp"
 #include "handscan/sim/shaft_model.hpp"
 #include "handscan/sim/stream_message.hpp"
+#include "handscan/transport/can_bus.hpp"
 
 namespace handscan::sim {
 
@@ -22,8 +22,8 @@ struct CanStreamConfig {
     std::string interface = "can0";
     std::uint8_t encoder_node = 1;
     std::uint8_t drive_node = 2;
-    std::uint32_t counts_per_rev = 16384;   // single-turn: the position wraps every revolution
-    double tpdo_period_s = 0.005;           // CiA 406 cyclic timer 6200h (1..10 ms)
+    std::uint32_t counts_per_rev = 16384;  // single-turn: the position wraps every revolution
+    double tpdo_period_s = 0.005;          // CiA 406 cyclic timer 6200h (1..10 ms)
     double heartbeat_period_s = 0.1;
     double encoder_zero_offset_rad = 0.0;
 };
@@ -35,7 +35,8 @@ struct EncoderReading {
 
 class CanStream {
 public:
-    CanStream(const CanStreamConfig& config, const ShaftModel& shaft, TimeNs host_start_ns, Rng rng);
+    CanStream(const CanStreamConfig& config, const ShaftModel& shaft, TimeNs host_start_ns,
+              Rng rng);
 
     // All frames whose transmission starts in [t0, t1).
     void generate(double t0, double t1, std::vector<StreamMessage>& out);

@@ -18,16 +18,17 @@ namespace handscan::sim {
 
 struct HokuyoStreamConfig {
     ClockModel clock{1234.567, 35.0, 0.0004, 0.00015};
-    std::size_t mss_bytes = 1448;      // TCP payload per segment (1500 MTU, timestamps option)
+    std::size_t mss_bytes = 1448;  // TCP payload per segment (1500 MTU, timestamps option)
     double link_bps = 100e6;
-    double processing_s = 0.0008;      // scan end -> first byte on the wire
-    double reader_wakeup_s = 0.0002;   // mean of the exponential delay before read() runs
+    double processing_s = 0.0008;     // scan end -> first byte on the wire
+    double reader_wakeup_s = 0.0002;  // mean of the exponential delay before read() runs
     std::string serial = "H1234567";
 };
 
 class HokuyoStream {
 public:
-    HokuyoStream(const HokuyoStreamConfig& config, const LaserConfig& laser, TimeNs host_start_ns, Rng rng);
+    HokuyoStream(const HokuyoStreamConfig& config, const LaserConfig& laser, TimeNs host_start_ns,
+                 Rng rng);
 
     // The handshake replies, the first arriving at simulation time t.
     void handshake(double t, std::vector<StreamMessage>& out);

@@ -17,15 +17,15 @@ namespace handscan::sim {
 // stability 40 ug. The random walks are sized so the bias wanders by about the in-run stability
 // over 100 s. Outputs clip at the full scale (450 deg/s, 200 m/s^2).
 struct ImuNoise {
-    double gyro_noise_density = 0.03 * 0.017453292519943295;      // rad/s/sqrt(Hz)
-    double accel_noise_density = 80e-6 * 9.80665;                 // m/s^2/sqrt(Hz)
+    double gyro_noise_density = 0.03 * 0.017453292519943295;                     // rad/s/sqrt(Hz)
+    double accel_noise_density = 80e-6 * 9.80665;                                // m/s^2/sqrt(Hz)
     double gyro_bias_random_walk = 18.0 / 3600.0 * 0.017453292519943295 / 10.0;  // rad/s^2/sqrt(Hz)
-    double accel_bias_random_walk = 40e-6 * 9.80665 / 10.0;       // m/s^3/sqrt(Hz)
-    double gyro_turn_on_bias = 0.2 * 0.017453292519943295;        // rad/s, per-axis sigma
-    double accel_turn_on_bias = 0.02;                             // m/s^2, per-axis sigma
-    double gyro_range = 450.0 * 0.017453292519943295;             // rad/s
-    double accel_range = 200.0;                                   // m/s^2
-    double gravity = 9.80665;                                     // m/s^2
+    double accel_bias_random_walk = 40e-6 * 9.80665 / 10.0;                      // m/s^3/sqrt(Hz)
+    double gyro_turn_on_bias = 0.2 * 0.017453292519943295;  // rad/s, per-axis sigma
+    double accel_turn_on_bias = 0.02;                       // m/s^2, per-axis sigma
+    double gyro_range = 450.0 * 0.017453292519943295;       // rad/s
+    double accel_range = 200.0;                             // m/s^2
+    double gravity = 9.80665;                               // m/s^2
 };
 
 struct ImuMeasurement {

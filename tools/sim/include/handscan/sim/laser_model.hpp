@@ -16,10 +16,10 @@
 namespace handscan::sim {
 
 struct LaserConfig {
-    int steps = 1081;               // AMIN 0 .. AMAX 1080
-    int front_step = 540;           // AFRT
-    int steps_per_rev = 1440;       // ARES
-    double scan_period_s = 0.025;   // SCAN 2400 rpm
+    int steps = 1081;              // AMIN 0 .. AMAX 1080
+    int front_step = 540;          // AFRT
+    int steps_per_rev = 1440;      // ARES
+    double scan_period_s = 0.025;  // SCAN 2400 rpm
     std::uint32_t dmin_mm = 23;
     std::uint32_t dmax_mm = 60000;
     // Range noise sigma = base + per_m * range (datasheet: +-30 mm to 10 m, +-50 mm to 30 m).
@@ -28,7 +28,7 @@ struct LaserConfig {
     // Received power ~ reflectivity * cos(incidence) / max(range, 1 m)^2; below this: no echo.
     // 10 % reflectivity is detected to 10 m, white to ~30 m, black plastic to ~5 m.
     double min_return = 8e-4;
-    double glancing_cos = 0.06;     // incidence beyond ~86.5 deg: no usable echo
+    double glancing_cos = 0.06;  // incidence beyond ~86.5 deg: no usable echo
     // Error codes (values below DMIN) the simulator reports.
     std::uint32_t code_no_echo = 1;
     std::uint32_t code_weak = 2;
@@ -36,10 +36,10 @@ struct LaserConfig {
 };
 
 struct LaserScanTruth {
-    double t_first_step = 0.0;               // simulation time of step 0
-    std::vector<std::uint32_t> ranges_mm;    // what the sensor sends (error codes < dmin_mm)
+    double t_first_step = 0.0;             // simulation time of step 0
+    std::vector<std::uint32_t> ranges_mm;  // what the sensor sends (error codes < dmin_mm)
     std::vector<std::uint32_t> intensities;
-    std::vector<float> true_range_m;         // noise-free, NaN without a hit
+    std::vector<float> true_range_m;  // noise-free, NaN without a hit
 };
 
 class LaserModel {

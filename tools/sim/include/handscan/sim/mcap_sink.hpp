@@ -14,7 +14,8 @@ namespace handscan::sim {
 class McapSink : public RecordingSink {
 public:
     // A file sink (path) or, with an empty path, an in-memory one (tests; see takeBuffer()).
-    [[nodiscard]] static Result<std::unique_ptr<McapSink>> create(const std::string& path, bool cameras);
+    [[nodiscard]] static Result<std::unique_ptr<McapSink>> create(const std::string& path,
+                                                                  bool cameras);
     [[nodiscard]] Status write(const StreamMessage& message) override;
     [[nodiscard]] Status close();
     std::vector<std::uint8_t> takeBuffer() { return writer_->takeBuffer(); }

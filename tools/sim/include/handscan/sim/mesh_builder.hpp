@@ -36,15 +36,15 @@ public:
     void addWall(const Eigen::Vector2d& p0, const Eigen::Vector2d& p1, double thickness, double z0,
                  double height, const std::vector<WallOpening>& openings, std::uint16_t mat);
     // A closed cylinder from a to b.
-    void addCylinder(const Eigen::Vector3d& a, const Eigen::Vector3d& b, double radius, int segments,
-                     std::uint16_t mat);
+    void addCylinder(const Eigen::Vector3d& a, const Eigen::Vector3d& b, double radius,
+                     int segments, std::uint16_t mat);
     // A straight flight of stairs starting at `start` (bottom of the first riser, centre of its
     // width) climbing along the unit xy direction `dir`.
-    void addStairs(const Eigen::Vector3d& start, const Eigen::Vector2d& dir, double width, int steps,
-                   double rise_m, double run_m, std::uint16_t mat);
+    void addStairs(const Eigen::Vector3d& start, const Eigen::Vector2d& dir, double width,
+                   int steps, double rise_m, double run_m, std::uint16_t mat);
     // A leaf: a small double-sided diamond with normal n.
-    void addLeaf(const Eigen::Vector3d& centre, const Eigen::Vector3d& n, const Eigen::Vector3d& along,
-                 double length, double width, std::uint16_t mat);
+    void addLeaf(const Eigen::Vector3d& centre, const Eigen::Vector3d& n,
+                 const Eigen::Vector3d& along, double length, double width, std::uint16_t mat);
 
 private:
     std::uint32_t vertex(const Eigen::Vector3d& p);

@@ -14,7 +14,8 @@ class Rng {
 public:
     explicit Rng(std::uint64_t seed, std::string_view stream = {}) {
         std::uint64_t x = seed ^ 0x9E3779B97F4A7C15ull;
-        for (char c : stream) x = (x ^ static_cast<unsigned char>(c)) * 0x100000001B3ull;  // FNV-style mix
+        for (char c : stream)
+            x = (x ^ static_cast<unsigned char>(c)) * 0x100000001B3ull;  // FNV-style mix
         for (auto& s : s_) s = splitmix(x);
     }
 

@@ -12,8 +12,8 @@ namespace handscan::sim {
 
 struct ShaftConfig {
     double speed_rev_s = 1.0;
-    double ripple1 = 0.02;   // fraction of the speed, once per revolution
-    double ripple2 = 0.01;   // twice per revolution
+    double ripple1 = 0.02;  // fraction of the speed, once per revolution
+    double ripple2 = 0.01;  // twice per revolution
     double phase1 = 0.7;
     double phase2 = 2.1;
     double theta0 = 0.3;
@@ -27,7 +27,8 @@ public:
                c_.ripple2 / 2.0 * std::sin(2.0 * w_ * t + c_.phase2);
     }
     double speed(double t) const {
-        return w_ * (1.0 + c_.ripple1 * std::cos(w_ * t + c_.phase1) + c_.ripple2 * std::cos(2.0 * w_ * t + c_.phase2));
+        return w_ * (1.0 + c_.ripple1 * std::cos(w_ * t + c_.phase1) +
+                     c_.ripple2 * std::cos(2.0 * w_ * t + c_.phase2));
     }
 
 private:

@@ -37,16 +37,16 @@ struct FaultOptions {
 };
 
 struct SimOptions {
-    std::string scene = "office";        // built-in name or an .obj path
+    std::string scene = "office";  // built-in name or an .obj path
     std::uint64_t seed = 1;
     double duration_s = 60.0;
-    std::string trajectory = "walk";     // walk | aggressive | a TUM file
+    std::string trajectory = "walk";  // walk | aggressive | a TUM file
     bool cameras = true;
     bool colour_camera = true;
     bool dark = false;
     bool motion_blur = false;
-    std::string colour_format;           // "" = MJPEG (see Simulator); YUYV as device.yaml allows
-    int imu_precision = 0;               // 0 float32 (as shipped), 1 fp12.20, 2 fp16.32, 3 float64
+    std::string colour_format;  // "" = MJPEG (see Simulator); YUYV as device.yaml allows
+    int imu_precision = 0;      // 0 float32 (as shipped), 1 fp12.20, 2 fp16.32, 3 float64
     TimeNs host_start_ns = 1000 * kNsPerSec;  // host CLOCK_MONOTONIC at the first sample
     FaultOptions faults;
 };
@@ -85,7 +85,8 @@ struct SimStats {
 
 class Simulator {
 public:
-    Simulator(const SimOptions& options, const DeviceConfig& device, const Calibration& calibration);
+    Simulator(const SimOptions& options, const DeviceConfig& device,
+              const Calibration& calibration);
     ~Simulator();
 
     SimDevices& devices() { return dev_; }

@@ -8,10 +8,18 @@
 
 namespace handscan::sim {
 
-enum class SimChannel : std::uint8_t { kHokuyo, kXsens, kCan, kTrackingCamera, kColourCamera, kGroundTruth, kCount };
+enum class SimChannel : std::uint8_t {
+    kHokuyo,
+    kXsens,
+    kCan,
+    kTrackingCamera,
+    kColourCamera,
+    kGroundTruth,
+    kCount
+};
 
 struct StreamMessage {
-    TimeNs t_host_rx = 0;   // host CLOCK_MONOTONIC receive time
+    TimeNs t_host_rx = 0;  // host CLOCK_MONOTONIC receive time
     SimChannel channel = SimChannel::kHokuyo;
     std::vector<std::uint8_t> bytes;
 };

@@ -20,12 +20,12 @@ struct Scene;
 using Vector6d = Eigen::Matrix<double, 6, 1>;
 
 struct BodyState {
-    double t = 0.0;                                            // seconds since the start
+    double t = 0.0;  // seconds since the start
     Eigen::Isometry3d T_world_body = Eigen::Isometry3d::Identity();
-    Eigen::Vector3d v_world = Eigen::Vector3d::Zero();         // m/s of the {C} origin
-    Eigen::Vector3d a_world = Eigen::Vector3d::Zero();         // m/s^2 of the {C} origin
-    Eigen::Vector3d omega_body = Eigen::Vector3d::Zero();      // rad/s, in {C}
-    Eigen::Vector3d alpha_body = Eigen::Vector3d::Zero();      // rad/s^2, in {C}
+    Eigen::Vector3d v_world = Eigen::Vector3d::Zero();     // m/s of the {C} origin
+    Eigen::Vector3d a_world = Eigen::Vector3d::Zero();     // m/s^2 of the {C} origin
+    Eigen::Vector3d omega_body = Eigen::Vector3d::Zero();  // rad/s, in {C}
+    Eigen::Vector3d alpha_body = Eigen::Vector3d::Zero();  // rad/s^2, in {C}
 };
 
 class Trajectory {
@@ -57,7 +57,7 @@ enum class MotionStyle { kWalk, kAggressive };
 
 struct WalkOptions {
     double duration_s = 60.0;
-    double still_start_s = 3.0;   // operator holds the device still while it initialises
+    double still_start_s = 3.0;  // operator holds the device still while it initialises
     double still_end_s = 2.0;
     double speed_min_mps = 0.5;
     double speed_max_mps = 1.5;
@@ -70,7 +70,7 @@ struct WalkOptions {
 struct WalkPlan {
     Trajectory trajectory;
     int laps = 1;
-    bool closed = true;           // false when the duration is too short to close the loop
+    bool closed = true;  // false when the duration is too short to close the loop
     double cruise_speed_mps = 0.0;
 };
 

@@ -14,26 +14,26 @@
 namespace handscan::sim {
 
 enum class TextureId : std::uint8_t {
-    kPlain = 0,     // nearly uniform paint (few corners: realistic for walls)
-    kPlaster,       // low-contrast multi-octave noise
-    kConcrete,      // mid-contrast noise with speckles
-    kChecker,       // high-contrast checkerboard (calibration board, tiles)
-    kPosters,       // random high-contrast rectangles and blobs (posters, pin boards)
-    kWood,          // stripes with grain (doors, furniture)
-    kBrick,         // brick courses with mortar lines
-    kCarpet,        // fine speckle
-    kFoliage,       // leaves: high-frequency dark/light blobs
-    kGrass,         // ground vegetation
-    kBark,          // vertical streaks
+    kPlain = 0,  // nearly uniform paint (few corners: realistic for walls)
+    kPlaster,    // low-contrast multi-octave noise
+    kConcrete,   // mid-contrast noise with speckles
+    kChecker,    // high-contrast checkerboard (calibration board, tiles)
+    kPosters,    // random high-contrast rectangles and blobs (posters, pin boards)
+    kWood,       // stripes with grain (doors, furniture)
+    kBrick,      // brick courses with mortar lines
+    kCarpet,     // fine speckle
+    kFoliage,    // leaves: high-frequency dark/light blobs
+    kGrass,      // ground vegetation
+    kBark,       // vertical streaks
     kCount
 };
 
 struct Material {
     std::string name;
-    float reflectivity = 0.5f;                  // diffuse reflectance at 905 nm (0 black .. 1 white)
+    float reflectivity = 0.5f;  // diffuse reflectance at 905 nm (0 black .. 1 white)
     std::array<float, 3> colour{0.7f, 0.7f, 0.7f};  // linear RGB albedo for the cameras
     TextureId texture = TextureId::kPlain;
-    float texture_scale_m = 1.0f;               // metres per texture tile
+    float texture_scale_m = 1.0f;  // metres per texture tile
 };
 
 struct World {

@@ -22,7 +22,7 @@ struct XsensStreamConfig {
     int rate_hz = 200;
     int baud = 921600;
     bool delta_q_v = false;
-    int precision = 0;             // 0 float32, 1 fp12.20, 2 fp16.32, 3 float64
+    int precision = 0;  // 0 float32, 1 fp12.20, 2 fp16.32, 3 float64
     std::uint32_t device_id = 0x01A01234;
     double split_probability = 0.25;  // a frame arrives in two read() chunks
 };
@@ -35,7 +35,8 @@ public:
     // Simulation time of sample k (the IMU's clock ticks at rate_hz).
     double sampleTime(std::int64_t k) const;
     // One MTData2 frame for sample k; `drop_byte`: lose one byte on the wire.
-    void sample(std::int64_t k, const ImuMeasurement& m, bool drop_byte, std::vector<StreamMessage>& out);
+    void sample(std::int64_t k, const ImuMeasurement& m, bool drop_byte,
+                std::vector<StreamMessage>& out);
     // SampleTimeFine (10 kHz ticks of the IMU clock) of sample k.
     std::uint32_t sampleTimeFine(std::int64_t k) const;
 

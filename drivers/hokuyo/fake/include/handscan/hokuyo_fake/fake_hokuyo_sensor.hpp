@@ -19,9 +19,9 @@ namespace handscan::hokuyo {
 
 // One scan frame of a source stream.
 struct SourceScanFrame {
-    std::string bytes;        // the frame as it was on the wire
-    ScanRequest request;      // its echo
-    ScanPayload scan;         // its decoded data
+    std::string bytes;    // the frame as it was on the wire
+    ScanRequest request;  // its echo
+    ScanPayload scan;     // its decoded data
 };
 
 // The scan frames (M*/G* frames with data, sums verified) of a raw SCIP byte stream, in order.
@@ -36,14 +36,15 @@ struct FakeHokuyoIdentity {
                     {"PROT", "SCIP 2.0"},
                     {"SERI", "H0000000"}};
     // The real UTM-30LX-EW PP reply (../shared/data/hokuyo).
-    KeyValues pp = {{"MODL", "UTM-30LX-EW"}, {"DMIN", "23"},  {"DMAX", "60000"}, {"ARES", "1440"},
-                    {"AMIN", "0"},           {"AMAX", "1080"}, {"AFRT", "540"},  {"SCAN", "2400"}};
+    KeyValues pp = {{"MODL", "UTM-30LX-EW"}, {"DMIN", "23"},   {"DMAX", "60000"}, {"ARES", "1440"},
+                    {"AMIN", "0"},           {"AMAX", "1080"}, {"AFRT", "540"},   {"SCAN", "2400"}};
     std::string stat = "Sensor works well.";
 };
 
 class FakeHokuyoSensor {
 public:
-    explicit FakeHokuyoSensor(std::vector<SourceScanFrame> source, FakeHokuyoIdentity identity = {});
+    explicit FakeHokuyoSensor(std::vector<SourceScanFrame> source,
+                              FakeHokuyoIdentity identity = {});
 
     // Bytes from the host, split anywhere; commands end in LF, CR or CRLF.
     void onHostBytes(std::string_view bytes);
@@ -74,7 +75,7 @@ private:
     bool laser_on_ = false;
     bool streaming_ = false;
     ScanRequest stream_request_;
-    int remaining_ = 0;      // scans still to send when the request had a count (0 = unlimited)
+    int remaining_ = 0;  // scans still to send when the request had a count (0 = unlimited)
     std::size_t next_ = 0;
     std::size_t last_index_ = 0;
     std::uint32_t time_ms_ = 0;  // TM1 answer when the source is empty

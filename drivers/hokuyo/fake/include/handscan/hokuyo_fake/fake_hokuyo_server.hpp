@@ -25,7 +25,7 @@ struct FakeLinkFault {
 };
 
 struct FakeServerOptions {
-    bool real_pace = false;               // false: as fast as the client reads
+    bool real_pace = false;  // false: as fast as the client reads
     std::vector<FakeLinkFault> faults;
 };
 

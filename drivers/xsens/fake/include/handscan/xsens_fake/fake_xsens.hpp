@@ -20,13 +20,13 @@
 namespace handscan::xsens {
 
 struct FakeXsensConfig {
-    std::uint32_t device_id = 0x01A00E3Fu;         // MTi-20 ids start with 0x01A
+    std::uint32_t device_id = 0x01A00E3Fu;  // MTi-20 ids start with 0x01A
     std::string product_code = "MTi-20-2A5G4";
-    bool streaming_at_start = true;                // a powered MTi streams until told otherwise
-    std::uint16_t first_packet_counter = 65530;    // near the wrap on purpose
+    bool streaming_at_start = true;              // a powered MTi streams until told otherwise
+    std::uint16_t first_packet_counter = 65530;  // near the wrap on purpose
     std::uint32_t first_sample_time_fine = 0xFFFFF000u;  // wraps 2^32 after ~410 ms at 10 kHz
-    std::uint16_t default_rate_hz = 100;           // before any SetOutputConfiguration
-    int ignore_first_goto_configs = 0;             // "busy" device: drops this many GoToConfig
+    std::uint16_t default_rate_hz = 100;                 // before any SetOutputConfiguration
+    int ignore_first_goto_configs = 0;  // "busy" device: drops this many GoToConfig
     // Line rate at power-up. A real MTi-20 ships at 115200; tests start at the driver's 921600
     // unless they exercise baud-rate probing and switching.
     int baudrate = 921600;
@@ -36,17 +36,18 @@ struct FakeXsensConfig {
 };
 
 struct FakeXsensFaults {
-    std::set<std::uint64_t> drop_byte_in_packet;        // packet index -> lose one byte mid-frame
+    std::set<std::uint64_t> drop_byte_in_packet;         // packet index -> lose one byte mid-frame
     std::set<std::uint64_t> corrupt_checksum_in_packet;  // packet index -> flip the checksum
-    std::set<std::uint64_t> error_after_packet;          // packet index -> Error(error_code) after it
-    std::map<std::uint8_t, int> error_replies;           // request MID -> how many times to refuse
+    std::set<std::uint64_t> error_after_packet;  // packet index -> Error(error_code) after it
+    std::map<std::uint8_t, int> error_replies;   // request MID -> how many times to refuse
     ErrorCode error_code = ErrorCode::kInvalidMessage;
 };
 
 // What the fake streamed, packet by packet (the ground truth of a test).
 struct StreamedPacket {
     std::uint64_t index = 0;
-    std::uint32_t epoch = 0;  // measurement period: counts GoToMeasurement acks (0 = since power-up)
+    std::uint32_t epoch =
+        0;  // measurement period: counts GoToMeasurement acks (0 = since power-up)
     std::uint16_t packet_counter = 0;
     std::uint32_t sample_time_fine = 0;
     Eigen::Vector3d accel_mps2 = Eigen::Vector3d::Zero();
@@ -101,7 +102,7 @@ private:
     std::vector<OutputConfigEntry> outputs_;
     std::uint16_t rate_hz_;
     int baud_ = 921600;
-    int pending_baud_ = 0;        // set by SetBaudrate, applied at Reset
+    int pending_baud_ = 0;  // set by SetBaudrate, applied at Reset
     bool switch_after_take_ = false;
     bool measuring_;
     int goto_configs_ignored_ = 0;

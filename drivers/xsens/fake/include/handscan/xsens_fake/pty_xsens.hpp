@@ -89,12 +89,12 @@ private:
     std::atomic<bool> paused_{false};
     std::atomic<std::size_t> pending_bytes_{0};
     // Flow control of the as-fast-as-read mode (guarded by mutex_).
-    bool writes_held_ = false;         // the host is opening (and flushing) its end
-    std::uint64_t host_took_ = 0;      // bytes the host has taken (comparable with bytes_written_)
-    TimeNs device_time_ = 0;           // see updateDeviceClock()
-    TimeNs device_time_anchor_ = 0;    // real time at which device_time_ was last set, when running
+    bool writes_held_ = false;       // the host is opening (and flushing) its end
+    std::uint64_t host_took_ = 0;    // bytes the host has taken (comparable with bytes_written_)
+    TimeNs device_time_ = 0;         // see updateDeviceClock()
+    TimeNs device_time_anchor_ = 0;  // real time at which device_time_ was last set, when running
     bool device_time_runs_ = true;
-    int wake_fd_ = -1;                 // eventfd: the host took bytes, the fake may produce more
+    int wake_fd_ = -1;  // eventfd: the host took bytes, the fake may produce more
     std::thread thread_;
 };
 
