@@ -2,6 +2,7 @@
 
 #include <chrono>
 
+#include "handscan/camera/image_convert.hpp"
 #include "handscan/core/log.hpp"
 #include "handscan/live_output/sweep_points.hpp"
 
@@ -198,7 +199,9 @@ void PipelineWorker::feed(TimeNs horizon, TimeNs deadline) {
     }
     while (!images_.empty() && images_.front().t_host <= horizon) {
         if (colouriser_) {
-            if (Status s = colouriser_->addImage(images_.front()); !s.isOk())
+            // The colouriser takes decoded frames (pipeline/ knows no wire format).
+            Result<Image> bgr = camera::toBgr(images_.front());
+            if (Status s = bgr ? colouriser_->addImage(*bgr) : bgr.status(); !s.isOk())
                 log().warn("colour camera: {}", s.message());
         }
         images_.pop_front();

@@ -57,7 +57,7 @@ Result<Image> colourImage(std::span<const std::uint8_t> bytes) {
     img.stride_bytes = static_cast<int>(rec->header.stride);
     img.exposure_ns = exposure;
     img.data.assign(rec->payload.begin(), rec->payload.end());
-    return img;
+    return camera::toBgr(img);  // the colouriser takes decoded frames
 }
 
 // The replay's decoder counters as the status bar's sensors (nominal rates once data flows).
