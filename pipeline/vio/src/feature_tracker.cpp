@@ -91,7 +91,9 @@ void FeatureTracker::detect(const cv::Mat& grey, TrackerFrameStats& stats) {
     std::vector<Candidate> candidates;
     std::vector<cv::Point2f> accepted;
     for (int cell = 0; cell < cells; ++cell) {
-        const int need = quota - count[static_cast<std::size_t>(cell)];
+        // Tracks drift between cells, so a cell's quota alone could exceed max_features.
+        const int room = config_.max_features - static_cast<int>(features_.size());
+        const int need = std::min(room, quota - count[static_cast<std::size_t>(cell)]);
         if (count[static_cast<std::size_t>(cell)] >= config_.refill_fraction * quota || need <= 0)
             continue;
         const int r = cell / config_.grid_cols;

@@ -69,6 +69,12 @@ Result<VioFrameResult> VisualInertialOdometry::processFrame(
     const TrackerFrameStats stats = tracker_.track(grey);
     out.detected = stats.detected;
     const double focal = camera_.focalLength();
+    // Normalised coordinates of every feature, in the tracker's order (kept through drop()).
+    std::vector<cv::Point2f> px;
+    px.reserve(tracker_.features().size());
+    for (const TrackedFeature& f : tracker_.features()) px.push_back(f.px);
+    std::vector<Eigen::Vector2d> xbar;
+    camera_.undistort(px, xbar);
 
     if (started_) {
         // eq. (10): the IMU prediction from the key-frame, T_l^c = T_{c-1}^c T_l^{c-1}.
@@ -76,10 +82,6 @@ Result<VioFrameResult> VisualInertialOdometry::processFrame(
             imu_prev_cur ? Eigen::Isometry3d(*imu_prev_cur * T_l_prev_) : T_l_prev_;
         std::vector<FeatureConstraint> constraints;
         std::vector<std::uint64_t> ids;
-        std::vector<Eigen::Vector2d> xbar;
-        std::vector<cv::Point2f> px;
-        for (const TrackedFeature& f : tracker_.features()) px.push_back(f.px);
-        camera_.undistort(px, xbar);
         const auto& feats = tracker_.features();
         for (std::size_t i = 0; i < feats.size(); ++i) {
             auto it = tracks_.find(feats[i].id);
@@ -113,7 +115,16 @@ Result<VioFrameResult> VisualInertialOdometry::processFrame(
              : kind == 2 ? out.triangulated
                          : out.without_depth) += 1;
         }
-        tracker_.drop(outliers);
+        if (!outliers.empty()) {
+            // drop() keeps the order of the others: filter xbar alongside.
+            std::size_t kept_xbar = 0;
+            for (std::size_t i = 0; i < feats.size(); ++i) {
+                if (std::find(outliers.begin(), outliers.end(), feats[i].id) == outliers.end())
+                    xbar[kept_xbar++] = xbar[i];
+            }
+            xbar.resize(kept_xbar);
+            tracker_.drop(outliers);
+        }
         out.outliers = static_cast<int>(outliers.size());
         out.rms_px = m.rms_px;
         out.degeneracy = m.degeneracy;
@@ -148,10 +159,6 @@ Result<VioFrameResult> VisualInertialOdometry::processFrame(
 
     // First sightings (for triangulation) in the pose just estimated.
     const auto& feats = tracker_.features();
-    std::vector<cv::Point2f> px(feats.size());
-    for (std::size_t i = 0; i < feats.size(); ++i) px[i] = feats[i].px;
-    std::vector<Eigen::Vector2d> xbar;
-    camera_.undistort(px, xbar);
     for (std::size_t i = 0; i < feats.size(); ++i) {
         if (tracks_.count(feats[i].id) != 0) continue;
         Track tr;
