@@ -70,8 +70,10 @@ const std::set<std::string> kDeviceLayerFiles = {
     "gpio_lines", "gpio_panel", "fake_gpio_chip",
     // hokuyo, xsens: the state machines over a ByteStream; the xsens driver picks serial or USB
     "hokuyo_device", "xsens_device", "xsens_driver",
-    // motor: CANopen master and device over a CanBus, and the CAN bus doubles
-    "canopen_master", "motor_device", "node_emulators", "paced_can_bus", "virtual_can_buses"};
+    // motor: CANopen master and device over a CanBus, the CAN bus doubles, and the device.yaml
+    // section turned into the device's configuration and its emulated bus (motor_setup)
+    "canopen_master", "motor_device", "motor_setup", "node_emulators", "paced_can_bus",
+    "virtual_can_buses"};
 
 IncludeGraph IncludeGraph::fromFiles(const std::map<std::string, std::string>& files) {
     IncludeGraph g;
