@@ -10,8 +10,10 @@
 #include <ctime>
 #include <filesystem>
 #include <memory>
+#include <nlohmann/json.hpp>
 #include <sstream>
 
+#include "handscan/export/e57_reader.hpp"
 #include "handscan/export/voxel_filter.hpp"
 #include "handscan/journal/journal_reader.hpp"
 
@@ -23,13 +25,6 @@ namespace handscan::exporter {
 namespace {
 
 namespace fs = std::filesystem;
-
-// Checked on Debian 12 (bookworm): no package ships an E57 library (libE57Format is not packaged,
-// and Debian's CloudCompare is built without its E57 plugin), so there is no E57 writer and no
-// independent reader to prove one against.
-constexpr const char* kE57Unavailable =
-    "not available: Debian 12 packages no E57 library (libE57Format); export LAS 1.4 or PLY and "
-    "convert";
 
 std::span<const std::uint8_t> asBytes(const std::string& s) {
     return {reinterpret_cast<const std::uint8_t*>(s.data()), s.size()};
@@ -96,8 +91,7 @@ std::string metadataJson(const journal::JournalSummary& js, const ExportReport& 
     os << "],\n    \"bounds_min\": [" << r.bounds.min[0] << ", " << r.bounds.min[1] << ", "
        << r.bounds.min[2] << "], \"bounds_max\": [" << r.bounds.max[0] << ", " << r.bounds.max[1]
        << ", " << r.bounds.max[2] << "],\n";
-    os << "    \"trajectory_poses\": " << js.trajectory.size() << "},\n";
-    os << "  \"formats_unavailable\": {\"e57\": \"" << kE57Unavailable << "\"}\n}\n";
+    os << "    \"trajectory_poses\": " << js.trajectory.size() << "}\n}\n";
     return os.str();
 }
 
@@ -137,6 +131,38 @@ private:
     Status status_;
 };
 
+std::string format_of(const std::string& path) {
+    const std::string ext = fs::path(path).extension().string();
+    return ext.empty() ? ext : ext.substr(1);
+}
+
+// The scan's sensor and trajectory for the E57 Data3D. The journal's metadata may name the
+// device's serial number ("serial"); the rest is what every handscan is.
+E57Options e57Options(const journal::JournalSummary& js, const std::string& scan_name) {
+    E57Options o;
+    o.scan_name = scan_name;
+    o.software_version = HANDSCAN_VERSION;
+    o.trajectory = js.trajectory;
+    const auto meta = nlohmann::json::parse(js.metadata_json, nullptr, false);
+    if (meta.is_object() && meta.contains("serial") && meta["serial"].is_string())
+        o.sensor_serial = meta["serial"].get<std::string>();
+    return o;
+}
+
+// The E57 file as a reader sees it (its pages' CRC-32C were checked on the read-back): the
+// header and XML parse, and the Data3D holds every point.
+Status checkE57(const std::string& path, std::uint64_t count) {
+    auto r = E57Reader::open(path, /*check_pages=*/false);
+    if (!r.isOk()) return Status(r.status().code(), "export: verifying " + r.status().message());
+    const E57File& f = r->file();
+    if (f.scans.size() != 1 || f.scans[0].points.records != count) {
+        return Status(StatusCode::kIoError, "export: verifying " + path +
+                                                ": the XML does not list one scan of " +
+                                                std::to_string(count) + " points");
+    }
+    return Status::ok();
+}
+
 // One point file being written: its safe file and its format's encoder.
 struct CloudFile {
     std::string path;
@@ -165,12 +191,9 @@ Result<ExportReport> exportScan(const std::string& source, const std::string& ta
     };
     std::vector<std::string> formats;  // in the order given, each once
     for (const std::string& f : options.formats) {
-        if (f == "e57")
+        if (f != "ply" && f != "las" && f != "e57") {
             return Status(StatusCode::kInvalidArgument,
-                          std::string("export: E57 is ") + kE57Unavailable);
-        if (f != "ply" && f != "las") {
-            return Status(StatusCode::kInvalidArgument,
-                          "export: unknown format '" + f + "' (expected ply, las)");
+                          "export: unknown format '" + f + "' (expected ply, las, e57)");
         }
         if (std::find(formats.begin(), formats.end(), f) == formats.end()) formats.push_back(f);
     }
@@ -209,7 +232,11 @@ Result<ExportReport> exportScan(const std::string& source, const std::string& ta
 
     // Free space first: refuse before writing anything rather than fail half-way.
     std::uint64_t need = 64 * 1024 + js.trajectory.size() * 200;
-    for (const std::string& f : formats) need += f == "ply" ? plyBytes(count) : lasBytes(count);
+    for (const std::string& f : formats) {
+        need += f == "ply"   ? plyBytes(count)
+                : f == "las" ? lasBytes(count)
+                             : e57Bytes(count, js.trajectory.size());
+    }
     const fs::space_info space = fs::space(out_dir, ec);
     if (!ec && space.available < need) {
         return Status(StatusCode::kNoSpace,
@@ -232,7 +259,9 @@ Result<ExportReport> exportScan(const std::string& source, const std::string& ta
         c.path = (out_dir / ("cloud." + format)).string();
         c.file = std::make_unique<SafeFileWriter>(c.path, options.faults);
         if (Status s = c.file->open(); !s.isOk()) return s;
-        c.writer = format == "ply" ? makePlyWriter(*c.file) : makeLasWriter(*c.file);
+        c.writer = format == "ply"   ? makePlyWriter(*c.file)
+                   : format == "las" ? makeLasWriter(*c.file)
+                                     : makeE57Writer(*c.file, e57Options(js, name));
         if (Status s = c.writer->begin(count); !s.isOk()) return s;
         writing += (clouds.empty() ? " " : ", ") + fs::path(c.path).filename().string();
         clouds.push_back(std::move(c));
@@ -257,6 +286,9 @@ Result<ExportReport> exportScan(const std::string& source, const std::string& ta
                                 static_cast<double>(clouds.size()),
                  "verifying " + fs::path(c.path).filename().string());
         if (Status s = c.writer->end(); !s.isOk()) return s;
+        if (format_of(c.path) == "e57") {
+            if (Status s = checkE57(c.path, count); !s.isOk()) return s;
+        }
         report.bounds = c.writer->bounds();
         report.files.push_back(c.path);
         report.bytes += c.file->bytesWritten();

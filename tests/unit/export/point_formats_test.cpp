@@ -123,23 +123,19 @@ TEST_F(ExportTest, UnknownFormatRejected) {
     const std::string journal = makeJournal(1);
     auto r = exportScan(journal, dir_.string(), {{"ply", "xyz"}, 0.0, "out", {}, {}});
     ASSERT_FALSE(r.isOk());
-    EXPECT_EQ(r.status().message(), "export: unknown format 'xyz' (expected ply, las)");
+    EXPECT_EQ(r.status().message(), "export: unknown format 'xyz' (expected ply, las, e57)");
     EXPECT_FALSE(fs::exists(dir_ / "out" / "cloud.ply"));
 }
 
-TEST_F(ExportTest, E57SaysWhyItIsMissing) {
-    const std::string journal = makeJournal(1);
-    auto r = exportScan(journal, dir_.string(), {{"e57"}, 0.0, "out", {}, {}});
-    ASSERT_FALSE(r.isOk());
-    EXPECT_EQ(r.status().message(),
-              "export: E57 is not available: Debian 12 packages no E57 library (libE57Format); "
-              "export LAS 1.4 or PLY and convert");
-    // ... and every export's scan.json says so too.
-    ASSERT_TRUE(exportScan(journal, dir_.string(), {{"ply"}, 0.0, "out", {}, {}}).isOk());
+TEST_F(ExportTest, ScanJsonListsTheFormatsWritten) {
+    const std::string journal = makeJournal(3);
+    ExportOptions defaults;  // every format
+    defaults.scan_name = "out";
+    ASSERT_TRUE(exportScan(journal, dir_.string(), defaults).isOk());
     const auto json = readFile((dir_ / "out" / "scan.json").string());
-    EXPECT_NE(std::string(json.begin(), json.end())
-                  .find("\"formats_unavailable\": {\"e57\": \"not available: Debian 12"),
-              std::string::npos);
+    const std::string text(json.begin(), json.end());
+    EXPECT_NE(text.find("\"formats\": [\"ply\", \"las\", \"e57\"]"), std::string::npos) << text;
+    EXPECT_EQ(text.find("unavailable"), std::string::npos) << text;
 }
 
 // The UI's and the CLI's progress bar: fractions only grow, from 0 to exactly 1 with "done", and

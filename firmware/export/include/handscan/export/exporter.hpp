@@ -1,4 +1,4 @@
-// Exports a scan from its journal into a directory: colourised point cloud (PLY and/or LAS 1.4),
+// Exports a scan from its journal into a directory: colourised point cloud (PLY, LAS 1.4, E57),
 // trajectory (TUM and CSV) and a JSON with device, calibration, software version and statistics.
 // Every file is written safely (see SafeFileWriter); free space is checked first; progress is
 // reported. `exportToUsb` picks the removable stick, refuses anything else, and ends with a sync
@@ -17,8 +17,8 @@
 namespace handscan::exporter {
 
 struct ExportOptions {
-    std::vector<std::string> formats{"ply", "las"};  // ply | las
-    double voxel_m = 0.0;                            // 0: full resolution
+    std::vector<std::string> formats{"ply", "las", "e57"};  // ply | las | e57
+    double voxel_m = 0.0;                                   // 0: full resolution
     std::string scan_name;  // output sub-folder; default from the journal file
     // fraction in [0, 1] and what is being done
     std::function<void(double fraction, const std::string& stage)> progress;
