@@ -9,10 +9,13 @@
 #include <cstdio>
 #include <ctime>
 #include <filesystem>
+#include <fstream>
+#include <iterator>
 #include <memory>
 #include <nlohmann/json.hpp>
 #include <sstream>
 
+#include "export_report.hpp"
 #include "handscan/export/e57_reader.hpp"
 #include "handscan/export/voxel_filter.hpp"
 #include "handscan/journal/journal_reader.hpp"
@@ -35,6 +38,12 @@ Status writeSmallFile(const std::string& path, const std::string& text, const Wr
     if (Status s = f.open(); !s.isOk()) return s;
     if (Status s = f.write(asBytes(text)); !s.isOk()) return s;
     return f.commit();
+}
+
+// A small text file's content; empty when it is absent or unreadable.
+std::string readText(const fs::path& path) {
+    std::ifstream f(path, std::ios::binary);
+    return f ? std::string(std::istreambuf_iterator<char>(f), {}) : std::string();
 }
 
 std::string trajectoryTum(const std::vector<journal::TrajectoryPose>& poses) {
@@ -98,15 +107,18 @@ std::string metadataJson(const journal::JournalSummary& js, const ExportReport& 
 // The points to export: straight from the journal (streamed) or voxel-filtered.
 class PointSource {
 public:
+    // `observe` sees every journal point once, whether thinned or not.
     PointSource(const journal::JournalReader& reader, double voxel_m,
-                const std::function<void(double)>& progress)
-        : reader_(reader) {
+                const std::function<void(double)>& progress,
+                std::function<void(std::span<const journal::MapPoint>)> observe)
+        : reader_(reader), observe_(std::move(observe)) {
         if (voxel_m > 0.0) {
             VoxelFilter filter(voxel_m);
             const double total =
                 static_cast<double>(std::max<std::uint64_t>(1, reader.summary().points));
             double done = 0.0;
             status_ = reader.forEachPoints([&](std::span<const journal::MapPoint> pts) {
+                observe_(pts);
                 filter.add(pts);
                 done += static_cast<double>(pts.size());
                 progress(done / total);
@@ -117,7 +129,12 @@ public:
     const Status& status() const { return status_; }
     std::uint64_t count() const { return filtered_ ? filtered_->size() : reader_.summary().points; }
     Status forEach(const std::function<void(std::span<const journal::MapPoint>)>& sink) const {
-        if (!filtered_) return reader_.forEachPoints(sink);
+        if (!filtered_) {
+            return reader_.forEachPoints([&](std::span<const journal::MapPoint> pts) {
+                observe_(pts);
+                sink(pts);
+            });
+        }
         constexpr std::size_t kBatch = 1 << 16;
         for (std::size_t i = 0; i < filtered_->size(); i += kBatch) {
             sink(std::span(filtered_->data() + i, std::min(kBatch, filtered_->size() - i)));
@@ -127,11 +144,12 @@ public:
 
 private:
     const journal::JournalReader& reader_;
+    std::function<void(std::span<const journal::MapPoint>)> observe_;
     std::unique_ptr<std::vector<journal::MapPoint>> filtered_;
     Status status_;
 };
 
-std::string format_of(const std::string& path) {
+std::string formatOf(const std::string& path) {
     const std::string ext = fs::path(path).extension().string();
     return ext.empty() ? ext : ext.substr(1);
 }
@@ -225,8 +243,14 @@ Result<ExportReport> exportScan(const std::string& source, const std::string& ta
     const double write_from = options.voxel_m > 0.0 ? 0.3 : 0.0;
     constexpr double kWriteTo = 0.85;
     progress(0.0, options.voxel_m > 0.0 ? "thinning" : "reading journal");
-    PointSource points(*reader, options.voxel_m,
-                       [&](double f) { progress(f * write_from, "thinning"); });
+    std::unique_ptr<ExportReportBuilder> scan_report;  // built while the points stream
+    if (options.report)
+        scan_report = std::make_unique<ExportReportBuilder>(js.points, js.trajectory);
+    PointSource points(
+        *reader, options.voxel_m, [&](double f) { progress(f * write_from, "thinning"); },
+        [&](std::span<const journal::MapPoint> pts) {
+            if (scan_report) scan_report->journalPoints(pts);
+        });
     if (!points.status().isOk()) return points.status();
     const std::uint64_t count = points.count();
 
@@ -273,6 +297,7 @@ Result<ExportReport> exportScan(const std::string& source, const std::string& ta
             for (CloudFile& c : clouds) {
                 if (failure.isOk()) failure = c.writer->write(pts);
             }
+            if (scan_report) scan_report->exportedPoints(pts);
             done += static_cast<double>(pts.size());
             progress(write_from + (kWriteTo - write_from) * done / total, writing);
         });
@@ -286,7 +311,7 @@ Result<ExportReport> exportScan(const std::string& source, const std::string& ta
                                 static_cast<double>(clouds.size()),
                  "verifying " + fs::path(c.path).filename().string());
         if (Status s = c.writer->end(); !s.isOk()) return s;
-        if (format_of(c.path) == "e57") {
+        if (formatOf(c.path) == "e57") {
             if (Status s = checkE57(c.path, count); !s.isOk()) return s;
         }
         report.bounds = c.writer->bounds();
@@ -304,6 +329,18 @@ Result<ExportReport> exportScan(const std::string& source, const std::string& ta
         if (Status s = writeSmallFile(path, text, options.faults); !s.isOk()) return s;
         report.files.push_back(path);
         report.bytes += text.size();
+    }
+    if (scan_report) {
+        progress(0.995, "writing report.html");
+        std::vector<std::string> names;
+        for (const std::string& f : report.files) names.push_back(fs::path(f).filename().string());
+        const std::string html =
+            scan_report->html(js, name, count, options.voxel_m, names,
+                              readText(fs::path(*journal_path).parent_path() / "stats.json"));
+        const std::string path = (out_dir / "report.html").string();
+        if (Status s = writeSmallFile(path, html, options.faults); !s.isOk()) return s;
+        report.files.push_back(path);
+        report.bytes += html.size();
     }
     // Flush the whole filesystem (the stick) so that pulling it now loses nothing.
     if (int fd = ::open(out_dir.c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC); fd >= 0) {

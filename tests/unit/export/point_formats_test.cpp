@@ -98,7 +98,7 @@ TEST_F(ExportTest, TrajectoryAndMetadataFiles) {
     const std::string journal = makeJournal(5);
     auto r = exportScan(journal, dir_.string(), {{"ply", "las"}, 0.0, "out", {}, {}});
     ASSERT_TRUE(r.isOk()) << r.status().message();
-    ASSERT_EQ(r->files.size(), 5u);
+    ASSERT_EQ(r->files.size(), 6u);
     const auto tum = readFile((dir_ / "out" / "trajectory.tum").string());
     EXPECT_EQ(std::string(tum.begin(), tum.end()),
               "0.000000000 0.000000000 0.000000000 0.000000000 0.000000000 0.000000000 0.000000000 "
@@ -171,13 +171,14 @@ TEST_F(ExportTest, ProgressGrowsThroughTheStagesToDone) {
     }
     EXPECT_EQ(stages, (std::vector<std::string>{"reading journal", "writing cloud.ply, cloud.las",
                                                 "verifying cloud.ply", "verifying cloud.las",
-                                                "writing trajectory and metadata", "done"}));
+                                                "writing trajectory and metadata",
+                                                "writing report.html", "done"}));
     // One update per journal chunk while writing.
     EXPECT_EQ(
         std::count_if(seen.begin(), seen.end(),
                       [](const auto& s) { return s.second == "writing cloud.ply, cloud.las"; }),
         3);
-    EXPECT_EQ(r->files.size(), 5u);  // the repeated "ply" is written once
+    EXPECT_EQ(r->files.size(), 6u);  // the repeated "ply" is written once
 
     seen.clear();
     opt.voxel_m = 2.0;

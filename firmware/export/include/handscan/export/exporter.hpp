@@ -1,5 +1,6 @@
 // Exports a scan from its journal into a directory: colourised point cloud (PLY, LAS 1.4, E57),
-// trajectory (TUM and CSV) and a JSON with device, calibration, software version and statistics.
+// trajectory (TUM and CSV), a JSON with device, calibration, software version and statistics, and
+// report.html (handscan::report).
 // Every file is written safely (see SafeFileWriter); free space is checked first; progress is
 // reported. `exportToUsb` picks the removable stick, refuses anything else, and ends with a sync
 // so the caller can say "safe to remove". The CLI, the UI and the GPIO export button all call this.
@@ -23,6 +24,7 @@ struct ExportOptions {
     // fraction in [0, 1] and what is being done
     std::function<void(double fraction, const std::string& stage)> progress;
     WriteFaults faults;  // test hook
+    bool report = true;  // report.html: map views, health over time, loop-closure gap
 };
 
 struct ExportReport {
