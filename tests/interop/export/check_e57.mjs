@@ -91,9 +91,10 @@ for (const want of [`recordCount="${expected.count}"`, '<sensorVendor type="Stri
 }
 if (existsSync(`${dir}/expected.json`) && !xml.includes('<handscan:trajectory type="CompressedVector"')) fail('XML lacks the trajectory extension');
 
-// A flipped byte in a page of points: the crate must refuse the file, not return other points.
+// A flipped byte in a page of points (the middle page: the trajectory comes first, the XML last)
+// must make the crate refuse the file, not return other points.
 const damaged = e57.slice();
-damaged[3 * 1024 + 200] ^= 0x40;
+damaged[Math.floor(pages / 2) * 1024 + 200] ^= 0x40;
 let refused = '';
 try { convertE57(damaged, 'XYZ'); } catch (e) { refused = String(e); }
 if (!refused) fail('a damaged page was read without an error');
