@@ -1,0 +1,112 @@
+#!/usr/bin/env bash
+# The Debian packages as a board gets them (cmake/HandscanPackaging.cmake), checked in steps that
+# CTest runs in order (fixtures, tests/e2e/package/CMakeLists.txt):
+#   build     cpack on the already-built tree (only handscan-package-binaries is brought up to date)
+#   contents  dpkg-deb --contents equals the layout in tests/e2e/package/*.contents; control fields
+#   unpack    dpkg --root=ROOT --unpack (a throwaway dpkg database; no maintainer script runs)
+#   verify    systemd-analyze verify on every installed unit: no output at all, exit 0
+#   security  systemd-analyze security --offline of handscan-pipeline.service: exposure <= 2.0
+# usage: package_test.sh STEP BUILD_DIR SOURCE_DIR
+set -euo pipefail
+step=$1
+build=$(cd "$2" && pwd)
+source=$(cd "$3" && pwd)
+out=$build/package
+root=$out/root
+
+fail() {
+    echo "package_test $step: $*" >&2
+    exit 1
+}
+deb_of() {  # the newest .deb of package $1
+    ls -t "$out"/"$1"_*.deb 2>/dev/null | head -1
+}
+
+case $step in
+build)
+    cmake --build "$build" --target handscan-package-binaries
+    rm -rf "$out" && mkdir -p "$out"
+    start=$(date +%s)
+    cpack --config "$build/CPackConfig.cmake" -B "$out" >"$out/cpack.log" 2>&1 ||
+        { cat "$out/cpack.log"; fail "cpack failed"; }
+    for p in handscan handscan-dev-tools; do
+        [ -n "$(deb_of $p)" ] || { cat "$out/cpack.log"; fail "no ${p}_*.deb in $out"; }
+        echo "$(basename "$(deb_of $p)"): $(du -k "$(deb_of $p)" | cut -f1) KiB"
+    done
+    echo "cpack: $(($(date +%s) - start)) s"
+    ;;
+contents)
+    for p in handscan handscan-dev-tools; do
+        deb=$(deb_of $p)
+        [ -n "$deb" ] || fail "no $p package: run the build step first"
+        # Paths only (dpkg-deb lists "./usr/bin/x -> target" for links), directories dropped.
+        dpkg-deb --contents "$deb" | awk '$1 !~ /^d/ {print $6}' | sed 's|^\./|/|' | sort \
+            >"$out/$p.contents"
+        if ! diff -u "$source/tests/e2e/package/$p.contents" "$out/$p.contents"; then
+            fail "$p: the package's files differ from tests/e2e/package/$p.contents (- expected, + packaged)"
+        fi
+        echo "$p: $(wc -l <"$out/$p.contents") files as laid out"
+    done
+    control=$(dpkg-deb --field "$(deb_of handscan)" Depends)
+    echo "handscan Depends: $control"
+    for dep in libc6 libstdc++6 libyaml-cpp0.7 libsystemd0 libgpiod2 libglfw3 adduser systemd cage xwayland; do
+        grep -q "\b$dep\b" <<<"$control" || fail "handscan: Depends lacks $dep: $control"
+    done
+    grep -q "libembree" <<<"$control" && fail "handscan depends on Embree: the simulator leaked into the device package"
+    dev=$(dpkg-deb --field "$(deb_of handscan-dev-tools)" Depends)
+    grep -q "libembree3" <<<"$dev" || fail "handscan-dev-tools: Depends lacks libembree3: $dev"
+    dpkg-deb --info "$(deb_of handscan)" | grep -q "postinst" || fail "handscan: no postinst"
+    dpkg-deb --ctrl-tarfile "$(deb_of handscan)" | tar -xO ./conffiles | grep -qx /etc/handscan/device.yaml ||
+        fail "handscan: /etc/handscan/device.yaml is not a conffile"
+    ;;
+unpack)
+    rm -rf "$root" && mkdir -p "$root/var/lib/dpkg/info" "$root/var/lib/dpkg/updates"
+    touch "$root/var/lib/dpkg/status" "$root/var/lib/dpkg/available"
+    # --unpack runs no postinst (it would chroot into a root without /bin/sh); --force-depends:
+    # the throwaway root has no libc6 etc. in its database, the binaries use the host's.
+    dpkg --root="$root" --force-depends --force-not-root --unpack "$(deb_of handscan)" \
+        "$(deb_of handscan-dev-tools)" >"$out/dpkg.log" 2>&1 || { cat "$out/dpkg.log"; fail "dpkg --unpack failed"; }
+    dpkg --root="$root" -L handscan | grep -qx /usr/bin/handscan-pipeline || fail "dpkg -L handscan"
+    "$root/usr/bin/handscan" --help >/dev/null || fail "the device's handscan does not run"
+    "$root/usr/bin/handscan" sim --help >/dev/null 2>&1 && fail "the device's handscan has the simulator"
+    "$root/usr/bin/handscan-dev" sim --help >/dev/null || fail "handscan-dev has no simulator"
+    echo "unpacked into $root: $(dpkg --root="$root" -L handscan | wc -l) paths of handscan"
+    ;;
+verify)
+    # A root for the verifier: the unpacked packages, the host's own units (sysinit.target and
+    # friends) and the host's programs the units run, so every ExecStart= is checked for real.
+    vroot=$out/verify-root
+    rm -rf "$vroot" && mkdir -p "$vroot/usr/bin" "$vroot/lib/systemd"
+    cp -a /lib/systemd/system "$vroot/lib/systemd/"
+    cp -a "$root/lib/systemd/system/." "$vroot/lib/systemd/system/"
+    cp -a "$root/usr/bin/." "$vroot/usr/bin/"
+    for prog in cage mount umount mkdir rm systemctl; do
+        p=$(command -v $prog) || fail "$prog is not installed here (tools/install-deps)"
+        cp "$p" "$vroot/usr/bin/"
+    done
+    units=$(cd "$root/lib/systemd/system" && ls)
+    [ -n "$units" ] || fail "no units installed"
+    for unit in $units; do
+        file=$vroot/lib/systemd/system/$unit
+        case $unit in *@.service)  # a template: verify an instance of it
+            file=$vroot/lib/systemd/system/${unit/@./@sdb1.}
+            cp "$vroot/lib/systemd/system/$unit" "$file" ;;
+        esac
+        log=$(systemd-analyze verify --root="$vroot" "$file" 2>&1) || fail "$unit: $log"
+        [ -z "$log" ] || fail "$unit: systemd-analyze verify is not clean: $log"
+        echo "verify $unit: clean"
+    done
+    ;;
+security)
+    unit=$root/lib/systemd/system/handscan-pipeline.service
+    report=$(systemd-analyze security --offline=true --no-pager "$unit" 2>&1) || true
+    echo "$report" | grep -v "^✓" | sed '/^$/d'
+    level=$(sed -n 's/.*Overall exposure level for handscan-pipeline.service: \([0-9.]*\).*/\1/p' <<<"$report")
+    [ -n "$level" ] || fail "no exposure level in: $report"
+    awk -v l="$level" 'BEGIN { exit !(l <= 2.0) }' || fail "exposure $level > 2.0"
+    echo "handscan-pipeline.service exposure: $level (<= 2.0)"
+    ;;
+*)
+    fail "unknown step (build, contents, unpack, verify, security)"
+    ;;
+esac
