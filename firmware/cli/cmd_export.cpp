@@ -1,4 +1,5 @@
 // `handscan export JOURNAL|DIR --to PATH|usb`: the scan onto a stick or into a directory.
+#include <cstdio>
 #include <iostream>
 #include <sstream>
 
@@ -8,6 +9,16 @@
 
 namespace handscan::cli {
 namespace {
+
+// The share of exported points that carry a camera colour, to one decimal.
+std::string colouredPercent(const exporter::ExportReport& r) {
+    if (r.points == 0) return "0";
+    const double pct =
+        100.0 * static_cast<double>(r.coloured_points) / static_cast<double>(r.points);
+    char text[16];
+    std::snprintf(text, sizeof text, "%.1f", pct);
+    return text;
+}
 
 std::vector<std::string> splitComma(const std::string& s) {
     std::vector<std::string> out;
@@ -63,7 +74,8 @@ const RegisterCommand kExport{
             }
             for (const auto& f : report->files) std::cout << f << '\n';
             std::cout << "exported " << report->points << " points (" << report->journal_points
-                      << " in the journal), " << (report->bytes >> 20) << " MiB in "
+                      << " in the journal; " << report->coloured_points << " coloured, "
+                      << colouredPercent(*report) << " %), " << (report->bytes >> 20) << " MiB in "
                       << report->seconds << " s to " << report->directory << '\n';
             if (a->to == "usb") std::cout << "safe to remove the USB stick\n";
             return 0;

@@ -89,7 +89,8 @@ std::string metadataJson(const journal::JournalSummary& js, const ExportReport& 
     os << "  \"journal\": {\"path\": \"" << jsonEscape(js.path) << "\", \"points\": " << js.points
        << ", \"finished\": " << (js.finished ? "true" : "false") << ", \"damage\": \""
        << jsonEscape(js.damage) << "\"},\n";
-    os << "  \"export\": {\"points\": " << r.points << ", \"voxel_m\": " << o.voxel_m
+    os << "  \"export\": {\"points\": " << r.points
+       << ", \"coloured_points\": " << r.coloured_points << ", \"voxel_m\": " << o.voxel_m
        << ", \"formats\": [";
     for (std::size_t i = 0; i < formats.size(); ++i)
         os << (i ? ", " : "") << '"' << formats[i] << '"';
@@ -243,6 +244,9 @@ Result<ExportReport> exportScan(const std::string& source, const std::string& ta
     if (Status s = points.forEach([&](std::span<const journal::MapPoint> pts) {
             for (CloudFile& c : clouds) {
                 if (failure.isOk()) failure = c.writer->write(pts);
+            }
+            for (const journal::MapPoint& p : pts) {
+                if (p.r != 0 || p.g != 0 || p.b != 0) ++report.coloured_points;
             }
             done += static_cast<double>(pts.size());
             progress(write_from + (kWriteTo - write_from) * done / total, writing);

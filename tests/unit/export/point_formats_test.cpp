@@ -44,6 +44,18 @@ TEST_F(ExportTest, PlyHeaderAndRecords) {
     EXPECT_EQ(r->points, 10u);
 }
 
+TEST_F(ExportTest, CountsThePointsTheCameraColoured) {
+    // Colours (i, 2i, 3i) mod 256: points 0, 256 and 512 are black, i.e. never seen by the camera.
+    const std::string journal = makeJournal(600);
+    auto r = exportScan(journal, dir_.string(), {{"ply"}, 0.0, "out", {}, {}});
+    ASSERT_TRUE(r.isOk()) << r.status().message();
+    EXPECT_EQ(r->points, 600u);
+    EXPECT_EQ(r->coloured_points, 597u);
+    const auto json = readFile((dir_ / "out" / "scan.json").string());
+    EXPECT_NE(std::string(json.begin(), json.end()).find("\"coloured_points\": 597"),
+              std::string::npos);
+}
+
 TEST_F(ExportTest, LasHeaderFields) {
     const std::string journal = makeJournal(100);
     auto r = exportScan(journal, dir_.string(), {{"las"}, 0.0, "out", {}, {}});
