@@ -14,12 +14,19 @@ set(HANDSCAN_UDEV_RULES_DIR /lib/udev/rules.d)
 set(HANDSCAN_TMPFILES_DIR /usr/lib/tmpfiles.d)
 set(HANDSCAN_DOC_DIR /usr/share/doc/handscan)
 
-# The device's `handscan`: every subcommand but the development host's (sim, eval, which need
-# Embree and the scenes). With HANDSCAN_WITH_DEV_TOOLS (wt/hygiene) those live in cli/dev/ and
-# the libraries on HANDSCAN_CLI_DEV_LIBS, and the filters below find nothing more to take out.
-file(GLOB _device_cli_sources CONFIGURE_DEPENDS ${CMAKE_SOURCE_DIR}/firmware/cli/cmd_*.cpp
+# The device's `handscan`: every subcommand that needs neither the simulator nor the evaluation
+# (tools/sim, tools/eval: Embree, the scenes), i.e. each cmd_*.cpp that includes no header of
+# theirs. With HANDSCAN_WITH_DEV_TOOLS (wt/hygiene) sim and eval live in cli/dev/ and their
+# libraries on HANDSCAN_CLI_DEV_LIBS, and these filters find nothing more to take out.
+file(GLOB _cli_sources CONFIGURE_DEPENDS ${CMAKE_SOURCE_DIR}/firmware/cli/cmd_*.cpp
      ${CMAKE_SOURCE_DIR}/firmware/cli/decode_*.cpp)
-list(FILTER _device_cli_sources EXCLUDE REGEX "/cmd_(sim|eval)\\.cpp$")
+set(_device_cli_sources)
+foreach(_source IN LISTS _cli_sources)
+  file(STRINGS ${_source} _dev_includes REGEX "#include \"handscan/(sim|eval)/")
+  if(NOT _dev_includes)
+    list(APPEND _device_cli_sources ${_source})
+  endif()
+endforeach()
 get_property(_device_cli_libs GLOBAL PROPERTY HANDSCAN_CLI_LIBS)
 list(REMOVE_ITEM _device_cli_libs handscan::sim handscan::eval)
 add_executable(handscan-device ${CMAKE_SOURCE_DIR}/firmware/cli/main.cpp ${_device_cli_sources})
@@ -52,7 +59,8 @@ install(FILES systemd/handscan.tmpfiles.conf DESTINATION ${HANDSCAN_TMPFILES_DIR
         RENAME handscan.conf COMPONENT runtime)
 install(FILES systemd/handscan-kiosk.pam DESTINATION /etc/pam.d RENAME handscan-kiosk
         COMPONENT runtime)
-install(FILES README.md systemd/README.md DESTINATION ${HANDSCAN_DOC_DIR} COMPONENT runtime)
+install(FILES README.md DESTINATION ${HANDSCAN_DOC_DIR} COMPONENT runtime)
+install(FILES systemd/README.md DESTINATION ${HANDSCAN_DOC_DIR} RENAME units.md COMPONENT runtime)
 install(FILES README.md DESTINATION /usr/share/doc/handscan-dev-tools COMPONENT devtools)
 file(MAKE_DIRECTORY ${CMAKE_BINARY_DIR}/device)
 file(CREATE_LINK ../lib/handscan/dev/handscan ${CMAKE_BINARY_DIR}/device/handscan-dev SYMBOLIC)

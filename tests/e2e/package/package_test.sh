@@ -40,7 +40,7 @@ contents)
         deb=$(deb_of $p)
         [ -n "$deb" ] || fail "no $p package: run the build step first"
         # Paths only (dpkg-deb lists "./usr/bin/x -> target" for links), directories dropped.
-        dpkg-deb --contents "$deb" | awk '$1 !~ /^d/ {print $6}' | sed 's|^\./|/|' | sort \
+        dpkg-deb --contents "$deb" | awk '$1 !~ /^d/ {print $6}' | sed 's|^\./|/|' | LC_ALL=C sort \
             >"$out/$p.contents"
         if ! diff -u "$source/tests/e2e/package/$p.contents" "$out/$p.contents"; then
             fail "$p: the package's files differ from tests/e2e/package/$p.contents (- expected, + packaged)"
@@ -55,9 +55,13 @@ contents)
     grep -q "libembree" <<<"$control" && fail "handscan depends on Embree: the simulator leaked into the device package"
     dev=$(dpkg-deb --field "$(deb_of handscan-dev-tools)" Depends)
     grep -q "libembree3" <<<"$dev" || fail "handscan-dev-tools: Depends lacks libembree3: $dev"
-    dpkg-deb --info "$(deb_of handscan)" | grep -q "postinst" || fail "handscan: no postinst"
-    dpkg-deb --ctrl-tarfile "$(deb_of handscan)" | tar -xO ./conffiles | grep -qx /etc/handscan/device.yaml ||
-        fail "handscan: /etc/handscan/device.yaml is not a conffile"
+    info=$(dpkg-deb --info "$(deb_of handscan)")
+    for script in postinst prerm postrm; do
+        grep -q " $script " <<<"$info" || fail "handscan: no $script in the control archive"
+    done
+    conffiles=$(dpkg-deb --ctrl-tarfile "$(deb_of handscan)" | tar -xO ./conffiles)
+    grep -qx /etc/handscan/device.yaml <<<"$conffiles" ||
+        fail "handscan: /etc/handscan/device.yaml is not a conffile: $conffiles"
     ;;
 unpack)
     rm -rf "$root" && mkdir -p "$root/var/lib/dpkg/info" "$root/var/lib/dpkg/updates"
@@ -66,11 +70,21 @@ unpack)
     # the throwaway root has no libc6 etc. in its database, the binaries use the host's.
     dpkg --root="$root" --force-depends --force-not-root --unpack "$(deb_of handscan)" \
         "$(deb_of handscan-dev-tools)" >"$out/dpkg.log" 2>&1 || { cat "$out/dpkg.log"; fail "dpkg --unpack failed"; }
-    dpkg --root="$root" -L handscan | grep -qx /usr/bin/handscan-pipeline || fail "dpkg -L handscan"
-    "$root/usr/bin/handscan" --help >/dev/null || fail "the device's handscan does not run"
-    "$root/usr/bin/handscan" sim --help >/dev/null 2>&1 && fail "the device's handscan has the simulator"
-    "$root/usr/bin/handscan-dev" sim --help >/dev/null || fail "handscan-dev has no simulator"
-    echo "unpacked into $root: $(dpkg --root="$root" -L handscan | wc -l) paths of handscan"
+    # What `dpkg --configure` does before the postinst: a first install's conffiles take their
+    # names (the postinst itself needs a root that can run programs: see README).
+    for new in $(find "$root/etc" -name '*.dpkg-new'); do mv "$new" "${new%.dpkg-new}"; done
+    paths=$(dpkg --root="$root" -L handscan)
+    grep -qx /usr/bin/handscan-pipeline <<<"$paths" || fail "dpkg -L handscan: $paths"
+    [ -f "$root/etc/handscan/device.yaml" ] || fail "no /etc/handscan/device.yaml in $root"
+    # The subcommands each tool lists: the device's has neither sim nor eval, handscan-dev both.
+    subcommands() { "$1" --help | awk '/^Subcommands:/ {on = 1; next} on && NF {print $1}'; }
+    device=$(subcommands "$root/usr/bin/handscan") || fail "the device's handscan does not run"
+    dev=$(subcommands "$root/usr/bin/handscan-dev") || fail "handscan-dev does not run"
+    grep -qx export <<<"$device" || fail "the device's handscan has no export: $device"
+    grep -qxE "sim|eval" <<<"$device" && fail "the device's handscan has sim or eval: $device"
+    grep -qx sim <<<"$dev" && grep -qx eval <<<"$dev" || fail "handscan-dev lacks sim or eval: $dev"
+    echo "handscan: $(echo $device); handscan-dev: $(echo $dev)"
+    echo "unpacked into $root: $(wc -l <<<"$paths") paths of handscan"
     ;;
 verify)
     # A root for the verifier: the unpacked packages, the host's own units (sysinit.target and
@@ -95,6 +109,23 @@ verify)
         log=$(systemd-analyze verify --root="$vroot" "$file" 2>&1) || fail "$unit: $log"
         [ -z "$log" ] || fail "$unit: systemd-analyze verify is not clean: $log"
         echo "verify $unit: clean"
+    done
+    # systemd-networkd has no verifier: every Section.Key of the .network files must be one that
+    # systemd-networkd parses (its configuration tables are strings in the binary).
+    networkd=/lib/systemd/systemd-networkd
+    [ -x "$networkd" ] || fail "$networkd missing (package systemd)"
+    known=$(strings "$networkd" | grep -E '^[A-Z][A-Za-z0-9]*\.[A-Z][A-Za-z0-9]*$' | sort -u)
+    for file in "$root"/lib/systemd/network/*.network; do
+        section=""
+        while IFS= read -r line; do
+            case $line in
+            \[*\]) section=${line#[}; section=${section%]} ;;
+            [A-Za-z]*=*) key=${line%%=*}
+                [ "$section" = Match ] && continue
+                grep -qx "$section.$key" <<<"$known" || fail "$(basename "$file"): [$section] $key= is not a systemd-networkd setting" ;;
+            esac
+        done <"$file"
+        echo "networkd $(basename "$file"): every key known"
     done
     ;;
 security)
