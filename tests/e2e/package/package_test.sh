@@ -6,6 +6,7 @@
 #   unpack    dpkg --root=ROOT --unpack (a throwaway dpkg database; no maintainer script runs)
 #   verify    systemd-analyze verify on every installed unit: no output at all, exit 0
 #   security  systemd-analyze security --offline of handscan-pipeline.service: exposure <= 2.0
+#   maintscripts  dpkg -i, -r, -P with the maintainer scripts in an overlay root (unshare)
 # usage: package_test.sh STEP BUILD_DIR SOURCE_DIR
 set -euo pipefail
 step=$1
@@ -137,7 +138,55 @@ security)
     awk -v l="$level" 'BEGIN { exit !(l <= 2.0) }' || fail "exposure $level > 2.0"
     echo "handscan-pipeline.service exposure: $level (<= 2.0)"
     ;;
+maintscripts)
+    # `dpkg -i` with the maintainer scripts for real, in a root that can run them: its /usr an
+    # overlay of the host's (programs, libraries) that takes the package's files, its /etc with
+    # copies of the host's account files. The postinst makes the users, the storage (tmpfiles)
+    # and enables the units there; remove and purge undo what they should.
+    command -v unshare >/dev/null || { echo "unshare missing: skipped"; exit 77; }
+    croot=$out/chroot
+    rm -rf "$croot" "$out/usr-upper" "$out/usr-work"
+    mkdir -p "$croot"/{usr,etc,var/lib/dpkg/info,var/lib/dpkg/updates,var/log,run,tmp,dev,proc} \
+        "$out/usr-upper" "$out/usr-work"
+    for l in bin sbin lib lib64; do ln -s usr/$l "$croot/$l"; done
+    for f in passwd group shadow gshadow adduser.conf login.defs nsswitch.conf ld.so.cache \
+        ld.so.conf ld.so.conf.d deluser.conf pam.d pam.conf security; do
+        [ -e /etc/$f ] && cp -a /etc/$f "$croot/etc/"
+    done
+    touch "$croot/var/lib/dpkg/status" "$croot/var/lib/dpkg/available"
+    deb=$(deb_of handscan)
+    unshare --mount --fork bash -euc '
+        mount --make-rprivate /
+        mount -t overlay overlay -o lowerdir=/usr,upperdir="$2/usr-upper",workdir="$2/usr-work" "$1/usr"
+        mount --bind /dev "$1/dev"
+        mount --bind /proc "$1/proc"
+        dpkg --root="$1" --force-depends -i "$3"
+        dpkg --root="$1" -s handscan | grep -qx "Status: install ok installed"
+        ls -l "$1/etc/systemd/system/handscan.target.wants" "$1/etc/systemd/system/multi-user.target.wants"
+        # remove masks the units (their files are gone, the enablement is kept for a
+        # reinstall); purge forgets both, as debhelper-built packages do.
+        dpkg --root="$1" --force-depends -r handscan
+        test "$(readlink "$1/etc/systemd/system/handscan-pipeline.service")" = /dev/null ||
+            { echo "remove did not mask handscan-pipeline.service"; exit 1; }
+        dpkg --root="$1" --force-depends -P handscan
+        if [ -e "$1/etc/systemd/system/handscan.target.wants/handscan-pipeline.service" ] ||
+            [ -L "$1/etc/systemd/system/handscan-pipeline.service" ]; then
+            echo "purge left handscan-pipeline.service enabled or masked"; exit 1
+        fi
+    ' _ "$croot" "$out" "$deb" >"$out/maintscripts.log" 2>&1 ||
+        { cat "$out/maintscripts.log"; fail "dpkg -i/-r/-P with the maintainer scripts failed"; }
+    grep -v "depends on\|is not installed" "$out/maintscripts.log"
+    uid=$(awk -F: '$1 == "handscan" {print $3}' "$croot/etc/passwd")
+    [ -n "$uid" ] || fail "postinst made no handscan user"
+    grep -q "^handscan-ui:" "$croot/etc/passwd" || fail "postinst made no handscan-ui user"
+    grep -Eq "^handscan:[^:]*:[0-9]+:(.*,)?handscan-ui(,|$)" "$croot/etc/group" ||
+        fail "handscan-ui is not in group handscan: $(grep ^handscan: "$croot/etc/group")"
+    [ "$(stat -c %u "$croot/var/lib/handscan/journal")" = "$uid" ] ||
+        fail "/var/lib/handscan/journal is not the handscan user's (tmpfiles)"
+    grep -q "handscan-pipeline.service" "$out/maintscripts.log" || fail "the units were not enabled"
+    echo "maintainer scripts: users handscan ($uid) and handscan-ui, journal dir, units enabled; remove and purge clean"
+    ;;
 *)
-    fail "unknown step (build, contents, unpack, verify, security)"
+    fail "unknown step (build, contents, unpack, verify, security, maintscripts)"
     ;;
 esac
