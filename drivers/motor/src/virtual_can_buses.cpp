@@ -1,5 +1,6 @@
 #include "handscan/motor/virtual_can_buses.hpp"
 
+#include <algorithm>
 #include <fstream>
 
 namespace handscan::motor {
@@ -59,13 +60,27 @@ Status EmulatedCanBus::send(const CanFrame& frame) {
 }
 
 CandumpLogBus::CandumpLogBus(std::unique_ptr<std::istream> in, std::ostream* out, std::string name)
-    : in_(std::move(in)), out_(out), name_(std::move(name)) {}
+    : in_(std::move(in)), out_(out), name_(std::move(name)) {
+    // The log's clock starts at its first frame, so that now() means something before the first
+    // receive() (PacedCanBus anchors the host clock to it).
+    if (fillNext()) {
+        now_ = next_->timeNs();
+        started_ = true;
+        interface_ = next_->interface;
+    }
+}
 
 Result<std::unique_ptr<CandumpLogBus>> CandumpLogBus::openFile(const std::string& path,
                                                                std::ostream* out) {
     auto in = std::make_unique<std::ifstream>(path);
     if (!*in) return Status(StatusCode::kNotFound, path + ": cannot open candump log for reading");
     return std::make_unique<CandumpLogBus>(std::move(in), out, path);
+}
+
+void CandumpLogBus::skipBefore(TimeNs t) {
+    while (fillNext() && next_->timeNs() < t) next_.reset();
+    now_ = std::max(now_, t);
+    started_ = true;
 }
 
 Status CandumpLogBus::setFilters(std::span<const transport::CanFilter> filters) {
