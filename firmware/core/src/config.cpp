@@ -8,6 +8,7 @@
 #include <set>
 #include <sstream>
 
+#include "handscan/core/realtime.hpp"
 #include "handscan/core/se3.hpp"
 
 #ifndef HANDSCAN_SOURCE_CONFIG_DIR
@@ -259,13 +260,23 @@ CameraIntrinsics loadKalibrCamera(const Validator& v, const YAML::Node& n, const
     return cam;
 }
 
+void parseRealtime(const YAML::Node& root, const Validator& v, RealtimeConfig& out) {
+    const YAML::Node n = v.section(root, "", "realtime");
+    if (!n.IsDefined()) return;
+    v.onlyKeys(n, "realtime", {"device_priority", "pipeline_priority", "lock_memory"});
+    v.integer(n, "realtime", "device_priority", out.device_priority, 0, 99);
+    v.integer(n, "realtime", "pipeline_priority", out.pipeline_priority, 0, 99);
+    v.boolean(n, "realtime", "lock_memory", out.lock_memory);
+}
+
 }  // namespace
 
 DeviceConfig loadDeviceConfig(const std::string& path) {
     const YAML::Node root = loadYaml(path);
     const Validator v(path);
     v.onlyKeys(root, "",
-               {"hokuyo", "xsens", "motor", "tracking_camera", "colour_camera", "gpio", "storage"});
+               {"hokuyo", "xsens", "motor", "tracking_camera", "colour_camera", "gpio", "storage",
+                "realtime"});
     DeviceConfig c;
     c.source_file = path;
     if (auto n = v.section(root, "", "hokuyo"); n.IsDefined()) {
@@ -338,7 +349,16 @@ DeviceConfig loadDeviceConfig(const std::string& path) {
         v.text(n, "storage", "recording_dir", c.storage.recording_dir);
         v.number(n, "storage", "min_free_gib", c.storage.min_free_gib, 0.0, 1e6);
     }
+    RealtimeConfig realtime;  // validated with the rest; loadRealtimeConfig() hands it out
+    parseRealtime(root, v, realtime);
     return c;
+}
+
+RealtimeConfig loadRealtimeConfig(const std::string& path) {
+    const YAML::Node root = loadYaml(path);
+    RealtimeConfig realtime;
+    parseRealtime(root, Validator(path), realtime);
+    return realtime;
 }
 
 void loadCamchain(const std::string& path, Calibration& calibration) {
