@@ -75,8 +75,10 @@ live_output::LiveStatus replayStatus(const lio::LaserInertialOdometry& pipeline,
                  replaySensor("encoder", encoder, 200.0f)};
     s.scan_state = finished ? shm::ScanState::kStopped : shm::ScanState::kScanning;
     s.point_count = outputs.registeredPoints();
-    s.message = finished ? "replay finished"
-                         : (pipeline.aligned() ? "replaying" : "hold still: aligning with gravity");
+    s.message = finished                     ? "replay finished"
+                : !pipeline.aligned()        ? "hold still: aligning with gravity"
+                : pipeline.tracking().lost() ? fusion::TrackingMonitor::kLostMessage
+                                             : "replaying";
     return s;
 }
 
@@ -175,7 +177,9 @@ Result<ReplayReport> runReplay(const ReplayOptions& o) {
     auto consume = [&]() -> Status {
         for (PoseEstimate& p : pipeline.takePoses()) {
             if (Status st = outputs.addPose(p); !st.isOk()) return st;
-            if (journal) (void)journal->appendPose(live_output::trajectoryPose(p));
+            // Poses guessed while tracking is lost are not the scan's trajectory.
+            if (journal && !p.tracking_lost)
+                (void)journal->appendPose(live_output::trajectoryPose(p));
             if (live) live->pose(p);
         }
         for (lio::RegisteredSweep& s : pipeline.takeSweeps()) {
@@ -188,6 +192,11 @@ Result<ReplayReport> runReplay(const ReplayOptions& o) {
                     !st.isOk()) {
                     return st;
                 }
+            }
+            // A sweep the tracking monitor kept out of the map is journaled and shown nowhere.
+            if (!s.tracking.enters_map) {
+                if (Status st = outputs.addSweep(s, {}); !st.isOk()) return st;
+                continue;
             }
             std::optional<colour::ColourResult> colours;
             if (colouriser) {
