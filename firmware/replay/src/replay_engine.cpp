@@ -106,10 +106,12 @@ lio::LioConfig lioConfig(const ReplayOptions& o, const DeviceConfig& device) {
 
 Result<ReplayReport> runReplay(const ReplayOptions& o) {
     const std::string config_dir = defaultConfigDir();
-    const DeviceConfig device =
-        loadDeviceConfig(o.device_config.empty() ? config_dir + "/device.yaml" : o.device_config);
     const Calibration calibration =
         loadCalibration(o.calibration.empty() ? config_dir + "/calibration.yaml" : o.calibration);
+    // The latencies calibration.yaml measured (`handscan calibrate`) replace device.yaml's.
+    const DeviceConfig device = withCalibratedLatencies(
+        loadDeviceConfig(o.device_config.empty() ? config_dir + "/device.yaml" : o.device_config),
+        calibration);
 
     auto reader = recording::McapReader::open(o.recording);
     if (!reader.isOk()) return reader.status();
