@@ -378,7 +378,8 @@ Calibration loadCalibration(const std::string& path) {
     const YAML::Node root = loadYaml(path);
     const Validator v(path);
     v.onlyKeys(root, "",
-               {"T_shaft_laser", "T_camera_shaftbase", "encoder_zero_offset_deg", "camchain"});
+               {"T_shaft_laser", "T_camera_shaftbase", "encoder_zero_offset_deg", "time_offsets",
+                "camchain"});
     Calibration c;
     c.source_file = path;
     c.T_shaft_laser = v.pose(root, "", "T_shaft_laser");
@@ -386,6 +387,17 @@ Calibration loadCalibration(const std::string& path) {
     double zero_deg = 0.0;
     v.number(root, "", "encoder_zero_offset_deg", zero_deg, -360.0, 360.0);
     c.encoder_zero_offset_rad = zero_deg * M_PI / 180.0;
+    if (auto n = v.section(root, "", "time_offsets"); n.IsDefined()) {
+        // The same ranges as device.yaml's keys they replace.
+        v.onlyKeys(n, "time_offsets", {"xsens_frame_latency_ms", "motor_tpdo_latency_ms"});
+        for (auto [key, field] : {std::pair{"xsens_frame_latency_ms", &c.xsens_frame_latency_ms},
+                                  {"motor_tpdo_latency_ms", &c.motor_tpdo_latency_ms}}) {
+            if (!n[key].IsDefined()) continue;
+            double ms = 0.0;
+            v.number(n, "time_offsets", key, ms, 0.0, 100.0);
+            *field = ms;
+        }
+    }
     std::string camchain;
     v.text(root, "", "camchain", camchain);
     if (!camchain.empty()) {
@@ -396,6 +408,14 @@ Calibration loadCalibration(const std::string& path) {
         loadCamchain(p.string(), c);
     }
     return c;
+}
+
+DeviceConfig withCalibratedLatencies(DeviceConfig device, const Calibration& calibration) {
+    if (calibration.xsens_frame_latency_ms)
+        device.xsens.frame_latency_ms = *calibration.xsens_frame_latency_ms;
+    if (calibration.motor_tpdo_latency_ms)
+        device.motor.tpdo_latency_ms = *calibration.motor_tpdo_latency_ms;
+    return device;
 }
 
 std::string defaultConfigDir() {
