@@ -72,7 +72,7 @@ struct DeviceRateMeter::Streams {
 
     HokuyoStreamDecoder hokuyo;
     XsensStreamDecoder xsens;
-    EncoderStreamDecoder encoder;
+    motor::EncoderStreamDecoder encoder;
     SampleCount scans, imu, positions, edges;
     CameraStream track, colour;
     std::vector<LaserScan> scan_out;

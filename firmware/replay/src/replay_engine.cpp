@@ -132,7 +132,7 @@ Result<ReplayReport> runReplay(const ReplayOptions& o) {
     lio::LaserInertialOdometry pipeline(lioConfig(o, device), calibration);
     HokuyoStreamDecoder hokuyo(hokuyoTiming(device));
     XsensStreamDecoder xsens(xsensTiming(device));
-    EncoderStreamDecoder encoder(encoderStreamConfig(device));
+    motor::EncoderStreamDecoder encoder(encoderStreamConfig(device));
 
     TiledMapConfig map_config;
     map_config.voxel_m = o.map_voxel_m;

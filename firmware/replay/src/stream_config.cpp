@@ -15,8 +15,8 @@ xsens::ImuFrameTiming xsensTiming(const DeviceConfig& device) {
     return timing;
 }
 
-EncoderStreamConfig encoderStreamConfig(const DeviceConfig& device) {
-    EncoderStreamConfig c;
+motor::EncoderStreamConfig encoderStreamConfig(const DeviceConfig& device) {
+    motor::EncoderStreamConfig c;
     c.node_id = static_cast<std::uint8_t>(device.motor.encoder_node_id);
     c.unwrapper.units_per_revolution =
         static_cast<std::uint32_t>(device.motor.encoder_counts_per_rev);

@@ -7,8 +7,6 @@
 #include <random>
 
 #include "handscan/hokuyo/scip_codec.hpp"
-#include "handscan/motor/candump_format.hpp"
-#include "handscan/motor/canopen.hpp"
 #include "handscan/xsens/mtdata2.hpp"
 
 namespace handscan::replay {
@@ -185,68 +183,6 @@ TEST(XsensStreamDecoder, SampleTimesFreeOfTheFramesLatencyAndWireTime) {
     }
     // USB (baud 0): the fixed latency only.
     EXPECT_EQ(xsens::ImuFrameTiming({2 * kNsPerMs, 0}).delayOf(50), 2 * kNsPerMs);
-}
-
-TEST(EncoderStreamDecoder, CyclicTimerRemovesReceiveJitter) {
-    EncoderStreamConfig cfg;
-    cfg.node_id = 1;
-    cfg.unwrapper.units_per_revolution = 16384;
-    cfg.unwrapper.total_range = 16384;
-    cfg.tpdo_period_ns = 5 * kNsPerMs;
-    EncoderStreamDecoder dec(cfg);
-    // With the minimum latency calibrated (motor.tpdo_latency_ms) the times are the sampling's.
-    EncoderStreamConfig calibrated = cfg;
-    calibrated.tpdo_latency_ns = 200 * kNsPerUs;
-    EncoderStreamDecoder dec_calibrated(calibrated);
-    std::vector<EncoderSample> out_calibrated;
-    std::mt19937 rng(9);
-    std::uniform_real_distribution<double> jitter_ms(0.0,
-                                                     2.0);  // arbitration + USB adapter polling
-    std::vector<EncoderSample> out;
-    std::vector<TimeNs> sent;
-    const double rev_per_s = 1.0;
-    for (int k = 0; k < 4000; ++k) {
-        if (k == 1000) continue;  // a lost frame
-        const TimeNs t_sent = 50 * kNsPerSec + static_cast<TimeNs>(k) * 5 * kNsPerMs;
-        const auto counts =
-            static_cast<std::uint32_t>(std::llround(toSeconds(t_sent) * rev_per_s * 16384)) % 16384;
-        motor::CandumpRecord rec;
-        rec.has_time = true;
-        rec.interface = "can0";
-        rec.frame = motor::encodeEncoderPositionTpdo(1, counts);
-        const TimeNs t_rx = t_sent + static_cast<TimeNs>((0.2 + jitter_ms(rng)) * 1e6);
-        rec.setTimeNs(t_rx);
-        const std::string line = motor::formatCandumpLogLine(rec);
-        dec.feed(t_rx, bytesOf(line), out);
-        dec_calibrated.feed(t_rx, bytesOf(line), out_calibrated);
-        sent.push_back(t_sent);
-    }
-    ASSERT_EQ(out.size(), sent.size()) << dec.counters().last_error;
-    EXPECT_EQ(dec.counters().gaps, 1u);
-    double max_err_ms = 0;
-    std::size_t worst = 0;
-    for (std::size_t i = 500; i < out.size(); ++i) {
-        // The constant 0.2 ms of minimum latency is not observable; the jitter must be gone.
-        const double err = std::abs(toSeconds(out[i].t_host - sent[i]) * 1e3 - 0.2);
-        if (err > max_err_ms) worst = i;
-        max_err_ms = std::max(max_err_ms, err);
-    }
-    SCOPED_TRACE("worst at sample " + std::to_string(worst));
-    EXPECT_LT(max_err_ms, 0.1) << "receive jitter (0-2 ms) left in the encoder times";
-    ASSERT_EQ(out_calibrated.size(), sent.size());
-    for (std::size_t i = 500; i < out_calibrated.size(); ++i) {
-        ASSERT_NEAR(toSeconds(out_calibrated[i].t_host - sent[i]) * 1e3, 0.0, 0.1)
-            << "sample " << i;
-    }
-    EXPECT_NEAR(out.back().speed_radps, 2 * M_PI * rev_per_s, 0.05);
-}
-
-TEST(EncoderStreamDecoder, GarbageLinesAreCountedNotFatal) {
-    EncoderStreamDecoder dec({});
-    std::vector<EncoderSample> out;
-    dec.feed(0, bytesOf("not a candump line\n"), out);
-    EXPECT_TRUE(out.empty());
-    EXPECT_EQ(dec.counters().errors, 1u);
 }
 
 }  // namespace
