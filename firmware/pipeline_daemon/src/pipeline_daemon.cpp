@@ -8,7 +8,7 @@
 #include "handscan/live_output/live_publisher.hpp"
 #include "handscan/pipeline_daemon/command_handler.hpp"
 #include "handscan/pipeline_daemon/export_job.hpp"
-#include "handscan/pipeline_daemon/pipeline_worker.hpp"
+#include "handscan/pipeline_daemon/pipeline_thread.hpp"
 #include "handscan/pipeline_daemon/systemd_notifier.hpp"
 
 namespace handscan::pipeline_daemon {
@@ -16,7 +16,7 @@ namespace handscan::pipeline_daemon {
 struct PipelineDaemon::Parts {
     std::vector<std::unique_ptr<SensorSource>> sources;
     ExportJob exports;
-    std::unique_ptr<PipelineWorker> worker;
+    std::unique_ptr<PipelineThread> worker;
     std::unique_ptr<CommandHandler> commands;
     SystemdNotifier notifier;
     explicit Parts(exporter::SystemPaths usb) : exports(std::move(usb)) {}
@@ -72,7 +72,7 @@ Status PipelineDaemon::open() {
     };
     inputs.export_status = [this] { return parts_->exports.status(); };
     parts_->worker =
-        std::make_unique<PipelineWorker>(device_, calibration_, std::move(*publisher),
+        std::make_unique<PipelineThread>(device_, calibration_, std::move(*publisher),
                                          std::move(session), queues_, std::move(inputs));
     parts_->commands = std::make_unique<CommandHandler>(*parts_->worker, parts_->exports,
                                                         parts_->worker->commands());

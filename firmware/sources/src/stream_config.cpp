@@ -1,6 +1,6 @@
-#include "handscan/replay/stream_decoders.hpp"
+#include "handscan/sources/stream_config.hpp"
 
-namespace handscan::replay {
+namespace handscan::sources {
 
 hokuyo::ScanTimingConfig hokuyoTiming(const DeviceConfig& device) {
     hokuyo::ScanTimingConfig timing;
@@ -27,4 +27,4 @@ motor::EncoderStreamConfig encoderStreamConfig(const DeviceConfig& device) {
     return c;
 }
 
-}  // namespace handscan::replay
+}  // namespace handscan::sources

@@ -1,6 +1,7 @@
 // The recorded-stream decoders give back what the codecs' encode side (what the devices and the
 // simulator send) put in, with host times from the devices' clocks.
-#include "handscan/replay/stream_decoders.hpp"
+#include "handscan/hokuyo/scan_stream_decoder.hpp"
+#include "handscan/xsens/imu_stream_decoder.hpp"
 
 #include <gtest/gtest.h>
 
@@ -9,7 +10,7 @@
 #include "handscan/hokuyo/scip_codec.hpp"
 #include "handscan/xsens/mtdata2.hpp"
 
-namespace handscan::replay {
+namespace handscan::sources {
 namespace {
 
 std::span<const std::uint8_t> bytesOf(const std::string& s) {
@@ -28,7 +29,7 @@ std::string utm30PpReply() {
                                         {"SCAN", "2400"}});
 }
 
-TEST(HokuyoStreamDecoder, ScansFromAStreamSplitAnywhere) {
+TEST(RecordedHokuyoStream, ScansFromAStreamSplitAnywhere) {
     hokuyo::ScanRequest req;  // ME0000108001000
     std::string stream = utm30PpReply() + hokuyo::encodeScanAck(req);
     std::vector<hokuyo::ScanPayload> sent;
@@ -43,7 +44,7 @@ TEST(HokuyoStreamDecoder, ScansFromAStreamSplitAnywhere) {
         sent.push_back(p);
         stream += hokuyo::encodeScanFrame(req, p);
     }
-    HokuyoStreamDecoder dec;
+    hokuyo::ScanStreamDecoder dec;
     std::vector<LaserScan> out;
     std::mt19937 rng(5);
     std::size_t pos = 0;
@@ -73,7 +74,7 @@ TEST(HokuyoStreamDecoder, ScansFromAStreamSplitAnywhere) {
     EXPECT_EQ(c.gaps, 0u);
 }
 
-TEST(HokuyoStreamDecoder, CorruptBlockLosesOnlyThatScanAndCountsTheGap) {
+TEST(RecordedHokuyoStream, CorruptBlockLosesOnlyThatScanAndCountsTheGap) {
     hokuyo::ScanRequest req;
     std::string stream = utm30PpReply();
     for (int k = 0; k < 3; ++k) {
@@ -85,7 +86,7 @@ TEST(HokuyoStreamDecoder, CorruptBlockLosesOnlyThatScanAndCountsTheGap) {
         if (k == 1) frame[frame.size() / 2] ^= 0x01;  // a flipped bit in a data block
         stream += frame;
     }
-    HokuyoStreamDecoder dec;
+    hokuyo::ScanStreamDecoder dec;
     std::vector<LaserScan> out;
     dec.feed(kNsPerSec, bytesOf(stream), out);
     ASSERT_EQ(out.size(), 2u);
@@ -94,12 +95,12 @@ TEST(HokuyoStreamDecoder, CorruptBlockLosesOnlyThatScanAndCountsTheGap) {
     EXPECT_EQ(dec.counters().gaps, 1u);
 }
 
-TEST(HokuyoStreamDecoder, ScanBeforeParametersIsReportedNotGuessed) {
+TEST(RecordedHokuyoStream, ScanBeforeParametersIsReportedNotGuessed) {
     hokuyo::ScanRequest req;
     hokuyo::ScanPayload p;
     p.ranges.assign(1081, 1000);
     p.intensities.assign(1081, 1);
-    HokuyoStreamDecoder dec;
+    hokuyo::ScanStreamDecoder dec;
     std::vector<LaserScan> out;
     dec.feed(0, bytesOf(hokuyo::encodeScanFrame(req, p)), out);
     EXPECT_TRUE(out.empty());
@@ -107,7 +108,7 @@ TEST(HokuyoStreamDecoder, ScanBeforeParametersIsReportedNotGuessed) {
     EXPECT_NE(dec.counters().last_error.find("before the PP reply"), std::string::npos);
 }
 
-TEST(XsensStreamDecoder, SamplesOnTheHostClockWithGapsAndADroppedByte) {
+TEST(RecordedXsensStream, SamplesOnTheHostClockWithGapsAndADroppedByte) {
     std::vector<std::uint8_t> stream;
     std::vector<std::size_t> frame_starts;
     for (std::uint16_t k = 0; k < 400; ++k) {
@@ -124,7 +125,7 @@ TEST(XsensStreamDecoder, SamplesOnTheHostClockWithGapsAndADroppedByte) {
     }
     stream.erase(stream.begin() +
                  static_cast<std::ptrdiff_t>(frame_starts[200] + 10));  // a byte lost on the wire
-    XsensStreamDecoder dec;
+    xsens::ImuStreamDecoder dec;
     std::vector<ImuSample> out;
     // Received in 8-packet bursts 1-3 ms after the sample instants.
     const TimeNs t0 = 100 * kNsPerSec;
@@ -148,9 +149,9 @@ TEST(XsensStreamDecoder, SamplesOnTheHostClockWithGapsAndADroppedByte) {
 // plus its own wire time after the sample, plus jitter. The clock fit follows the lower envelope
 // of the receive times, so without the timing the samples come out 1.5 ms late: at the 370 deg/s
 // of aggressive hand motion that turned every sweep and output pose by 0.5 deg (drift 0.7 %).
-TEST(XsensStreamDecoder, SampleTimesFreeOfTheFramesLatencyAndWireTime) {
+TEST(RecordedXsensStream, SampleTimesFreeOfTheFramesLatencyAndWireTime) {
     const xsens::ImuFrameTiming timing{1 * kNsPerMs, 921600};
-    XsensStreamDecoder timed(timing), untimed;
+    xsens::ImuStreamDecoder timed("Xsens", timing), untimed;
     std::vector<ImuSample> out_timed, out_untimed;
     std::vector<TimeNs> sampled;
     std::mt19937 rng(5);
@@ -186,4 +187,4 @@ TEST(XsensStreamDecoder, SampleTimesFreeOfTheFramesLatencyAndWireTime) {
 }
 
 }  // namespace
-}  // namespace handscan::replay
+}  // namespace handscan::sources
