@@ -59,7 +59,15 @@ Status EmulatedCanBus::send(const CanFrame& frame) {
 }
 
 CandumpLogBus::CandumpLogBus(std::unique_ptr<std::istream> in, std::ostream* out, std::string name)
-    : in_(std::move(in)), out_(out), name_(std::move(name)) {}
+    : in_(std::move(in)), out_(out), name_(std::move(name)) {
+    // The log's clock starts at its first frame, so that now() means something before the first
+    // receive() (PacedCanBus anchors the host clock to it).
+    if (fillNext()) {
+        now_ = next_->timeNs();
+        started_ = true;
+        interface_ = next_->interface;
+    }
+}
 
 Result<std::unique_ptr<CandumpLogBus>> CandumpLogBus::openFile(const std::string& path,
                                                                std::ostream* out) {

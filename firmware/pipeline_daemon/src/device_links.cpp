@@ -1,7 +1,8 @@
 #include "handscan/pipeline_daemon/device_links.hpp"
 
-#include <numbers>
+#include <string_view>
 
+#include "handscan/motor/motor_setup.hpp"
 #include "handscan/motor/paced_can_bus.hpp"
 #include "handscan/motor/virtual_can_buses.hpp"
 #include "handscan/transport/socketcan.hpp"
@@ -10,38 +11,36 @@
 namespace handscan::pipeline_daemon {
 namespace {
 
-constexpr const char* kCandumpPrefix = "candump:";
+constexpr std::string_view kCandumpPrefix = "candump:";
+constexpr std::string_view kCandumpHostClockPrefix = "candump-host-clock:";
+
+// A candump log played at its pace: from its first frame on (`host_clock` false) or at the host
+// CLOCK_MONOTONIC times its lines carry (`host_clock` true).
+Result<CanLink> candumpLink(const std::string& path, bool host_clock) {
+    auto log = motor::CandumpLogBus::openFile(path);
+    if (!log.isOk()) return log.status();
+    struct Replay {
+        std::unique_ptr<motor::CandumpLogBus> log;
+        std::unique_ptr<motor::PacedCanBus> paced;
+    };
+    auto owner = std::make_shared<Replay>();
+    owner->log = std::move(*log);
+    owner->paced = std::make_unique<motor::PacedCanBus>(
+        *owner->log, [l = owner->log.get()] { return l->now(); });
+    if (host_clock) owner->paced->setOffset(0);
+    std::shared_ptr<transport::CanBus> bus(owner, owner->paced.get());
+    return CanLink{bus, [owner] { return owner->paced->now(); }};
+}
 
 // A virtual bus with its emulated nodes, paced to the wall clock; owns everything it uses.
 class EmulatedMotorBus {
 public:
     explicit EmulatedMotorBus(const MotorConfig& c)
-        : encoder_(encoderConfig(c)),
-          drive_(driveConfig(c)),
-          paced_(bus_, [this] { return bus_.now(); }) {
-        bus_.addNode(&encoder_);
-        if (c.drive_node_id > 0) bus_.addNode(&drive_);
-    }
+        : nodes_(c), paced_(nodes_.bus(), [this] { return nodes_.bus().now(); }) {}
     motor::PacedCanBus& paced() { return paced_; }
 
 private:
-    static motor::EncoderEmulatorConfig encoderConfig(const MotorConfig& c) {
-        motor::EncoderEmulatorConfig e;
-        e.node = static_cast<std::uint8_t>(c.encoder_node_id);
-        e.units_per_revolution = static_cast<std::uint32_t>(c.encoder_counts_per_rev);
-        e.total_range = e.units_per_revolution;  // single-turn, as ours
-        e.speed_radps = 2.0 * std::numbers::pi * c.target_speed_rev_s;
-        return e;
-    }
-    static motor::DriveEmulatorConfig driveConfig(const MotorConfig& c) {
-        motor::DriveEmulatorConfig d;
-        d.node = static_cast<std::uint8_t>(c.drive_node_id > 0 ? c.drive_node_id : 2);
-        return d;
-    }
-
-    motor::EmulatedCanBus bus_;
-    motor::Cia406EncoderEmulator encoder_;
-    motor::Cia402DriveEmulator drive_;
+    motor::EmulatedMotorNodes nodes_;
     motor::PacedCanBus paced_;
 };
 
@@ -60,21 +59,11 @@ public:
             std::shared_ptr<transport::CanBus> bus(owner, &owner->paced());
             return CanLink{bus, [owner] { return owner->paced().now(); }};
         }
-        if (c.can_interface.rfind(kCandumpPrefix, 0) == 0) {
-            auto log = motor::CandumpLogBus::openFile(
-                c.can_interface.substr(std::string(kCandumpPrefix).size()));
-            if (!log.isOk()) return log.status();
-            struct Replay {
-                std::unique_ptr<motor::CandumpLogBus> log;
-                std::unique_ptr<motor::PacedCanBus> paced;
-            };
-            auto owner = std::make_shared<Replay>();
-            owner->log = std::move(*log);
-            owner->paced = std::make_unique<motor::PacedCanBus>(
-                *owner->log, [l = owner->log.get()] { return l->now(); });
-            std::shared_ptr<transport::CanBus> bus(owner, owner->paced.get());
-            return CanLink{bus, [owner] { return owner->paced->now(); }};
-        }
+        const std::string_view name = c.can_interface;
+        if (name.starts_with(kCandumpHostClockPrefix))
+            return candumpLink(std::string(name.substr(kCandumpHostClockPrefix.size())), true);
+        if (name.starts_with(kCandumpPrefix))
+            return candumpLink(std::string(name.substr(kCandumpPrefix.size())), false);
         return CanLink{std::make_shared<transport::SocketCanBus>(c.can_interface), monotonicNow};
     }
     std::unique_ptr<transport::V4l2Device> camera(const CameraConfig& c) override {

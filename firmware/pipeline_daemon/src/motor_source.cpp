@@ -4,24 +4,11 @@
 #include <numbers>
 
 #include "handscan/motor/motor_device.hpp"
+#include "handscan/motor/motor_setup.hpp"
 #include "handscan/pipeline_daemon/sensor_sources.hpp"
 
 namespace handscan::pipeline_daemon {
 namespace {
-
-motor::MotorConfig motorConfig(const MotorConfig& c) {
-    motor::MotorConfig m;
-    m.interface = c.can_interface;
-    m.encoder_node = static_cast<std::uint8_t>(c.encoder_node_id);
-    m.unwrap.units_per_revolution = static_cast<std::uint32_t>(c.encoder_counts_per_rev);
-    m.unwrap.total_range = m.unwrap.units_per_revolution;  // single-turn encoder
-    m.cyclic_timer_ms = static_cast<std::uint16_t>(c.tpdo_period_ms);
-    m.tpdo_latency = fromSeconds(c.tpdo_latency_ms * 1e-3);
-    m.heartbeat_timeout = fromSeconds(c.heartbeat_timeout_s);
-    m.drive = motor::DriveConfig{};
-    m.drive->node = static_cast<std::uint8_t>(c.drive_node_id);
-    return m;
-}
 
 class MotorSource final : public SensorSource {
 public:
@@ -42,7 +29,7 @@ private:
         auto link = c_.links.can(config_);
         if (!link.isOk()) return link.status();
         if (Status s = link->bus->open(); !s.isOk()) return s;
-        motor::MotorDevice device(*link->bus, motorConfig(config_), link->now);
+        motor::MotorDevice device(*link->bus, motor::motorDeviceConfig(config_), link->now);
         if (Status s = device.start(); !s.isOk()) return s;
         if (Status s = device.setMotorSpeed(2.0 * std::numbers::pi * config_.target_speed_rev_s);
             !s.isOk()) {

@@ -9,8 +9,6 @@
 #include <numbers>
 #include <thread>
 
-#include "handscan/shm/text_field.hpp"
-
 namespace handscan::pipeline_daemon::test {
 namespace {
 
@@ -112,45 +110,12 @@ void DaemonRig::killHokuyo() {
 
 shm::CommandAck DaemonRig::command(shm::CommandType type, const std::string& argument,
                                    std::vector<shm::CommandState>* seen) {
-    shm::CommandAck last;
-    reader_->poll();
-    auto seq = reader_->sendCommand(type, argument);
-    if (!seq.isOk()) {
-        shm::setText(last.message, seq.status().message());
-        last.state = static_cast<std::uint32_t>(shm::CommandState::kRejected);
-        return last;
-    }
-    const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(20);
-    while (std::chrono::steady_clock::now() < deadline) {
-        reader_->poll();
-        if (auto r = reader_->commandResult(*seq); r.isOk()) {
-            last = *r;
-            const auto s = static_cast<shm::CommandState>(r->state);
-            if (seen && (seen->empty() || seen->back() != s)) seen->push_back(s);
-            if (s != shm::CommandState::kPending && s != shm::CommandState::kAccepted &&
-                s != shm::CommandState::kInProgress)
-                return last;
-        }
-        std::this_thread::sleep_for(std::chrono::milliseconds(5));
-    }
-    shm::setText(last.message, std::string("no final answer to ") + shm::toString(type));
-    return last;
+    return hil::sendCommand(*reader_, type, argument, 20.0, seen);
 }
 
 std::optional<shm::StatusBlock> DaemonRig::waitStatus(
     const std::function<bool(const shm::StatusBlock&)>& pred, double timeout_s) {
-    const auto deadline =
-        std::chrono::steady_clock::now() + std::chrono::duration<double>(timeout_s);
-    std::optional<shm::StatusBlock> last;
-    while (std::chrono::steady_clock::now() < deadline) {
-        reader_->poll();
-        if (auto s = reader_->readStatus()) {
-            last = s;
-            if (pred(*s)) return s;
-        }
-        std::this_thread::sleep_for(std::chrono::milliseconds(20));
-    }
-    return std::nullopt;
+    return hil::waitForStatus(*reader_, pred, timeout_s);
 }
 
 std::vector<fs::path> DaemonRig::scanDirs() const {
@@ -160,18 +125,6 @@ std::vector<fs::path> DaemonRig::scanDirs() const {
     }
     std::sort(out.begin(), out.end());
     return out;
-}
-
-const shm::SensorStatus* findSensor(const shm::StatusBlock& s, const std::string& name) {
-    for (std::uint32_t i = 0; i < s.sensor_count && i < shm::kMaxSensors; ++i) {
-        if (shm::getText(s.sensors[i].name) == name) return &s.sensors[i];
-    }
-    return nullptr;
-}
-
-bool sensorConnected(const shm::StatusBlock& s, const std::string& name) {
-    const shm::SensorStatus* x = findSensor(s, name);
-    return x && x->connected;
 }
 
 }  // namespace handscan::pipeline_daemon::test

@@ -12,6 +12,7 @@
 #include <string>
 #include <thread>
 
+#include "handscan/hil/command_client.hpp"
 #include "handscan/hokuyo_fake/fake_hokuyo_server.hpp"
 #include "handscan/pipeline_daemon/pipeline_daemon.hpp"
 #include "handscan/shm/live_map_reader.hpp"
@@ -89,8 +90,7 @@ private:
     std::thread thread_;
 };
 
-// The status of sensor `name` in a status block, if listed.
-const shm::SensorStatus* findSensor(const shm::StatusBlock& s, const std::string& name);
-bool sensorConnected(const shm::StatusBlock& s, const std::string& name);
+using hil::findSensor;
+using hil::sensorConnected;
 
 }  // namespace handscan::pipeline_daemon::test

@@ -97,7 +97,7 @@ void expectExactly(const std::vector<ImuSample>& samples,
 }
 
 TEST(XsensPtyHil, StreamingDeviceIsConfiguredAndEverySampleArrives) {
-    PtyRig rig({}, {}, PtyXsensOptions{.real_time = false});
+    PtyRig rig({}, {}, PtyXsensOptions{.real_time = false, .recorded_measurement = {}});
     if (!rig.pty) GTEST_SKIP() << rig.skip_reason;
     Status s = rig.device->configure();
     ASSERT_TRUE(s.isOk()) << s.message();
@@ -125,7 +125,7 @@ TEST(XsensPtyHil, StreamingDeviceIsConfiguredAndEverySampleArrives) {
 }
 
 TEST(XsensPtyHil, RealTimeSamplesGetHostTimesFiveMillisecondsApart) {
-    PtyRig rig({}, {}, PtyXsensOptions{.real_time = true});
+    PtyRig rig({}, {}, PtyXsensOptions{.real_time = true, .recorded_measurement = {}});
     if (!rig.pty) GTEST_SKIP() << rig.skip_reason;
     ASSERT_TRUE(rig.device->configure().isOk());
     const auto samples = rig.collect(100, 5 * kNsPerSec);
@@ -151,7 +151,7 @@ TEST(XsensPtyHil, FaultsAreReportedAndCostOnlyTheDamagedPackets) {
     faults.error_after_packet = {300};
     faults.error_code = ErrorCode::kDataOverflow;
     faults.error_replies[0xC0] = 1;  // the first SetOutputConfiguration is refused
-    PtyRig rig(fc, faults, PtyXsensOptions{.real_time = false});
+    PtyRig rig(fc, faults, PtyXsensOptions{.real_time = false, .recorded_measurement = {}});
     if (!rig.pty) GTEST_SKIP() << rig.skip_reason;
     Status s = rig.device->configure();
     ASSERT_TRUE(s.isOk()) << s.message();
@@ -178,7 +178,7 @@ TEST(XsensPtyHil, FaultsAreReportedAndCostOnlyTheDamagedPackets) {
 TEST(XsensPtyHil, FactoryDefaultDeviceAt115200IsFoundAndMovedTo921600) {
     FakeXsensConfig fc;
     fc.baudrate = 115200;  // as shipped
-    PtyRig rig(fc, {}, PtyXsensOptions{.real_time = false});
+    PtyRig rig(fc, {}, PtyXsensOptions{.real_time = false, .recorded_measurement = {}});
     if (!rig.pty) GTEST_SKIP() << rig.skip_reason;
     XsensDeviceConfig dc = rig.deviceConfig();
     dc.reply_timeout = 100 * kNsPerMs;
@@ -195,7 +195,7 @@ TEST(XsensPtyHil, FactoryDefaultDeviceAt115200IsFoundAndMovedTo921600) {
 }
 
 TEST(XsensPtyHil, HangUpMidStreamIsReportedAsADisconnect) {
-    PtyRig rig({}, {}, PtyXsensOptions{.real_time = false});
+    PtyRig rig({}, {}, PtyXsensOptions{.real_time = false, .recorded_measurement = {}});
     if (!rig.pty) GTEST_SKIP() << rig.skip_reason;
     ASSERT_TRUE(rig.device->configure().isOk());
     ASSERT_GE(rig.collect(50).size(), 50u);

@@ -5,7 +5,9 @@
 #include <gtest/gtest.h>
 
 #include <numbers>
+#include <sstream>
 
+#include "handscan/motor/candump_format.hpp"
 #include "handscan/motor/motor_device.hpp"
 #include "handscan/motor/virtual_can_buses.hpp"
 
@@ -50,6 +52,51 @@ TEST(PacedCanBus, EmulatedEncoderStreamsInRealTimeOnTheHostClock) {
     const double rate = (samples.back().angle_rad - samples.front().angle_rad) /
                         toSeconds(samples.back().t_host - samples.front().t_host);
     EXPECT_NEAR(rate, 2.0 * std::numbers::pi, 0.05);
+}
+
+// A candump -l log carries wall-clock epoch seconds: paced, its first frame comes at once and the
+// next ones at their spacing, stamped on the host clock (it used to wait out the epoch seconds).
+TEST(PacedCanBus, CandumpLogPlaysFromItsFirstFrame) {
+    const std::string log =
+        "(1700000000.000000) can0 701#00\n"
+        "(1700000000.050000) can0 181#CE050000\n"
+        "(1700000000.100000) can0 181#20060000\n";
+    CandumpLogBus bus(std::make_unique<std::istringstream>(log), nullptr, "epoch");
+    EXPECT_EQ(bus.now(), 1700000000LL * kNsPerSec);  // the log's clock starts at its first frame
+    PacedCanBus paced(bus, [&] { return bus.now(); });
+    const TimeNs start = monotonicNow();
+    std::vector<TimeNs> got;
+    for (int i = 0; i < 3; ++i) {
+        auto f = paced.receive(kNsPerSec);
+        ASSERT_TRUE(f.isOk()) << f.status().message();
+        got.push_back(f->t_host);
+    }
+    EXPECT_LT(got[0] - start, 20 * kNsPerMs);
+    EXPECT_NEAR(toSeconds(got[2] - got[0]), 0.100, 0.002);
+    EXPECT_GE(monotonicNow() - start, 95 * kNsPerMs);  // paced, not as fast as read
+}
+
+// A log already on the host clock (`handscan hil`): each frame at its own time, late ones at once.
+TEST(PacedCanBus, HostClockLogDeliversEachFrameAtItsTime) {
+    const TimeNs t0 = monotonicNow();
+    const auto line = [](TimeNs t, const char* frame) {
+        CandumpRecord r = *parseCandumpAnyLine(std::string("(0.000000) can0 ") + frame);
+        r.setTimeNs(t);
+        return formatCandumpLogLine(r) + "\n";
+    };
+    const std::string log =
+        line(t0 - 500 * kNsPerMs, "701#00") + line(t0 + 80 * kNsPerMs, "181#CE050000");
+    CandumpLogBus bus(std::make_unique<std::istringstream>(log), nullptr, "host");
+    PacedCanBus paced(bus, [&] { return bus.now(); });
+    paced.setOffset(0);
+    auto late = paced.receive(kNsPerSec);
+    ASSERT_TRUE(late.isOk());
+    EXPECT_LT(monotonicNow() - t0, 20 * kNsPerMs);  // already due: at once
+    EXPECT_EQ(late->t_host, (t0 - 500 * kNsPerMs) / 1000 * 1000);
+    auto due = paced.receive(kNsPerSec);
+    ASSERT_TRUE(due.isOk());
+    EXPECT_GE(monotonicNow(), t0 + 79 * kNsPerMs);
+    EXPECT_EQ(due->t_host, (t0 + 80 * kNsPerMs) / 1000 * 1000);
 }
 
 }  // namespace

@@ -52,12 +52,14 @@ void FakeHokuyoServer::serve() {
     bool have_ts = false;
     std::optional<std::string> frame;  // the next scan frame, waiting for its due time
     std::size_t index = 0;
+    bool stream_restarted = true;  // scheduled frames already due are skipped, not sent late
     auto drop_client = [&] {
         client.reset();
         sensor_.onDisconnect();
         pending_line.clear();
         have_ts = false;
         frame.reset();  // lost with the connection, as on a real link
+        stream_restarted = true;
     };
     while (running_) {
         if (!client) {
@@ -109,7 +111,15 @@ void FakeHokuyoServer::serve() {
             frame = sensor_.nextStreamFrame(&ts);
             if (!frame) continue;
             index = sensor_.lastFrameIndex();
-            if (options_.real_pace) {
+            if (index < options_.schedule.size()) {
+                next_due = options_.schedule[index];
+                if (stream_restarted && next_due < monotonicNow()) {
+                    frame.reset();
+                    if (index >= options_.count_from) ++frames_skipped_;
+                    continue;
+                }
+                stream_restarted = false;
+            } else if (options_.real_pace) {
                 // Keep the recording's spacing (24-bit ms clock; a gap over 1 s is not waited out).
                 const std::uint32_t dt = have_ts ? ((ts - last_ts) & 0xFFFFFFu) : 0;
                 const TimeNs spacing = dt < 1000 ? static_cast<TimeNs>(dt) * kNsPerMs : 0;
@@ -118,7 +128,8 @@ void FakeHokuyoServer::serve() {
                 have_ts = true;
             }
         }
-        if (options_.real_pace && monotonicNow() < next_due) continue;
+        const bool paced = options_.real_pace || !options_.schedule.empty();
+        if (paced && monotonicNow() < next_due) continue;
         bool close_after = false;
         for (const FakeLinkFault& f : options_.faults) {
             if (f.frame_index != index || f.byte_offset >= frame->size()) continue;
@@ -135,7 +146,7 @@ void FakeHokuyoServer::serve() {
                     break;
             }
         }
-        ++frames_sent_;
+        if (index >= options_.count_from) ++frames_sent_;
         const Status w = client->writeAll(bytesOf(*frame), kWriteTimeout);
         frame.reset();
         if (!w || close_after) drop_client();

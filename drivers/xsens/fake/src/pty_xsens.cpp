@@ -182,7 +182,9 @@ void PtyXsens::run() {
             pending.insert(pending.end(), out.begin(), out.end());
             const bool producing = device_.measuring() && !paused_;
             updateDeviceClock(producing && !options_.real_time);
-            if (producing) {
+            if (!options_.recorded_measurement.empty()) {
+                playRecorded(producing, pending);
+            } else if (producing) {
                 const TimeNs t = monotonicNow();
                 const TimeNs period = kNsPerSec / device_.rateHz();
                 if (options_.real_time) {
@@ -230,6 +232,20 @@ void PtyXsens::run() {
                           pending.end() - static_cast<std::ptrdiff_t>(kMaxPending));
         }
         pending_bytes_ = pending.size();
+    }
+}
+
+void PtyXsens::playRecorded(bool measuring, std::vector<std::uint8_t>& pending) {
+    const auto& chunks = options_.recorded_measurement;
+    const TimeNs now = monotonicNow();
+    while (next_recorded_ < chunks.size() && chunks[next_recorded_].t_host_rx <= now) {
+        const RecordedChunk& c = chunks[next_recorded_++];
+        if (measuring) {
+            pending.insert(pending.end(), c.bytes.begin(), c.bytes.end());
+            ++recorded_sent_;
+        } else {
+            ++recorded_lost_;
+        }
     }
 }
 

@@ -19,6 +19,13 @@ public:
 
     // The paced clock (host monotonic once anchored); the MotorDevice's clock.
     TimeNs now() const;
+    // Fixes the anchor instead of taking it at the first receive(): host time = virtual time +
+    // `host_minus_virtual` (0 for a log whose times are host CLOCK_MONOTONIC already, as
+    // `handscan hil` writes them: each frame arrives at its own time, frames already due at once).
+    void setOffset(TimeNs host_minus_virtual) {
+        offset_ = host_minus_virtual;
+        anchored_ = true;
+    }
 
     Status open() override { return inner_.open(); }
     void close() override { inner_.close(); }

@@ -7,6 +7,8 @@
 //   "emulated"        a CiA 406 encoder (and CiA 402 drive) emulated on a virtual bus, spinning
 //                     at motor.target_speed_rev_s, paced to the wall clock (desk demos, tests)
 //   "candump:FILE"    a recorded candump -l log played back at its recorded pace
+//   "candump-host-clock:FILE"  a candump log whose times are host CLOCK_MONOTONIC (written by
+//                     `handscan hil`): each frame arrives at its own time, frames due at once
 #pragma once
 
 #include <functional>

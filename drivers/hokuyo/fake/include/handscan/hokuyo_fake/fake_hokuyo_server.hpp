@@ -26,6 +26,13 @@ struct FakeLinkFault {
 
 struct FakeServerOptions {
     bool real_pace = false;  // false: as fast as the client reads
+    // When set (one entry per source frame): the host CLOCK_MONOTONIC time at which each frame is
+    // sent, e.g. its recorded receive time shifted to now (`handscan hil`). Overrides real_pace.
+    // Frames that fell due while no client streamed are lost, as the sensor does not buffer.
+    std::vector<TimeNs> schedule;
+    // framesSent() and framesSkipped() count source frames from this index on (a pre-roll before
+    // it is not counted).
+    std::size_t count_from = 0;
     std::vector<FakeLinkFault> faults;
 };
 
@@ -44,6 +51,8 @@ public:
 
     std::size_t connections() const { return connections_.load(); }
     std::size_t framesSent() const { return frames_sent_.load(); }  // complete or damaged
+    // Scheduled frames that fell due while no client was streaming (see FakeServerOptions).
+    std::size_t framesSkipped() const { return frames_skipped_.load(); }
     bool sourceExhausted() const { return exhausted_.load(); }
     // Commands received from clients, in order (for tests of the handshake).
     std::vector<std::string> commandLog() const;
@@ -58,6 +67,7 @@ private:
     std::atomic<bool> running_{false};
     std::atomic<std::size_t> connections_{0};
     std::atomic<std::size_t> frames_sent_{0};
+    std::atomic<std::size_t> frames_skipped_{0};
     std::atomic<bool> exhausted_{false};
     mutable std::mutex log_mutex_;
     std::vector<std::string> command_log_;

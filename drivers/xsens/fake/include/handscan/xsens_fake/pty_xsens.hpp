@@ -25,6 +25,7 @@
 #include "handscan/core/time.hpp"
 #include "handscan/transport/byte_stream.hpp"
 #include "handscan/xsens_fake/fake_xsens.hpp"
+#include "handscan/xsens_fake/recorded_byte_stream.hpp"
 
 namespace handscan::xsens {
 
@@ -32,6 +33,11 @@ struct PtyXsensOptions {
     // Pace packets at the output rate; false: as fast as the host reads through a
     // PtyXsensHostStream.
     bool real_time = true;
+    // When not empty: while measuring, the device sends these bytes instead of its synthetic
+    // MTData2 packets, each chunk at its host CLOCK_MONOTONIC time (a recording's bytes after
+    // the GoToMeasurement ack, shifted to now: `handscan hil`). Chunks that fall due while the
+    // device is in config mode are lost, as a measuring MTi's would be. Needs real_time.
+    std::vector<RecordedChunk> recorded_measurement;
 };
 
 // Bytes the fake may have on their way to a PtyXsensHostStream reader in the as-fast-as-read mode:
@@ -64,6 +70,12 @@ public:
     // A copy of what the device streamed so far (thread-safe).
     std::vector<StreamedPacket> streamed();
     std::uint64_t bytesWritten() const { return bytes_written_; }
+    // Recorded chunks (PtyXsensOptions::recorded_measurement) handed out and lost so far.
+    std::size_t recordedChunksSent() const { return recorded_sent_; }
+    std::size_t recordedChunksLost() const { return recorded_lost_; }
+    bool recordingPlayed() const {
+        return recorded_sent_ + recorded_lost_ >= options_.recorded_measurement.size();
+    }
 
     // The time the host should stamp what it receives with (see the header comment); thread-safe.
     TimeNs deviceNow();
@@ -78,6 +90,8 @@ private:
     // Device time: frozen while the fake produces as fast as read (packets advance it), running
     // with the real clock otherwise. Called with mutex_ held.
     void updateDeviceClock(bool producing_fast);
+    // Moves the recorded chunks that fell due into `pending` (measuring) or drops them.
+    void playRecorded(bool measuring, std::vector<std::uint8_t>& pending);
 
     FakeXsens& device_;
     PtyXsensOptions options_;
@@ -86,6 +100,8 @@ private:
     std::mutex mutex_;
     std::atomic<bool> stop_{false};
     std::atomic<std::uint64_t> bytes_written_{0};
+    std::atomic<std::size_t> recorded_sent_{0};
+    std::atomic<std::size_t> recorded_lost_{0};
     std::atomic<bool> paused_{false};
     std::atomic<std::size_t> pending_bytes_{0};
     // Flow control of the as-fast-as-read mode (guarded by mutex_).
@@ -94,7 +110,8 @@ private:
     TimeNs device_time_ = 0;         // see updateDeviceClock()
     TimeNs device_time_anchor_ = 0;  // real time at which device_time_ was last set, when running
     bool device_time_runs_ = true;
-    int wake_fd_ = -1;  // eventfd: the host took bytes, the fake may produce more
+    std::size_t next_recorded_ = 0;  // into options_.recorded_measurement (device thread only)
+    int wake_fd_ = -1;               // eventfd: the host took bytes, the fake may produce more
     std::thread thread_;
 };
 

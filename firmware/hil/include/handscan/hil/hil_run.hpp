@@ -1,0 +1,55 @@
+// `handscan hil REC.mcap --out DIR`: the recording's raw device streams played by fake devices
+// over their real transports (RecordingFakes) into the real handscan-pipeline binary, started as
+// a child process with a generated device.yaml and driven through the shared-memory commands as
+// the UI drives it: start the scan before the recording plays, stop it at the end, export it.
+//
+// Time: the fakes play the recording on the host clock shifted by `time_offset_ns` (host
+// CLOCK_MONOTONIC - recording clock), so the daemon stamps every sample about where the
+// recording had it plus that offset. DIR/trajectory.tum is the daemon's journaled trajectory
+// moved back by the offset, i.e. on the recording's clock like `handscan replay`'s and the
+// simulator's ground truth: `handscan eval --gt REC.gt.tum --est DIR/trajectory.tum` works as
+// for replay. DIR/trajectory.host.tum keeps the daemon's own times; stats.json has the offset.
+//
+// DIR holds: device.yaml, daemon.log, journal/scan-*/journal.hsj (the daemon's journal),
+// export/<scan>/ (the daemon's export: PLY, LAS, trajectory), map.ply (the exported cloud),
+// trajectory.tum, trajectory.host.tum, stats.json (daemon CPU time of all threads and peak RSS,
+// samples dropped, what the fakes played).
+#pragma once
+
+#include <optional>
+#include <string>
+
+#include "handscan/core/status.hpp"
+#include "handscan/hil/recording_fakes.hpp"
+
+namespace handscan::hil {
+
+struct HilOptions {
+    std::string recording;
+    std::string out_dir;
+    std::string daemon;         // handscan-pipeline (default: found next to this program)
+    std::string device_config;  // the recording's device.yaml (default: the config dir's)
+    std::string calibration;    // default: the config dir's calibration.yaml
+    FakesOptions fakes;
+    // kill -9 the daemon this many seconds into the recording, start it again: the journal must
+    // be recovered and the export must contain the scan up to the kill.
+    std::optional<double> kill_at_s;
+    // Seconds the daemon gets to open its devices and start the scan before the recording plays.
+    double startup_s = 4.0;
+};
+
+struct HilReport {
+    std::string journal;  // the scan's journal
+    std::size_t poses = 0;
+    std::uint64_t points = 0;         // in the journal
+    std::uint64_t export_points = 0;  // in the export
+    std::uint64_t samples_dropped = 0;
+    double daemon_user_cpu_s = 0.0, daemon_system_cpu_s = 0.0, daemon_peak_rss_mib = 0.0;
+    double recording_s = 0.0;
+    bool recovered_after_kill = false;
+    std::string summary;  // one line per figure, for the console
+};
+
+[[nodiscard]] Result<HilReport> runHil(const HilOptions& options);
+
+}  // namespace handscan::hil

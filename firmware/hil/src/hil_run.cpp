@@ -1,0 +1,238 @@
+#include "handscan/hil/hil_run.hpp"
+
+#include <signal.h>
+#include <unistd.h>
+
+#include <chrono>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <thread>
+
+#include "handscan/core/config.hpp"
+#include "handscan/hil/command_client.hpp"
+#include "handscan/hil/daemon_process.hpp"
+#include "handscan/hil/device_yaml.hpp"
+#include "handscan/shm/text_field.hpp"
+#include "hil_outputs.hpp"
+
+namespace handscan::hil {
+namespace {
+
+namespace fs = std::filesystem;
+
+// handscan-pipeline next to this program (installed: bin/), or in the build tree's
+// firmware/pipeline_daemon/ beside firmware/cli/.
+std::string defaultDaemon() {
+    std::error_code ec;
+    const fs::path self = fs::read_symlink("/proc/self/exe", ec);
+    for (const fs::path& p :
+         {self.parent_path() / "handscan-pipeline",
+          self.parent_path().parent_path() / "pipeline_daemon" / "handscan-pipeline"}) {
+        if (fs::exists(p, ec)) return p.string();
+    }
+    return "handscan-pipeline";
+}
+
+Result<std::string> readText(const std::string& path) {
+    std::ifstream in(path);
+    if (!in) return Status(StatusCode::kNotFound, path + ": cannot read");
+    std::stringstream ss;
+    ss << in.rdbuf();
+    return ss.str();
+}
+
+// device.yaml with each device's transport at its fake (or at nothing, when left out).
+Result<std::string> hilDeviceYaml(const std::string& source, const RecordingFakes& fakes,
+                                  const fs::path& out) {
+    std::map<std::string, std::string> v;
+    v["hokuyo.host"] = "127.0.0.1";
+    v["hokuyo.port"] = std::to_string(fakes.hokuyoPort() > 0 ? fakes.hokuyoPort() : 1);
+    v["hokuyo.connect_timeout_s"] = "0.5";
+    v["hokuyo.reconnect_max_backoff_s"] = "1.0";
+    v["xsens.transport"] = "serial";
+    v["xsens.serial_path"] =
+        fakes.xsensPath().empty() ? (out / "no-xsens-tty").string() : fakes.xsensPath();
+    v["motor.can_interface"] = fakes.candumpPath().empty()
+                                   ? "candump:" + (out / "no-can-log").string()
+                                   : "candump-host-clock:" + fakes.candumpPath().string();
+    // No camera records are played yet (see the README): the cameras are left out.
+    v["tracking_camera.enabled"] = "false";
+    v["colour_camera.enabled"] = "false";
+    v["gpio.chip"] = "handscan-hil-no-gpio-chip";
+    v["storage.journal_dir"] = (out / "journal").string();
+    v["storage.recording_dir"] = (out / "recordings").string();
+    v["storage.min_free_gib"] = "0.0";
+    return overrideYaml(source, v);
+}
+
+// The laser streams its pre-roll, so its status says connected. The IMU sends nothing before
+// the recording plays, and a sensor without fresh samples is shown lost: its driver's log line
+// says when it finished the handshake.
+bool connected(const shm::StatusBlock& s, const FakesOptions& f, const fs::path& log) {
+    if (f.hokuyo && !sensorConnected(s, "hokuyo")) return false;
+    return !f.xsens || logTail(log, 1 << 20).find("xsens: connected") != std::string::npos;
+}
+
+void sleepUntil(TimeNs t) {
+    const TimeNs left = t - monotonicNow();
+    if (left > 0) std::this_thread::sleep_for(std::chrono::nanoseconds(left));
+}
+
+// One daemon life: its rusage added to the report when it ends.
+struct DaemonRuns {
+    DaemonProcess process;
+    std::vector<ProcessEnd> ends;
+    Status reap(TimeNs timeout, const fs::path& log) {
+        auto end = process.wait(timeout);
+        if (!end) {
+            process.signal(SIGKILL);
+            end = process.wait(5 * kNsPerSec);
+            if (end) ends.push_back(*end);
+            return Status(StatusCode::kTimeout, "handscan-pipeline did not exit within " +
+                                                    std::to_string(timeout / kNsPerSec) +
+                                                    " s; killed. Log:\n" + logTail(log));
+        }
+        ends.push_back(*end);
+        return Status::ok();
+    }
+};
+
+}  // namespace
+
+Result<HilReport> runHil(const HilOptions& o) {
+    auto rec = loadRecordedStreams(o.recording);
+    if (!rec.isOk()) return rec.status();
+    const fs::path out = o.out_dir;
+    std::error_code ec;
+    fs::remove_all(out / "journal", ec);
+    fs::remove_all(out / "export", ec);
+    fs::create_directories(out / "journal", ec);
+    fs::create_directories(out / "export", ec);
+    if (ec) return Status(StatusCode::kIoError, out.string() + ": cannot create: " + ec.message());
+    const std::string config_dir = defaultConfigDir();
+    auto device_text =
+        readText(o.device_config.empty() ? config_dir + "/device.yaml" : o.device_config);
+
+    if (!device_text.isOk()) return device_text.status();
+    const std::string calibration =
+        o.calibration.empty() ? config_dir + "/calibration.yaml" : o.calibration;
+
+    // 1. The fakes, holding the recording back until the daemon had time to come up.
+    const TimeNs play_at = monotonicNow() + fromSeconds(o.startup_s);
+    const TimeNs offset = play_at - rec->start;
+    const std::string device_path =
+        o.device_config.empty() ? config_dir + "/device.yaml" : o.device_config;
+    DeviceConfig device;
+    try {
+        device = loadDeviceConfig(device_path);
+    } catch (const std::exception& e) {
+        return Status(StatusCode::kInvalidArgument, e.what());
+    }
+    FakesOptions fakes_options = o.fakes;
+    fakes_options.hokuyo_preroll_s = o.startup_s + 1.0;
+    std::unique_ptr<RecordingFakes> fakes;
+    try {
+        fakes = std::make_unique<RecordingFakes>(*rec, device.motor, offset, out, fakes_options);
+    } catch (const std::exception& e) {
+        return Status(StatusCode::kIoError, std::string("fake devices: ") + e.what());
+    }
+    auto yaml = hilDeviceYaml(*device_text, *fakes, out);
+    if (!yaml.isOk()) return yaml.status();
+    const fs::path device_yaml = out / "device.yaml";
+    std::ofstream(device_yaml) << *yaml;
+
+    // 2. The daemon, and the UI's end of its shared memory.
+    const std::string shm_name = "/handscan-hil-" + std::to_string(::getpid());
+    const fs::path log = out / "daemon.log";
+    fs::remove(log, ec);
+    const std::vector<std::string> argv{o.daemon.empty() ? defaultDaemon() : o.daemon,
+                                        "--config",
+                                        device_yaml.string(),
+                                        "--calibration",
+                                        calibration,
+                                        "--shm",
+                                        shm_name};
+    DaemonRuns daemon;
+    if (Status s = daemon.process.start(argv, log); !s.isOk()) return s;
+    shm::ReaderOptions ro;
+    ro.name = shm_name;
+    shm::LiveMapReader ui(ro);
+    const auto fail = [&](const std::string& what) -> Status {
+        daemon.process.signal(SIGKILL);
+        (void)daemon.process.wait(5 * kNsPerSec);
+        return Status(StatusCode::kDeviceError,
+                      what + "\ndaemon log (" + log.string() + "):\n" + logTail(log));
+    };
+
+    // 3. Devices open, scan started - before the first recorded byte is due.
+    if (!waitForStatus(
+            ui, [&](const shm::StatusBlock& s) { return connected(s, o.fakes, log); },
+            o.startup_s)) {
+        return fail("the daemon did not open the fake devices within --startup " +
+                    std::to_string(o.startup_s) + " s");
+    }
+    const shm::CommandAck started = sendCommand(ui, shm::CommandType::kStartScan);
+    if (started.state != static_cast<std::uint32_t>(shm::CommandState::kDone))
+        return fail(std::string("start scan: ") + std::string(shm::getText(started.message)));
+    if (monotonicNow() > play_at) {
+        return fail("the scan started " + std::to_string(toSeconds(monotonicNow() - play_at)) +
+                    " s after the recording began to play; raise --startup");
+    }
+
+    // 4. The recording plays; a kill -9 on the way if asked for.
+    HilReport report;
+    report.recording_s = toSeconds(rec->end - rec->start);
+    const TimeNs play_end = rec->end + offset;
+    if (o.kill_at_s) {
+        sleepUntil(play_at + fromSeconds(*o.kill_at_s));
+        daemon.process.signal(SIGKILL);
+        if (Status s = daemon.reap(5 * kNsPerSec, log); !s.isOk()) return s;
+        if (Status s = daemon.process.start(argv, log); !s.isOk()) return s;
+        auto back = waitForStatus(
+            ui,
+            [](const shm::StatusBlock& s) {
+                return s.scan_state == static_cast<std::uint8_t>(shm::ScanState::kStopped);
+            },
+            15.0);
+        if (!back) return fail("after kill -9 the restarted daemon did not take the scan back");
+        report.recovered_after_kill =
+            std::string(shm::getText(back->message)).find("recovered") != std::string::npos;
+    }
+    sleepUntil(play_end + fromSeconds(1.0));  // + the pipeline's ordering window and a sweep
+
+    // 5. Stop, export, shut down.
+    if (!o.kill_at_s) {
+        const shm::CommandAck stopped = sendCommand(ui, shm::CommandType::kStopScan);
+        if (stopped.state != static_cast<std::uint32_t>(shm::CommandState::kDone))
+            return fail(std::string("stop scan: ") + std::string(shm::getText(stopped.message)));
+    }
+    const shm::CommandAck exported =
+        sendCommand(ui, shm::CommandType::kExport, (out / "export").string(), 300.0);
+    if (exported.state != static_cast<std::uint32_t>(shm::CommandState::kDone))
+        return fail(std::string("export: ") + std::string(shm::getText(exported.message)));
+    // "exported N points to DIR"
+    const std::string export_message(shm::getText(exported.message));
+    if (const auto at = export_message.find("exported "); at != std::string::npos)
+        report.export_points = std::strtoull(export_message.c_str() + at + 9, nullptr, 10);
+    daemon.process.signal(SIGTERM);
+    if (Status s = daemon.reap(20 * kNsPerSec, log); !s.isOk()) return s;
+    const ProcessEnd& last = daemon.ends.back();
+    if (!last.exited || last.exit_code != 0) {
+        return Status(StatusCode::kDeviceError, "handscan-pipeline " + last.describe() +
+                                                    " after SIGTERM; log:\n" + logTail(log));
+    }
+    for (const ProcessEnd& e : daemon.ends) {
+        report.daemon_user_cpu_s += e.user_cpu_s;
+        report.daemon_system_cpu_s += e.system_cpu_s;
+        report.daemon_peak_rss_mib = std::max(report.daemon_peak_rss_mib, e.peak_rss_mib);
+    }
+
+    // 6. What replay writes, from the daemon's journal and export.
+    OutputsInputs in{*rec, offset, fakes->counts(), o, log, out};
+    if (Status s = writeHilOutputs(in, report); !s.isOk()) return s;
+    return report;
+}
+
+}  // namespace handscan::hil

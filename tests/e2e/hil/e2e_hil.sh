@@ -1,0 +1,66 @@
+#!/usr/bin/env bash
+# `handscan hil` end to end: a 20 s simulated office walk played by the fake Hokuyo (loopback
+# TCP), the fake MTi (pty) and the CAN log (candump on the host clock) into the real
+# handscan-pipeline, scanned and exported through the shared-memory commands. Checks the
+# trajectory against ground truth, the exported cloud against the scene mesh, no sample dropped,
+# and the faults: the laser's TCP connection dropped, the daemon killed (-9) mid-scan, no IMU.
+# Usage: e2e_hil.sh HANDSCAN_BIN HANDSCAN_PIPELINE_BIN WORK_DIR
+set -euo pipefail
+source "$(dirname "$0")/../e2e_lib.sh"
+e2e_begin e2e_hil "$1" "$3"
+daemon=$2
+
+"$bin" -q sim --scene office --duration 20 --seed 4 --no-camera --out "$work/office.mcap"
+"$bin" -q sim --scene office --export-mesh "$work/office.ply"
+
+# json_number FILE KEY: the first number after "KEY": in a JSON file.
+json_number() { grep -o "\"$2\": [0-9.eE+-]*" "$1" | head -1 | awk '{print $2}'; }
+
+# 1. The recording as recorded: trajectory and map against the truth, nothing dropped.
+"$bin" -q hil "$work/office.mcap" --out "$work/run" --daemon "$daemon"
+for f in trajectory.tum trajectory.host.tum stats.json map.ply daemon.log device.yaml; do
+  [ -s "$work/run/$f" ] || fail "hil wrote no $f"
+done
+ls "$work"/run/journal/scan-*/journal.hsj > /dev/null || fail "no journal"
+"$bin" eval --gt "$work/office.gt.tum" --est "$work/run/trajectory.tum" > "$work/eval.txt"
+cat "$work/eval.txt"
+ate=$(eval_rmse "$work/eval.txt" '^ATE')
+[ -n "$ate" ] || fail "eval printed no ATE rmse"
+at_most "$ate" "${HANDSCAN_E2E_HIL_MAX_ATE:-0.03}" || fail "ATE rmse $ate m above ${HANDSCAN_E2E_HIL_MAX_ATE:-0.03} m"
+"$bin" eval --map "$work/run/map.ply" --mesh "$work/office.ply" --gt "$work/office.gt.tum" \
+  --est "$work/run/trajectory.tum" > "$work/eval_map.txt"
+cat "$work/eval_map.txt"
+median=$(awk '/median/ {for (i = 1; i <= NF; ++i) if ($i == "median") {print $(i + 1); exit}}' "$work/eval_map.txt")
+[ -n "$median" ] || fail "eval printed no map median"
+at_most "$median" 0.03 || fail "exported points median $median m from the true surfaces"
+dropped=$(json_number "$work/run/stats.json" samples_dropped)
+[ "$dropped" = 0 ] || fail "$dropped samples dropped"
+sent=$(json_number "$work/run/stats.json" hokuyo_scans_sent)
+recorded=$(json_number "$work/run/stats.json" hokuyo_scans_recorded)
+[ "$sent" = "$recorded" ] || fail "the fake laser sent $sent of $recorded scans"
+rss=$(json_number "$work/run/stats.json" peak_rss_mib)
+at_most 1 "$rss" || fail "no peak RSS measured"
+
+# 2. The laser's TCP connection dropped at 8 s: the driver reconnects, the scan goes on.
+"$bin" -q hil "$work/office.mcap" --out "$work/disconnect" --daemon "$daemon" --fault-hokuyo-disconnect 8
+connections=$(json_number "$work/disconnect/stats.json" hokuyo_connections)
+at_most 2 "$connections" || fail "the laser was not reconnected ($connections connections)"
+"$bin" eval --gt "$work/office.gt.tum" --est "$work/disconnect/trajectory.tum" > "$work/eval_disconnect.txt"
+ate_d=$(eval_rmse "$work/eval_disconnect.txt" '^ATE')
+at_most "$ate_d" 0.10 || fail "ATE rmse $ate_d m after the reconnect"
+
+# 3. kill -9 at 10 s: the restarted daemon recovers the journal and exports the scan.
+"$bin" -q hil "$work/office.mcap" --out "$work/kill" --daemon "$daemon" --kill-at 10
+grep -q '"recovered_after_kill": true' "$work/kill/stats.json" || fail "journal not recovered after kill -9"
+points=$(json_number "$work/kill/stats.json" points)
+exported=$(grep -A2 '"export"' "$work/kill/stats.json" | grep -o '"points": [0-9]*' | awk '{print $2}')
+at_most 10000 "$exported" || fail "the export after kill -9 holds $exported points"
+[ "$exported" = "$points" ] || fail "exported $exported of the journal's $points points"
+
+# 4. No IMU: the daemon runs on, says the IMU is missing, and journals no made-up motion.
+if "$bin" -q hil "$work/office.mcap" --out "$work/noimu" --daemon "$daemon" --no-xsens > "$work/noimu.txt" 2>&1; then
+  poses=$(json_number "$work/noimu/stats.json" poses)
+  [ "$poses" = 0 ] || fail "$poses poses without an IMU"
+fi
+grep -q "xsens" "$work/noimu/daemon.log" || fail "the daemon log does not mention the missing IMU"
+echo "e2e_hil: ok (ATE rmse $ate m, map median $median m, after reconnect $ate_d m, $exported points exported after kill -9)"
