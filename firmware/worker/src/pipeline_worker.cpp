@@ -44,8 +44,7 @@ Status PipelineWorker::run(TimeNs horizon, TimeNs deadline) {
     for (std::uint64_t n = 1;; ++n) {
         if ((n % 64) == 0 && deadline != std::numeric_limits<TimeNs>::max() &&
             monotonicNow() > deadline) {
-            log().warn("pipeline: {} samples not processed before the deadline (shutdown)",
-                       merger_.size());
+            log().warn("pipeline: {} samples not processed before shutdown", merger_.size());
             merger_.clear();
             return Status::ok();
         }
