@@ -1,5 +1,6 @@
 #include "handscan/motor/virtual_can_buses.hpp"
 
+#include <algorithm>
 #include <fstream>
 
 namespace handscan::motor {
@@ -74,6 +75,12 @@ Result<std::unique_ptr<CandumpLogBus>> CandumpLogBus::openFile(const std::string
     auto in = std::make_unique<std::ifstream>(path);
     if (!*in) return Status(StatusCode::kNotFound, path + ": cannot open candump log for reading");
     return std::make_unique<CandumpLogBus>(std::move(in), out, path);
+}
+
+void CandumpLogBus::skipBefore(TimeNs t) {
+    while (fillNext() && next_->timeNs() < t) next_.reset();
+    now_ = std::max(now_, t);
+    started_ = true;
 }
 
 Status CandumpLogBus::setFilters(std::span<const transport::CanFilter> filters) {

@@ -27,7 +27,12 @@ Result<CanLink> candumpLink(const std::string& path, bool host_clock) {
     owner->log = std::move(*log);
     owner->paced = std::make_unique<motor::PacedCanBus>(
         *owner->log, [l = owner->log.get()] { return l->now(); });
-    if (host_clock) owner->paced->setOffset(0);
+    if (host_clock) {
+        // A frame is received when it is sent: those logged before this (re)connection are gone,
+        // as on a bus (a restart after the end of the log plays nothing again).
+        owner->log->skipBefore(monotonicNow() - 100 * kNsPerMs);
+        owner->paced->setOffset(0);
+    }
     std::shared_ptr<transport::CanBus> bus(owner, owner->paced.get());
     return CanLink{bus, [owner] { return owner->paced->now(); }};
 }

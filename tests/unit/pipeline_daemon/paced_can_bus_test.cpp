@@ -97,6 +97,11 @@ TEST(PacedCanBus, HostClockLogDeliversEachFrameAtItsTime) {
     ASSERT_TRUE(due.isOk());
     EXPECT_GE(monotonicNow(), t0 + 79 * kNsPerMs);
     EXPECT_EQ(due->t_host, (t0 + 80 * kNsPerMs) / 1000 * 1000);
+
+    // Opened again (the daemon retries after the end of the log): what was sent is gone.
+    CandumpLogBus again(std::make_unique<std::istringstream>(log), nullptr, "host");
+    again.skipBefore(monotonicNow());
+    EXPECT_FALSE(again.receive(kNsPerSec).isOk());
 }
 
 }  // namespace

@@ -63,6 +63,9 @@ public:
                                                            std::ostream* out = nullptr);
 
     TimeNs now() const { return now_; }
+    // Drops the frames logged before `t` (frames sent while nobody listened are gone, as on a
+    // bus); the clock moves to `t` at least.
+    void skipBefore(TimeNs t);
     std::uint64_t badLines() const { return bad_lines_; }
     const std::string& lastError() const { return last_error_; }
 
