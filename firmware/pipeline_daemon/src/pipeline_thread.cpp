@@ -3,6 +3,7 @@
 #include <chrono>
 
 #include "handscan/core/log.hpp"
+#include "handscan/core/realtime.hpp"
 #include "handscan/live_output/sweep_points.hpp"
 
 namespace handscan::pipeline_daemon {
@@ -30,11 +31,13 @@ public:
         : publisher_(publisher), session_(session) {}
     Status pose(const PoseEstimate& p) override {
         publisher_.pose(p);
-        session_.appendPose(live_output::trajectoryPose(p));
+        // Poses guessed while tracking is lost are not the scan's trajectory.
+        if (!p.tracking_lost) session_.appendPose(live_output::trajectoryPose(p));
         return Status::ok();
     }
     bool wantsSweeps() const override { return session_.scanning(); }
     Status sweep(const lio::RegisteredSweep& s, std::span<const journal::MapPoint> pts) override {
+        if (!s.tracking.enters_map) return Status::ok();  // kept out of the map: nothing to add
         session_.appendPoints(pts);
         publisher_.sweep(s, pts);
         return Status::ok();
@@ -64,9 +67,12 @@ PipelineThread::PipelineThread(const DeviceConfig& device, const Calibration& ca
 
 PipelineThread::~PipelineThread() { stop(); }
 
-void PipelineThread::start() {
+void PipelineThread::start(int fifo_priority) {
     last_loop_.store(monotonicNow(), std::memory_order_release);
-    thread_ = std::thread([this] { run(); });
+    thread_ = std::thread([this, fifo_priority] {
+        (void)enterRealtimeThread("hs-pipeline", fifo_priority);  // warns once if denied
+        run();
+    });
 }
 
 void PipelineThread::stop() {
@@ -202,6 +208,8 @@ void PipelineThread::publishStatus() {
         s.message = session_->problem();
     } else if (!worker_->lio().aligned()) {
         s.message = "hold still: aligning with gravity";
+    } else if (worker_->lio().tracking().lost()) {
+        s.message = fusion::TrackingMonitor::kLostMessage;
     } else if (session_->scanning()) {
         s.message = "scanning";
     } else if (session_->state() == shm::ScanState::kStopped) {

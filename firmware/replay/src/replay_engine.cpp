@@ -61,7 +61,9 @@ public:
 
     Status pose(const PoseEstimate& p) override {
         if (Status st = outputs_.addPose(p); !st.isOk()) return st;
-        if (journal_) (void)journal_->appendPose(live_output::trajectoryPose(p));
+        // Poses guessed while tracking is lost are not the scan's trajectory.
+        if (journal_ && !p.tracking_lost)
+            (void)journal_->appendPose(live_output::trajectoryPose(p));
         if (live_) live_->pose(p);
         return Status::ok();
     }
@@ -76,6 +78,8 @@ public:
                 return st;
             }
         }
+        // A sweep the tracking monitor kept out of the map is journaled and shown nowhere.
+        if (!s.tracking.enters_map) return outputs_.addSweep(s, {});
         if (Status st = outputs_.addSweep(s, pts); !st.isOk()) return st;
         if (journal_) {
             if (Status st = journal_->appendPoints(pts); !st.isOk()) return st;
@@ -101,8 +105,10 @@ live_output::LiveStatus replayStatus(const lio::LaserInertialOdometry& pipeline,
                  replaySensor("encoder", source.encoder(), 200.0f)};
     s.scan_state = finished ? shm::ScanState::kStopped : shm::ScanState::kScanning;
     s.point_count = outputs.registeredPoints();
-    s.message = finished ? "replay finished"
-                         : (pipeline.aligned() ? "replaying" : "hold still: aligning with gravity");
+    s.message = finished                     ? "replay finished"
+                : !pipeline.aligned()        ? "hold still: aligning with gravity"
+                : pipeline.tracking().lost() ? fusion::TrackingMonitor::kLostMessage
+                                             : "replaying";
     return s;
 }
 
@@ -110,10 +116,12 @@ live_output::LiveStatus replayStatus(const lio::LaserInertialOdometry& pipeline,
 
 Result<ReplayReport> runReplay(const ReplayOptions& o) {
     const std::string config_dir = defaultConfigDir();
-    const DeviceConfig device =
-        loadDeviceConfig(o.device_config.empty() ? config_dir + "/device.yaml" : o.device_config);
     const Calibration calibration =
         loadCalibration(o.calibration.empty() ? config_dir + "/calibration.yaml" : o.calibration);
+    // The latencies calibration.yaml measured (`handscan calibrate`) replace device.yaml's.
+    const DeviceConfig device = withCalibratedLatencies(
+        loadDeviceConfig(o.device_config.empty() ? config_dir + "/device.yaml" : o.device_config),
+        calibration);
 
     CallTimer timer;
     sources::RecordedSourceOptions source_options;

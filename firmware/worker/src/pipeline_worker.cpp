@@ -79,6 +79,12 @@ Status PipelineWorker::consume() {
     for (const lio::RegisteredSweep& s : lio_->takeSweeps()) {
         if (timer_ != nullptr) timer_->add("scan_matching", s.result.total_ms * 1e3);
         if (!sink_.wantsSweeps()) continue;  // between scans the map does not grow
+        // A sweep the tracking monitor kept out of the map reaches the sink with no points:
+        // the sink counts it, but nothing of it is coloured, journaled or shown.
+        if (!s.tracking.enters_map) {
+            if (Status st = sink_.sweep(s, {}); !st.isOk()) return st;
+            continue;
+        }
         std::optional<colour::ColourResult> colours;
         if (colouriser_ && colouriser_->imageCount() > 0) {
             const colour::PoseAtFn pose_at = [&](TimeNs t) {

@@ -41,7 +41,8 @@ public:
     PipelineThread(const PipelineThread&) = delete;
     PipelineThread& operator=(const PipelineThread&) = delete;
 
-    void start();
+    // Starts the pipeline thread, SCHED_FIFO at `fifo_priority` when permitted (0: normal).
+    void start(int fifo_priority = 0);
     void stop();
     // Runs `control` on the pipeline thread; the operator's message or why it was refused.
     Result<std::string> control(ScanControl control, TimeNs timeout = 5 * kNsPerSec);
