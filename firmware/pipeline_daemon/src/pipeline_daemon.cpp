@@ -41,10 +41,12 @@ Status PipelineDaemon::open() {
         options_.device_config.empty() ? config_dir + "/device.yaml" : options_.device_config;
     RealtimeConfig realtime;
     try {
-        device_ = loadDeviceConfig(device_yaml);
-        realtime = loadRealtimeConfig(device_yaml);
         calibration_ = loadCalibration(
             options_.calibration.empty() ? config_dir + "/calibration.yaml" : options_.calibration);
+        // The latencies calibration.yaml measured (`handscan calibrate`) replace device.yaml's,
+        // as in replay.
+        device_ = withCalibratedLatencies(loadDeviceConfig(device_yaml), calibration_);
+        realtime = loadRealtimeConfig(device_yaml);
     } catch (const std::exception& e) {  // ConfigError: file, line, key, expected and found
         return Status(StatusCode::kInvalidArgument, e.what());
     }
