@@ -18,8 +18,10 @@ set(HANDSCAN_DOC_DIR /usr/share/doc/handscan)
 # (tools/sim, tools/eval: Embree, the scenes), i.e. each cmd_*.cpp that includes no header of
 # theirs. With HANDSCAN_WITH_DEV_TOOLS (wt/hygiene) sim and eval live in cli/dev/ and their
 # libraries on HANDSCAN_CLI_DEV_LIBS, and these filters find nothing more to take out.
-file(GLOB _cli_sources CONFIGURE_DEPENDS ${CMAKE_SOURCE_DIR}/firmware/cli/cmd_*.cpp
-     ${CMAKE_SOURCE_DIR}/firmware/cli/decode_*.cpp)
+# Every source of the tool but main.cpp (subcommands, decoders and their helpers such as
+# info_e57.cpp), so a helper added to firmware/cli/ comes along without an edit here.
+file(GLOB _cli_sources CONFIGURE_DEPENDS ${CMAKE_SOURCE_DIR}/firmware/cli/*.cpp)
+list(FILTER _cli_sources EXCLUDE REGEX "/main\\.cpp$")
 set(_device_cli_sources)
 foreach(_source IN LISTS _cli_sources)
   file(STRINGS ${_source} _dev_includes REGEX "#include \"handscan/(sim|eval)/")
