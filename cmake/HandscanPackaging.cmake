@@ -31,8 +31,7 @@ foreach(_source IN LISTS _cli_sources)
 endforeach()
 get_property(_device_cli_libs GLOBAL PROPERTY HANDSCAN_CLI_LIBS)
 list(REMOVE_ITEM _device_cli_libs handscan::sim handscan::eval)
-add_executable(handscan-device ${CMAKE_SOURCE_DIR}/firmware/cli/main.cpp
-               ${CMAKE_SOURCE_DIR}/firmware/cli/info_e57.cpp ${_device_cli_sources})
+add_executable(handscan-device ${CMAKE_SOURCE_DIR}/firmware/cli/main.cpp ${_device_cli_sources})
 target_include_directories(handscan-device PRIVATE ${CMAKE_SOURCE_DIR}/firmware/cli)
 target_link_libraries(handscan-device PRIVATE handscan::core CLI11::CLI11 ${_device_cli_libs})
 set_target_properties(handscan-device PROPERTIES OUTPUT_NAME handscan
