@@ -15,6 +15,7 @@
 #include "handscan/eval/ply_reader.hpp"
 #include "handscan/eval/trajectory_metrics.hpp"
 #include "handscan/eval/trajectory_plot.hpp"
+#include "handscan/report/map_images.hpp"
 
 namespace handscan::cli {
 namespace {
@@ -86,10 +87,50 @@ int evalTrajectory(const EvalOptions& o, Eigen::Isometry3d& T_gt_est) {
     return 0;
 }
 
+// The export report's map views (handscan::report) of the map in the ground truth's frame, with
+// the aligned estimate drawn over them: <plot>_map_top.png and <plot>_map_side.png.
+Status plotMapViews(const EvalOptions& o, const std::vector<Eigen::Vector3d>& vertices,
+                    const Eigen::Isometry3d& T_gt_est) {
+    report::MapRaster top(report::View::kTop), side(report::View::kSide);
+    std::vector<journal::MapPoint> pts;
+    pts.reserve(vertices.size());
+    for (const Eigen::Vector3d& v : vertices) {
+        pts.push_back({0.0, static_cast<float>(v.x()), static_cast<float>(v.y()),
+                       static_cast<float>(v.z()), 0, 0, 0, 0});
+    }
+    top.add(pts);
+    side.add(pts);
+    std::vector<journal::TrajectoryPose> trajectory;
+    if (!o.est.empty()) {
+        auto est = eval::readTum(o.est);
+        if (!est) return est.status();
+        for (const eval::StampedPose& p : *est) {
+            const Eigen::Vector3d t = (T_gt_est * p.T).translation();
+            trajectory.push_back({p.t_s, t.x(), t.y(), t.z()});
+        }
+    }
+    const std::string stem = o.plot.size() > 4 && o.plot.ends_with(".png")
+                                 ? o.plot.substr(0, o.plot.size() - 4)
+                                 : o.plot;
+    for (const auto& [raster, name] : {std::pair{&top, "_map_top.png"}, {&side, "_map_side.png"}}) {
+        auto img = report::renderMap(*raster, report::Colouring::kHeight, trajectory,
+                                     std::string("map ") +
+                                         (raster == &top ? "from above" : "from the side") +
+                                         ", coloured by height");
+        if (!img) return img.status();
+        if (Status s = report::writePng(stem + name, *img); !s) return s;
+        std::cout << "plot: " << stem + name << "\n";
+    }
+    return Status::ok();
+}
+
 int evalMap(const EvalOptions& o, const Eigen::Isometry3d& T_gt_est) {
     auto map = eval::readPly(o.map);
     if (!map) return fail(map.status());
     for (Eigen::Vector3d& v : map->vertices) v = T_gt_est * v;
+    if (!o.plot.empty()) {
+        if (Status s = plotMapViews(o, map->vertices, T_gt_est); !s) return fail(s);
+    }
     auto mesh = eval::readPly(o.mesh);
     if (!mesh) return fail(mesh.status());
     auto index = eval::MeshDistance::build(std::move(*mesh));
@@ -112,7 +153,9 @@ const RegisterCommand kEval{
         auto o = std::make_shared<EvalOptions>();
         sub.add_option("--gt", o->gt, "ground-truth trajectory (TUM)");
         sub.add_option("--est", o->est, "estimated trajectory (TUM)");
-        sub.add_option("--plot", o->plot, "write a top-view PNG of both trajectories");
+        sub.add_option("--plot", o->plot,
+                       "write a top-view PNG of both trajectories (with --map also the export "
+                       "report's map views, <plot>_map_top.png and <plot>_map_side.png)");
         sub.add_option("--max-gap", o->max_gap_s,
                        "do not interpolate ground truth over gaps longer than this (s)");
         sub.add_option("--map", o->map, "registered map (PLY)");

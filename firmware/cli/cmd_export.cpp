@@ -1,4 +1,5 @@
-// `handscan export JOURNAL|DIR --to PATH|usb`: the scan onto a stick or into a directory.
+// `handscan export JOURNAL|DIR --to PATH|usb`: the scan onto a stick or into a directory
+// (PLY, LAS 1.4, E57, trajectory, scan.json, report.html).
 #include <cstdio>
 #include <iostream>
 #include <sstream>
@@ -31,12 +32,14 @@ std::vector<std::string> splitComma(const std::string& s) {
 
 const RegisterCommand kExport{
     "export",
-    "Export a scan (journal) as PLY / LAS 1.4 + trajectory to a directory or the USB stick",
+    "Export a scan (journal) as PLY / LAS 1.4 / E57 + trajectory + report.html to a directory or "
+    "the "
+    "USB stick",
     [](CLI::App& sub) {
         struct Args {
             std::string source;
             std::string to;
-            std::string formats = "ply,las";
+            std::string formats = "ply,las,e57";
             double voxel = 0.0;
             std::string name;
         };
@@ -45,7 +48,8 @@ const RegisterCommand kExport{
             ->required();
         sub.add_option("--to", a->to, "target directory, or 'usb' for the removable stick")
             ->required();
-        sub.add_option("--format", a->formats, "comma-separated: ply,las")->capture_default_str();
+        sub.add_option("--format", a->formats, "comma-separated: ply,las,e57")
+            ->capture_default_str();
         sub.add_option("--voxel", a->voxel,
                        "voxel size in metres for thinning (0 = full resolution)")
             ->check(CLI::Range(0.0, 10.0));

@@ -1,7 +1,8 @@
 // `handscan info REC.mcap`: channels, message counts, rates, durations and gaps of a recording,
 // and whether it was cut short and recovered; the raw device channels decoded with the drivers'
 // codecs, so each device shows at its own rate (scans, IMU samples, encoder positions, frames per
-// second) next to the rate of transport reads. `--json` for scripts and tests.
+// second) next to the rate of transport reads. `--json` for scripts and tests. An .e57 file
+// (an export) shows its pages, scans, sensor, fields, bounds and colour share (info_e57.hpp).
 #include <exception>
 #include <iostream>
 
@@ -11,6 +12,7 @@
 #include "handscan/recording/mcap_reader.hpp"
 #include "handscan/recording/recording_summary.hpp"
 #include "handscan/replay/device_rates.hpp"
+#include "info_e57.hpp"
 
 namespace handscan::cli {
 namespace {
@@ -22,7 +24,9 @@ const RegisterCommand kInfo{
         auto json = std::make_shared<bool>(false);
         auto verify = std::make_shared<bool>(false);
         auto device_yaml = std::make_shared<std::string>();
-        sub.add_option("REC", *file, "recording (.mcap)")->required()->check(CLI::ExistingFile);
+        sub.add_option("REC", *file, "recording (.mcap), or an exported .e57")
+            ->required()
+            ->check(CLI::ExistingFile);
         sub.add_option("--device", *device_yaml,
                        "device.yaml for the encoder's node id and TPDO period (default: <config "
                        "dir>/device.yaml)");
@@ -30,6 +34,8 @@ const RegisterCommand kInfo{
         sub.add_flag("--verify", *verify,
                      "also check every CRC (chunks, data section, summary); exit 3 on a mismatch");
         return std::function<int()>([file, json, verify, device_yaml] {
+            if (file->size() > 4 && file->compare(file->size() - 4, 4, ".e57") == 0)
+                return printE57Info(*file, std::cout);
             DeviceConfig device;
             const std::string device_path =
                 device_yaml->empty() ? defaultConfigDir() + "/device.yaml" : *device_yaml;

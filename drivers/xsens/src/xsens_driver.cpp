@@ -3,6 +3,7 @@
 #include <algorithm>
 
 #include "handscan/core/log.hpp"
+#include "handscan/core/realtime.hpp"
 #include "handscan/transport/serial_stream.hpp"
 #include "handscan/transport/usb_stream.hpp"
 
@@ -58,7 +59,10 @@ void XsensDriver::start() {
     std::lock_guard lock(mutex_);
     if (thread_.joinable()) return;
     stop_ = false;
-    thread_ = std::thread([this] { run(); });
+    thread_ = std::thread([this] {
+        (void)enterRealtimeThread("hs-xsens-rx", options_.fifo_priority);
+        run();
+    });
 }
 
 void XsensDriver::stop() {

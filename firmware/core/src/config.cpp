@@ -8,6 +8,7 @@
 #include <set>
 #include <sstream>
 
+#include "handscan/core/realtime.hpp"
 #include "handscan/core/se3.hpp"
 
 #ifndef HANDSCAN_SOURCE_CONFIG_DIR
@@ -259,13 +260,23 @@ CameraIntrinsics loadKalibrCamera(const Validator& v, const YAML::Node& n, const
     return cam;
 }
 
+void parseRealtime(const YAML::Node& root, const Validator& v, RealtimeConfig& out) {
+    const YAML::Node n = v.section(root, "", "realtime");
+    if (!n.IsDefined()) return;
+    v.onlyKeys(n, "realtime", {"device_priority", "pipeline_priority", "lock_memory"});
+    v.integer(n, "realtime", "device_priority", out.device_priority, 0, 99);
+    v.integer(n, "realtime", "pipeline_priority", out.pipeline_priority, 0, 99);
+    v.boolean(n, "realtime", "lock_memory", out.lock_memory);
+}
+
 }  // namespace
 
 DeviceConfig loadDeviceConfig(const std::string& path) {
     const YAML::Node root = loadYaml(path);
     const Validator v(path);
     v.onlyKeys(root, "",
-               {"hokuyo", "xsens", "motor", "tracking_camera", "colour_camera", "gpio", "storage"});
+               {"hokuyo", "xsens", "motor", "tracking_camera", "colour_camera", "gpio", "storage",
+                "realtime"});
     DeviceConfig c;
     c.source_file = path;
     if (auto n = v.section(root, "", "hokuyo"); n.IsDefined()) {
@@ -338,7 +349,16 @@ DeviceConfig loadDeviceConfig(const std::string& path) {
         v.text(n, "storage", "recording_dir", c.storage.recording_dir);
         v.number(n, "storage", "min_free_gib", c.storage.min_free_gib, 0.0, 1e6);
     }
+    RealtimeConfig realtime;  // validated with the rest; loadRealtimeConfig() hands it out
+    parseRealtime(root, v, realtime);
     return c;
+}
+
+RealtimeConfig loadRealtimeConfig(const std::string& path) {
+    const YAML::Node root = loadYaml(path);
+    RealtimeConfig realtime;
+    parseRealtime(root, Validator(path), realtime);
+    return realtime;
 }
 
 void loadCamchain(const std::string& path, Calibration& calibration) {
@@ -358,7 +378,8 @@ Calibration loadCalibration(const std::string& path) {
     const YAML::Node root = loadYaml(path);
     const Validator v(path);
     v.onlyKeys(root, "",
-               {"T_shaft_laser", "T_camera_shaftbase", "encoder_zero_offset_deg", "camchain"});
+               {"T_shaft_laser", "T_camera_shaftbase", "encoder_zero_offset_deg", "time_offsets",
+                "camchain"});
     Calibration c;
     c.source_file = path;
     c.T_shaft_laser = v.pose(root, "", "T_shaft_laser");
@@ -366,6 +387,17 @@ Calibration loadCalibration(const std::string& path) {
     double zero_deg = 0.0;
     v.number(root, "", "encoder_zero_offset_deg", zero_deg, -360.0, 360.0);
     c.encoder_zero_offset_rad = zero_deg * M_PI / 180.0;
+    if (auto n = v.section(root, "", "time_offsets"); n.IsDefined()) {
+        // The same ranges as device.yaml's keys they replace.
+        v.onlyKeys(n, "time_offsets", {"xsens_frame_latency_ms", "motor_tpdo_latency_ms"});
+        for (auto [key, field] : {std::pair{"xsens_frame_latency_ms", &c.xsens_frame_latency_ms},
+                                  {"motor_tpdo_latency_ms", &c.motor_tpdo_latency_ms}}) {
+            if (!n[key].IsDefined()) continue;
+            double ms = 0.0;
+            v.number(n, "time_offsets", key, ms, 0.0, 100.0);
+            *field = ms;
+        }
+    }
     std::string camchain;
     v.text(root, "", "camchain", camchain);
     if (!camchain.empty()) {
@@ -376,6 +408,14 @@ Calibration loadCalibration(const std::string& path) {
         loadCamchain(p.string(), c);
     }
     return c;
+}
+
+DeviceConfig withCalibratedLatencies(DeviceConfig device, const Calibration& calibration) {
+    if (calibration.xsens_frame_latency_ms)
+        device.xsens.frame_latency_ms = *calibration.xsens_frame_latency_ms;
+    if (calibration.motor_tpdo_latency_ms)
+        device.motor.tpdo_latency_ms = *calibration.motor_tpdo_latency_ms;
+    return device;
 }
 
 std::string defaultConfigDir() {

@@ -9,9 +9,14 @@
 #include <cstdio>
 #include <ctime>
 #include <filesystem>
+#include <fstream>
+#include <iterator>
 #include <memory>
+#include <nlohmann/json.hpp>
 #include <sstream>
 
+#include "export_report.hpp"
+#include "handscan/export/e57_reader.hpp"
 #include "handscan/export/voxel_filter.hpp"
 #include "handscan/journal/journal_reader.hpp"
 
@@ -24,13 +29,6 @@ namespace {
 
 namespace fs = std::filesystem;
 
-// Checked on Debian 12 (bookworm): no package ships an E57 library (libE57Format is not packaged,
-// and Debian's CloudCompare is built without its E57 plugin), so there is no E57 writer and no
-// independent reader to prove one against.
-constexpr const char* kE57Unavailable =
-    "not available: Debian 12 packages no E57 library (libE57Format); export LAS 1.4 or PLY and "
-    "convert";
-
 std::span<const std::uint8_t> asBytes(const std::string& s) {
     return {reinterpret_cast<const std::uint8_t*>(s.data()), s.size()};
 }
@@ -40,6 +38,12 @@ Status writeSmallFile(const std::string& path, const std::string& text, const Wr
     if (Status s = f.open(); !s.isOk()) return s;
     if (Status s = f.write(asBytes(text)); !s.isOk()) return s;
     return f.commit();
+}
+
+// A small text file's content; empty when it is absent or unreadable.
+std::string readText(const fs::path& path) {
+    std::ifstream f(path, std::ios::binary);
+    return f ? std::string(std::istreambuf_iterator<char>(f), {}) : std::string();
 }
 
 std::string trajectoryTum(const std::vector<journal::TrajectoryPose>& poses) {
@@ -97,23 +101,25 @@ std::string metadataJson(const journal::JournalSummary& js, const ExportReport& 
     os << "],\n    \"bounds_min\": [" << r.bounds.min[0] << ", " << r.bounds.min[1] << ", "
        << r.bounds.min[2] << "], \"bounds_max\": [" << r.bounds.max[0] << ", " << r.bounds.max[1]
        << ", " << r.bounds.max[2] << "],\n";
-    os << "    \"trajectory_poses\": " << js.trajectory.size() << "},\n";
-    os << "  \"formats_unavailable\": {\"e57\": \"" << kE57Unavailable << "\"}\n}\n";
+    os << "    \"trajectory_poses\": " << js.trajectory.size() << "}\n}\n";
     return os.str();
 }
 
 // The points to export: straight from the journal (streamed) or voxel-filtered.
 class PointSource {
 public:
+    // `observe` sees every journal point once, whether thinned or not.
     PointSource(const journal::JournalReader& reader, double voxel_m,
-                const std::function<void(double)>& progress)
-        : reader_(reader) {
+                const std::function<void(double)>& progress,
+                std::function<void(std::span<const journal::MapPoint>)> observe)
+        : reader_(reader), observe_(std::move(observe)) {
         if (voxel_m > 0.0) {
             VoxelFilter filter(voxel_m);
             const double total =
                 static_cast<double>(std::max<std::uint64_t>(1, reader.summary().points));
             double done = 0.0;
             status_ = reader.forEachPoints([&](std::span<const journal::MapPoint> pts) {
+                observe_(pts);
                 filter.add(pts);
                 done += static_cast<double>(pts.size());
                 progress(done / total);
@@ -124,7 +130,12 @@ public:
     const Status& status() const { return status_; }
     std::uint64_t count() const { return filtered_ ? filtered_->size() : reader_.summary().points; }
     Status forEach(const std::function<void(std::span<const journal::MapPoint>)>& sink) const {
-        if (!filtered_) return reader_.forEachPoints(sink);
+        if (!filtered_) {
+            return reader_.forEachPoints([&](std::span<const journal::MapPoint> pts) {
+                observe_(pts);
+                sink(pts);
+            });
+        }
         constexpr std::size_t kBatch = 1 << 16;
         for (std::size_t i = 0; i < filtered_->size(); i += kBatch) {
             sink(std::span(filtered_->data() + i, std::min(kBatch, filtered_->size() - i)));
@@ -134,9 +145,42 @@ public:
 
 private:
     const journal::JournalReader& reader_;
+    std::function<void(std::span<const journal::MapPoint>)> observe_;
     std::unique_ptr<std::vector<journal::MapPoint>> filtered_;
     Status status_;
 };
+
+std::string formatOf(const std::string& path) {
+    const std::string ext = fs::path(path).extension().string();
+    return ext.empty() ? ext : ext.substr(1);
+}
+
+// The scan's sensor and trajectory for the E57 Data3D. The journal's metadata may name the
+// device's serial number ("serial"); the rest is what every handscan is.
+E57Options e57Options(const journal::JournalSummary& js, const std::string& scan_name) {
+    E57Options o;
+    o.scan_name = scan_name;
+    o.software_version = HANDSCAN_VERSION;
+    o.trajectory = js.trajectory;
+    const auto meta = nlohmann::json::parse(js.metadata_json, nullptr, false);
+    if (meta.is_object() && meta.contains("serial") && meta["serial"].is_string())
+        o.sensor_serial = meta["serial"].get<std::string>();
+    return o;
+}
+
+// The E57 file as a reader sees it (its pages' CRC-32C were checked on the read-back): the
+// header and XML parse, and the Data3D holds every point.
+Status checkE57(const std::string& path, std::uint64_t count) {
+    auto r = E57Reader::open(path, /*check_pages=*/false);
+    if (!r.isOk()) return Status(r.status().code(), "export: verifying " + r.status().message());
+    const E57File& f = r->file();
+    if (f.scans.size() != 1 || f.scans[0].points.records != count) {
+        return Status(StatusCode::kIoError, "export: verifying " + path +
+                                                ": the XML does not list one scan of " +
+                                                std::to_string(count) + " points");
+    }
+    return Status::ok();
+}
 
 // One point file being written: its safe file and its format's encoder.
 struct CloudFile {
@@ -166,12 +210,9 @@ Result<ExportReport> exportScan(const std::string& source, const std::string& ta
     };
     std::vector<std::string> formats;  // in the order given, each once
     for (const std::string& f : options.formats) {
-        if (f == "e57")
+        if (f != "ply" && f != "las" && f != "e57") {
             return Status(StatusCode::kInvalidArgument,
-                          std::string("export: E57 is ") + kE57Unavailable);
-        if (f != "ply" && f != "las") {
-            return Status(StatusCode::kInvalidArgument,
-                          "export: unknown format '" + f + "' (expected ply, las)");
+                          "export: unknown format '" + f + "' (expected ply, las, e57)");
         }
         if (std::find(formats.begin(), formats.end(), f) == formats.end()) formats.push_back(f);
     }
@@ -203,14 +244,24 @@ Result<ExportReport> exportScan(const std::string& source, const std::string& ta
     const double write_from = options.voxel_m > 0.0 ? 0.3 : 0.0;
     constexpr double kWriteTo = 0.85;
     progress(0.0, options.voxel_m > 0.0 ? "thinning" : "reading journal");
-    PointSource points(*reader, options.voxel_m,
-                       [&](double f) { progress(f * write_from, "thinning"); });
+    std::unique_ptr<ExportReportBuilder> scan_report;  // built while the points stream
+    if (options.report)
+        scan_report = std::make_unique<ExportReportBuilder>(js.points, js.trajectory);
+    PointSource points(
+        *reader, options.voxel_m, [&](double f) { progress(f * write_from, "thinning"); },
+        [&](std::span<const journal::MapPoint> pts) {
+            if (scan_report) scan_report->journalPoints(pts);
+        });
     if (!points.status().isOk()) return points.status();
     const std::uint64_t count = points.count();
 
     // Free space first: refuse before writing anything rather than fail half-way.
     std::uint64_t need = 64 * 1024 + js.trajectory.size() * 200;
-    for (const std::string& f : formats) need += f == "ply" ? plyBytes(count) : lasBytes(count);
+    for (const std::string& f : formats) {
+        need += f == "ply"   ? plyBytes(count)
+                : f == "las" ? lasBytes(count)
+                             : e57Bytes(count, js.trajectory.size());
+    }
     const fs::space_info space = fs::space(out_dir, ec);
     if (!ec && space.available < need) {
         return Status(StatusCode::kNoSpace,
@@ -233,7 +284,9 @@ Result<ExportReport> exportScan(const std::string& source, const std::string& ta
         c.path = (out_dir / ("cloud." + format)).string();
         c.file = std::make_unique<SafeFileWriter>(c.path, options.faults);
         if (Status s = c.file->open(); !s.isOk()) return s;
-        c.writer = format == "ply" ? makePlyWriter(*c.file) : makeLasWriter(*c.file);
+        c.writer = format == "ply"   ? makePlyWriter(*c.file)
+                   : format == "las" ? makeLasWriter(*c.file)
+                                     : makeE57Writer(*c.file, e57Options(js, name));
         if (Status s = c.writer->begin(count); !s.isOk()) return s;
         writing += (clouds.empty() ? " " : ", ") + fs::path(c.path).filename().string();
         clouds.push_back(std::move(c));
@@ -248,6 +301,7 @@ Result<ExportReport> exportScan(const std::string& source, const std::string& ta
             for (const journal::MapPoint& p : pts) {
                 if (p.r != 0 || p.g != 0 || p.b != 0) ++report.coloured_points;
             }
+            if (scan_report) scan_report->exportedPoints(pts);
             done += static_cast<double>(pts.size());
             progress(write_from + (kWriteTo - write_from) * done / total, writing);
         });
@@ -261,6 +315,9 @@ Result<ExportReport> exportScan(const std::string& source, const std::string& ta
                                 static_cast<double>(clouds.size()),
                  "verifying " + fs::path(c.path).filename().string());
         if (Status s = c.writer->end(); !s.isOk()) return s;
+        if (formatOf(c.path) == "e57") {
+            if (Status s = checkE57(c.path, count); !s.isOk()) return s;
+        }
         report.bounds = c.writer->bounds();
         report.files.push_back(c.path);
         report.bytes += c.file->bytesWritten();
@@ -276,6 +333,18 @@ Result<ExportReport> exportScan(const std::string& source, const std::string& ta
         if (Status s = writeSmallFile(path, text, options.faults); !s.isOk()) return s;
         report.files.push_back(path);
         report.bytes += text.size();
+    }
+    if (scan_report) {
+        progress(0.995, "writing report.html");
+        std::vector<std::string> names;
+        for (const std::string& f : report.files) names.push_back(fs::path(f).filename().string());
+        const std::string html =
+            scan_report->html(js, name, count, options.voxel_m, names,
+                              readText(fs::path(*journal_path).parent_path() / "stats.json"));
+        const std::string path = (out_dir / "report.html").string();
+        if (Status s = writeSmallFile(path, html, options.faults); !s.isOk()) return s;
+        report.files.push_back(path);
+        report.bytes += html.size();
     }
     // Flush the whole filesystem (the stick) so that pulling it now loses nothing.
     if (int fd = ::open(out_dir.c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC); fd >= 0) {

@@ -233,13 +233,16 @@ Status SafeFileWriter::verify() {
         return ::lseek(rfd, static_cast<off_t>(at), SEEK_SET) == static_cast<off_t>(at);
     };
     if (rfd < 0 && !openBuffered(0)) return fail("cannot reopen for verification", errno);
-    std::uint32_t crc = 0;  // the reader thread's until finish()
+    std::uint32_t crc = 0;     // the reader thread's until finish()
+    std::string format_error;  // the same
     std::uint64_t total = 0;
     int read_err = 0;
     {
         BufferPipeline checksum(kBufferBytes, kBuffers,
-                                [&crc](std::span<const std::uint8_t> bytes, std::uint64_t) {
+                                [&](std::span<const std::uint8_t> bytes, std::uint64_t) {
                                     crc = crcUpdate(crc, bytes);
+                                    if (read_back_check_ && format_error.empty())
+                                        format_error = read_back_check_(bytes);
                                     return 0;
                                 });
         while (true) {
@@ -267,6 +270,7 @@ Status SafeFileWriter::verify() {
     }
     if (rfd >= 0) ::close(rfd);
     if (read_err != 0) return fail("read-back failed", read_err);
+    if (!format_error.empty()) return fail("verification failed: " + format_error, EIO);
     const std::uint32_t header_crc = crcUpdate(0, header_);
     const std::uint32_t expected = static_cast<std::uint32_t>(
         ::crc32_combine(header_crc, crc_, static_cast<z_off_t>(flushed_ - header_bytes_)));

@@ -1,5 +1,9 @@
 #include "handscan/pipeline_daemon/export_job.hpp"
 
+#include <cerrno>
+#include <cstring>
+#include <fstream>
+
 #include "handscan/core/log.hpp"
 #include "handscan/shm/text_field.hpp"
 
@@ -55,6 +59,19 @@ void ExportJob::run(std::string source, std::string target) {
     shm::setText(status_.message, msg);
     result_ = msg;
     log().info("{}", msg);
+    if (usb) requestEject(report->directory);
+}
+
+void ExportJob::requestEject(const std::string& directory) const {
+    if (eject_request_.empty()) return;
+    // The sandboxed daemon may not unmount; systemd does it for it (handscan-usb-eject.path).
+    std::ofstream out(eject_request_, std::ios::trunc);
+    out << directory << "\n";
+    if (!out.flush())
+        log().warn(
+            "cannot write the USB eject request {} ({}): the stick stays mounted; it was "
+            "synced, so pulling it is safe",
+            eject_request_, std::strerror(errno));
 }
 
 bool ExportJob::running() const {

@@ -5,6 +5,7 @@
 #include <thread>
 
 #include "handscan/core/log.hpp"
+#include "handscan/core/realtime.hpp"
 #include "handscan/live_output/live_publisher.hpp"
 #include "handscan/pipeline_daemon/command_handler.hpp"
 #include "handscan/pipeline_daemon/export_job.hpp"
@@ -19,7 +20,8 @@ struct PipelineDaemon::Parts {
     std::unique_ptr<PipelineWorker> worker;
     std::unique_ptr<CommandHandler> commands;
     SystemdNotifier notifier;
-    explicit Parts(exporter::SystemPaths usb) : exports(std::move(usb)) {}
+    Parts(exporter::SystemPaths usb, std::string eject_request)
+        : exports(std::move(usb), std::move(eject_request)) {}
 };
 
 PipelineDaemon::PipelineDaemon(DaemonOptions options, std::unique_ptr<DeviceLinks> links)
@@ -35,14 +37,18 @@ Status PipelineDaemon::open() {
     // The logger is created on first use; create it here, before the device threads all log.
     log().debug("handscan-pipeline: opening");
     const std::string config_dir = defaultConfigDir();
+    const std::string device_yaml =
+        options_.device_config.empty() ? config_dir + "/device.yaml" : options_.device_config;
+    RealtimeConfig realtime;
     try {
-        device_ = loadDeviceConfig(options_.device_config.empty() ? config_dir + "/device.yaml"
-                                                                  : options_.device_config);
+        device_ = loadDeviceConfig(device_yaml);
+        realtime = loadRealtimeConfig(device_yaml);
         calibration_ = loadCalibration(
             options_.calibration.empty() ? config_dir + "/calibration.yaml" : options_.calibration);
     } catch (const std::exception& e) {  // ConfigError: file, line, key, expected and found
         return Status(StatusCode::kInvalidArgument, e.what());
     }
+    if (realtime.lock_memory) (void)lockProcessMemory();  // warns once if denied
     const std::string journal_dir =
         options_.journal_dir.empty() ? device_.storage.journal_dir : options_.journal_dir;
     std::error_code ec;
@@ -56,7 +62,7 @@ Status PipelineDaemon::open() {
     auto publisher = live_output::LivePublisher::create(wo, journal_dir);
     if (!publisher.isOk()) return publisher.status();
 
-    parts_ = std::make_unique<Parts>(options_.usb_paths);
+    parts_ = std::make_unique<Parts>(options_.usb_paths, options_.usb_eject_request);
     const std::string metadata =
         "{\"source\": \"handscan-pipeline\", \"device_config\": \"" + device_.source_file + "\"}";
     auto session = std::make_unique<ScanSession>(journal_dir, options_.journal, metadata);
@@ -87,8 +93,8 @@ Status PipelineDaemon::open() {
         std::lock_guard lock(buttons_mutex_);
         buttons_.push_back(a);
     }));
-    parts_->worker->start();
-    for (auto& s : parts_->sources) s->start();
+    parts_->worker->start(realtime.pipeline_priority);
+    for (auto& s : parts_->sources) s->start(realtime.device_priority);
     log().info("handscan-pipeline: {} devices, journal in {}, live map /dev/shm{}",
                parts_->sources.size(), journal_dir, options_.shm_name);
     return Status::ok();

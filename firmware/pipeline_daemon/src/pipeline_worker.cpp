@@ -3,6 +3,7 @@
 #include <chrono>
 
 #include "handscan/core/log.hpp"
+#include "handscan/core/realtime.hpp"
 #include "handscan/live_output/sweep_points.hpp"
 
 namespace handscan::pipeline_daemon {
@@ -55,9 +56,12 @@ PipelineWorker::PipelineWorker(const DeviceConfig& device, const Calibration& ca
 
 PipelineWorker::~PipelineWorker() { stop(); }
 
-void PipelineWorker::start() {
+void PipelineWorker::start(int fifo_priority) {
     last_loop_.store(monotonicNow(), std::memory_order_release);
-    thread_ = std::thread([this] { run(); });
+    thread_ = std::thread([this, fifo_priority] {
+        (void)enterRealtimeThread("hs-pipeline", fifo_priority);  // warns once if denied
+        run();
+    });
 }
 
 void PipelineWorker::stop() {

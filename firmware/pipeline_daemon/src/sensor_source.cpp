@@ -1,14 +1,19 @@
 #include <chrono>
 
+#include "handscan/core/realtime.hpp"
 #include "handscan/pipeline_daemon/sensor_sources.hpp"
 
 namespace handscan::pipeline_daemon {
 
 SensorSource::~SensorSource() { stop(); }
 
-void SensorSource::start() {
+void SensorSource::start(int fifo_priority) {
     stop_.store(false, std::memory_order_release);
-    thread_ = std::thread([this] { run(); });
+    fifo_priority_ = fifo_priority;
+    thread_ = std::thread([this, fifo_priority] {
+        (void)enterRealtimeThread("hs-" + health_.name(), fifo_priority);  // warns once if denied
+        run();
+    });
 }
 
 void SensorSource::stop() {

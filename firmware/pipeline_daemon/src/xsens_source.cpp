@@ -22,11 +22,13 @@ private:
             auto link = c_.links.xsens(config_);
             if (link.isOk()) {
                 driver = std::make_unique<xsens::XsensDriver>(
-                    std::move(*link), [this](const ImuSample& s) {
+                    std::move(*link),
+                    [this](const ImuSample& s) {
                         health_.addSample(s.t_host);
                         if (!c_.queues.imu.tryPush(s))
                             c_.queues.dropped.fetch_add(1, std::memory_order_relaxed);
-                    });
+                    },
+                    nullptr, driverOptions());
                 break;
             }
             health_.setLost("xsens: " + link.status().message());
@@ -46,6 +48,13 @@ private:
             }
         }
         driver->stop();
+    }
+
+    // The driver's reading thread is the one that time-stamps the bytes: it gets the priority.
+    xsens::XsensDriverOptions driverOptions() const {
+        xsens::XsensDriverOptions o;
+        o.fifo_priority = fifoPriority();
+        return o;
     }
 
     XsensConfig config_;

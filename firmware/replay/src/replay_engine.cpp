@@ -75,8 +75,10 @@ live_output::LiveStatus replayStatus(const lio::LaserInertialOdometry& pipeline,
                  replaySensor("encoder", encoder, 200.0f)};
     s.scan_state = finished ? shm::ScanState::kStopped : shm::ScanState::kScanning;
     s.point_count = outputs.registeredPoints();
-    s.message = finished ? "replay finished"
-                         : (pipeline.aligned() ? "replaying" : "hold still: aligning with gravity");
+    s.message = finished                     ? "replay finished"
+                : !pipeline.aligned()        ? "hold still: aligning with gravity"
+                : pipeline.tracking().lost() ? fusion::TrackingMonitor::kLostMessage
+                                             : "replaying";
     return s;
 }
 
@@ -104,10 +106,12 @@ lio::LioConfig lioConfig(const ReplayOptions& o, const DeviceConfig& device) {
 
 Result<ReplayReport> runReplay(const ReplayOptions& o) {
     const std::string config_dir = defaultConfigDir();
-    const DeviceConfig device =
-        loadDeviceConfig(o.device_config.empty() ? config_dir + "/device.yaml" : o.device_config);
     const Calibration calibration =
         loadCalibration(o.calibration.empty() ? config_dir + "/calibration.yaml" : o.calibration);
+    // The latencies calibration.yaml measured (`handscan calibrate`) replace device.yaml's.
+    const DeviceConfig device = withCalibratedLatencies(
+        loadDeviceConfig(o.device_config.empty() ? config_dir + "/device.yaml" : o.device_config),
+        calibration);
 
     auto reader = recording::McapReader::open(o.recording);
     if (!reader.isOk()) return reader.status();
@@ -175,7 +179,9 @@ Result<ReplayReport> runReplay(const ReplayOptions& o) {
     auto consume = [&]() -> Status {
         for (PoseEstimate& p : pipeline.takePoses()) {
             if (Status st = outputs.addPose(p); !st.isOk()) return st;
-            if (journal) (void)journal->appendPose(live_output::trajectoryPose(p));
+            // Poses guessed while tracking is lost are not the scan's trajectory.
+            if (journal && !p.tracking_lost)
+                (void)journal->appendPose(live_output::trajectoryPose(p));
             if (live) live->pose(p);
         }
         for (lio::RegisteredSweep& s : pipeline.takeSweeps()) {
@@ -188,6 +194,11 @@ Result<ReplayReport> runReplay(const ReplayOptions& o) {
                     !st.isOk()) {
                     return st;
                 }
+            }
+            // A sweep the tracking monitor kept out of the map is journaled and shown nowhere.
+            if (!s.tracking.enters_map) {
+                if (Status st = outputs.addSweep(s, {}); !st.isOk()) return st;
+                continue;
             }
             std::optional<colour::ColourResult> colours;
             if (colouriser) {

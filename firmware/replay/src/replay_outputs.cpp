@@ -42,6 +42,28 @@ void streamJson(std::ostringstream& os, const char* name, const StreamCounters& 
        << ", \"gaps\": " << c.gaps << ", \"errors\": " << c.errors << "}" << (last ? "\n" : ",\n");
 }
 
+// The tracking monitor's intervals with tracking lost (sweep start times, s; an interval still
+// open at the end has "end_s": null) and the sweeps it kept out of the map.
+void trackingJson(std::ostringstream& os, const fusion::TrackingMonitor& m) {
+    std::uint64_t lost_sweeps = 0;
+    for (const auto& i : m.intervals()) lost_sweeps += i.sweeps;
+    os << "  \"tracking\": {\"lost_now\": " << (m.lost() ? "true" : "false")
+       << ", \"inconsistent_sweeps\": " << m.rejectedSweeps()
+       << ", \"lost_sweeps\": " << lost_sweeps << ", \"lost_intervals\": [";
+    bool first = true;
+    for (const auto& i : m.intervals()) {
+        os << (first ? "" : ", ") << "{\"begin_s\": " << toSeconds(i.t_begin) << ", \"end_s\": ";
+        if (i.t_end != 0)
+            os << toSeconds(i.t_end);
+        else
+            os << "null";
+        os << ", \"sweeps\": " << i.sweeps << ", \"reason\": \"" << fusion::lostReasonName(i.reason)
+           << "\", \"detail\": \"" << i.detail << "\"}";
+        first = false;
+    }
+    os << "]},\n";
+}
+
 }  // namespace
 
 ReplayOutputs::ReplayOutputs(std::string out_dir, TiledMapConfig map)
@@ -73,9 +95,12 @@ Status ReplayOutputs::addPose(const PoseEstimate& pose) {
 
 Status ReplayOutputs::addSweep(const lio::RegisteredSweep& s,
                                std::span<const journal::MapPoint> pts) {
-    // The sensor's position at the sweep start decides which map tiles stay in memory.
-    if (Status st = map_.add(pts, s.result.pose.T_world_body.translation()); !st.isOk()) return st;
-    registered_points_ += pts.size();
+    if (s.tracking.enters_map) {
+        // The sensor's position at the sweep start decides which map tiles stay in memory.
+        if (Status st = map_.add(pts, s.result.pose.T_world_body.translation()); !st.isOk())
+            return st;
+        registered_points_ += pts.size();
+    }
     SweepSummary sum;
     sum.index = s.result.sweep_index;
     sum.t_start_s = toSeconds(s.sweep.t_start);
@@ -88,6 +113,7 @@ Status ReplayOutputs::addSweep(const lio::RegisteredSweep& s,
     sum.rms_m = s.result.match.rms_m;
     sum.T_world_body = s.result.pose.T_world_body;
     sum.T_world_prior = s.result.T_world_prior;
+    sum.tracking = s.tracking;
     sweeps_.push_back(sum);
     return Status::ok();
 }
@@ -154,6 +180,7 @@ Result<std::string> ReplayOutputs::writeStats(const StatsInputs& in) const {
        << ", \"rejected_corrections\": " << p.rejected_corrections << "},\n";
     os << "  \"recording\": {\"truncated\": " << (in.recording_truncated ? "true" : "false")
        << ", \"dropped_regions\": " << in.recording_dropped_regions << "},\n";
+    trackingJson(os, in.pipeline.tracking());
     // Degenerate directions per sweep (section 8): 6 minus the DOFs the matcher solved.
     std::size_t histogram[7] = {0, 0, 0, 0, 0, 0, 0};
     for (const SweepSummary& s : sweeps_)
@@ -169,7 +196,11 @@ Result<std::string> ReplayOutputs::writeStats(const StatsInputs& in) const {
            << ", \"solved_dof_mask\": " << static_cast<int>(s.solved_mask)
            << ", \"points\": " << s.points << ", \"edges\": " << s.edges
            << ", \"planars\": " << s.planars << ", \"associations\": " << s.associations
-           << ", \"rms_m\": " << s.rms_m << ", \"total_ms\": " << s.total_ms;
+           << ", \"rms_m\": " << s.rms_m << ", \"total_ms\": " << s.total_ms << ", \"tracking\": \""
+           << (s.tracking.lost ? "lost" : (s.tracking.consistent ? "ok" : "rejected"))
+           << "\", \"in_map\": " << (s.tracking.enters_map ? "true" : "false");
+        if (s.tracking.reason != fusion::LostReason::kNone)
+            os << ", \"tracking_reason\": \"" << fusion::lostReasonName(s.tracking.reason) << "\"";
         const Eigen::Quaterniond q(s.T_world_body.linear());
         const Eigen::Vector3d t = s.T_world_body.translation(), tp = s.T_world_prior.translation();
         os << ", \"pose_xyz_qxyzw\": [" << t.x() << ", " << t.y() << ", " << t.z() << ", " << q.x()

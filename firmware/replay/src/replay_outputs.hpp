@@ -29,6 +29,7 @@ struct SweepSummary {
     double rms_m = 0.0;
     Eigen::Isometry3d T_world_body = Eigen::Isometry3d::Identity();  // refined, at t_start
     Eigen::Isometry3d T_world_prior = Eigen::Isometry3d::Identity();
+    fusion::TrackingVerdict tracking;  // kept out of the map unless tracking.enters_map
 };
 
 struct StatsInputs {
@@ -49,6 +50,7 @@ public:
     [[nodiscard]] Status open();
     [[nodiscard]] Status addPose(const PoseEstimate& pose);
     // `points`: the sweep's registered points as journaled (coloured where the camera saw them).
+    // A sweep the tracking monitor kept out of the map is only summarised.
     // Fails only when the map cannot flush tiles to its spill file (disk full, write error).
     [[nodiscard]] Status addSweep(const lio::RegisteredSweep& sweep,
                                   std::span<const journal::MapPoint> points);

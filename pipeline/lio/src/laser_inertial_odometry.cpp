@@ -9,7 +9,10 @@ namespace handscan::lio {
 
 LaserInertialOdometry::LaserInertialOdometry(const LioConfig& config,
                                              const Calibration& calibration)
-    : config_(config), predictor_(config.imu, calibration.T_camera_imu()), integrator_(predictor_) {
+    : config_(config),
+      predictor_(config.imu, calibration.T_camera_imu()),
+      integrator_(predictor_),
+      monitor_(config.tracking) {
     // Points are placed with the predicted body motion at each step's own time (no rigid sweep).
     // A time the predictor cannot answer (before gravity alignment, beyond its history) is
     // remembered: a sweep containing it is not placed (see matchSweep).
@@ -45,6 +48,7 @@ void LaserInertialOdometry::addImu(const ImuSample& sample) {
         ref.source = PoseSource::kVisualOdometry;
         integrator_.setVisualPose(ref);
         if (!integrator_.lastScanPose()) {
+            ref.tracking_lost = monitor_.lost();
             poses_.push_back(ref);
             ++stats_.poses_out;
             return;
@@ -53,6 +57,7 @@ void LaserInertialOdometry::addImu(const ImuSample& sample) {
     // Transform integration (section 7): the latest scan-matching pose + prediction since.
     auto pose = integrator_.poseAt(sample.t_host);
     if (pose.isOk()) {
+        pose->tracking_lost = monitor_.lost();
         poses_.push_back(*pose);
         ++stats_.poses_out;
     }
@@ -115,33 +120,44 @@ void LaserInertialOdometry::matchSweep(scan::Sweep sweep) {
         }
     }
     // The prior (eqs. 17-18): without feedback the odometry composes the last refined pose with
-    // the predicted motion since then and adds its uncertainty.
-    scan::SweepResult r = odometry_->process(sweep, priors);
+    // the predicted motion since then and adds its uncertainty. The tracking monitor judges the
+    // match before it is merged: an inconsistent one stays out of the map.
+    fusion::TrackingVerdict verdict;
+    auto gate = [&](const scan::SweepResult& m) {
+        fusion::SweepEvidence e;
+        e.t = sweep.t_start;
+        e.T_world_prior = m.T_world_prior;
+        e.T_world_match = m.match.T_world_body;
+        e.prior_information = priorInformation(priors);
+        e.founds_map = m.first_sweep;
+        e.enough_matches = m.match.enough_matches;
+        e.features = m.edges + m.planars;
+        e.matches = static_cast<std::size_t>(m.match.edge_matches + m.match.plane_matches);
+        e.rms_m = m.match.rms_m;
+        verdict = monitor_.assess(e);
+        return verdict.enters_map;
+    };
+    scan::SweepResult r = odometry_->process(sweep, priors, gate);
     ++stats_.sweeps;
-    if (config_.imu_feedback && !reference && !r.first_sweep && r.match.enough_matches) {
-        // Feedback to the IMU predictor only in the directions the matcher solved (section 8):
-        // the eq. (21) subspace itself, in the predictor's world-axis coordinates, not the
-        // per-axis mask (a degenerate corridor axis at 45 degrees to the world axes would
-        // otherwise cost both horizontal axes, or leak into one of them).
-        if (!predictor_.correct(sweep.t_start, r.pose.T_world_body, r.solved_projector_world)
-                 .isOk())
-            ++stats_.rejected;
-        last_solved_world_ = r.solved_projector_world;
-    } else if (config_.imu_feedback && !reference && !r.first_sweep) {
-        // A sweep that solved nothing (too few matches: an open field, a fog of noise) is still
-        // feedback: every direction is unsolved, so the pose stays the prediction's and the
-        // velocity gets the motion prior instead of running on with the IMU alone.
-        if (!predictor_.correct(sweep.t_start, r.pose.T_world_body, Matrix6d::Zero()).isOk())
-            ++stats_.rejected;
-        last_solved_world_.setZero();
+    // A match that does not fit the map is no measurement: the pose stays the prediction's. One
+    // that fits but disagrees with the prediction corrects it (the map is the reference), and
+    // stays out of the map until the monitor sees consistent sweeps again.
+    if (!verdict.fits_map) {
+        r.pose.T_world_body = r.T_world_prior;
+        r.pose.solved_dof_mask = 0;
+        r.solved_projector_world.setZero();
     }
+    if (config_.imu_feedback && !reference && !r.first_sweep)
+        feedBack(sweep, r, verdict.fits_map && r.match.enough_matches);
     PoseEstimate scan_pose = r.pose;
     scan_pose.t_host = sweep.t_start;
     scan_pose.source = PoseSource::kScanMatching;
+    scan_pose.tracking_lost = verdict.lost;
     integrator_.setScanPose(scan_pose);
 
     RegisteredSweep reg;
     reg.result = r;
+    reg.tracking = verdict;
     reg.points_world.reserve(sweep.points.size());
     reg.intensities.reserve(sweep.points.size());
     reg.times.reserve(sweep.points.size());
@@ -153,6 +169,42 @@ void LaserInertialOdometry::matchSweep(scan::Sweep sweep) {
     }
     reg.sweep = sweep;
     sweeps_.push_back(std::move(reg));
+}
+
+void LaserInertialOdometry::feedBack(const scan::Sweep& sweep, const scan::SweepResult& r,
+                                     bool trusted) {
+    if (trusted) {
+        // Feedback to the IMU predictor only in the directions the matcher solved (section 8):
+        // the eq. (21) subspace itself, in the predictor's world-axis coordinates, not the
+        // per-axis mask (a degenerate corridor axis at 45 degrees to the world axes would
+        // otherwise cost both horizontal axes, or leak into one of them).
+        if (!predictor_.correct(sweep.t_start, r.pose.T_world_body, r.solved_projector_world)
+                 .isOk())
+            ++stats_.rejected;
+        last_solved_world_ = r.solved_projector_world;
+        return;
+    }
+    // A sweep that solved nothing (too few matches: an open field, a fog of noise; or a match
+    // the tracking monitor refused) is still feedback: every direction is unsolved, so the pose
+    // stays the prediction's and the velocity gets the motion prior instead of running on with
+    // the IMU alone.
+    if (!predictor_.correct(sweep.t_start, r.pose.T_world_body, Matrix6d::Zero()).isOk())
+        ++stats_.rejected;
+    last_solved_world_.setZero();
+}
+
+Matrix6d LaserInertialOdometry::priorInformation(
+    const std::optional<std::vector<scan::PosePrior>>& priors) const {
+    Matrix6d info = Matrix6d::Zero();
+    if (priors) {
+        for (const scan::PosePrior& p : *priors) info += p.information;
+        return info;
+    }
+    // Without a prior of ours the odometry composes its own (eq. 16) with these deviations.
+    const auto& oc = config_.odometry;
+    info.diagonal().head<3>().setConstant(1.0 / (oc.prior_sigma_rot_rad * oc.prior_sigma_rot_rad));
+    info.diagonal().tail<3>().setConstant(1.0 / (oc.prior_sigma_trans_m * oc.prior_sigma_trans_m));
+    return info;
 }
 
 Matrix6d LaserInertialOdometry::predictionInformation(const Eigen::Matrix3d& R_world_body) const {

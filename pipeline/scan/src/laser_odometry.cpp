@@ -41,7 +41,8 @@ LaserOdometry::~LaserOdometry() {
 }
 
 SweepResult LaserOdometry::run(const Sweep& sweep,
-                               const std::optional<std::vector<PosePrior>>& priors_in, int thread) {
+                               const std::optional<std::vector<PosePrior>>& priors_in, int thread,
+                               const MergeGate& gate) {
     const auto t_total = std::chrono::steady_clock::now();
     SweepResult out;
     out.sweep_index = sweep.index;
@@ -93,8 +94,18 @@ SweepResult LaserOdometry::run(const Sweep& sweep,
     }
     out.match_ms = msSince(t0);
 
+    out.pose.t_host = sweep.t_start;
+    out.pose.T_world_body = out.match.T_world_body;
+    const Eigen::Matrix3d R = out.match.T_world_body.linear();
+    out.solved_projector_world =
+        out.first_sweep ? Matrix6d::Zero() : bodyToWorldAxes(out.match.degeneracy.projection, R);
+    out.pose.solved_dof_mask = maskFromProjector(out.solved_projector_world);
+    out.pose.covariance = bodyToWorldAxes(out.match.covariance, R);
+    out.pose.source = PoseSource::kScanMatching;
+
     t0 = std::chrono::steady_clock::now();
-    {
+    out.merged = !gate || gate(out);
+    if (out.merged) {
         std::lock_guard<std::mutex> lock(map_mutex_);
         // Merge the scan into the map at its refined pose (6.3), at constant density.
         map_.insert(FeatureKind::kEdge, transformed(out.match.T_world_body, features.edges));
@@ -110,21 +121,14 @@ SweepResult LaserOdometry::run(const Sweep& sweep,
     }
     out.merge_ms = msSince(t0);
 
-    out.pose.t_host = sweep.t_start;
-    out.pose.T_world_body = out.match.T_world_body;
-    const Eigen::Matrix3d R = out.match.T_world_body.linear();
-    out.solved_projector_world =
-        out.first_sweep ? Matrix6d::Zero() : bodyToWorldAxes(out.match.degeneracy.projection, R);
-    out.pose.solved_dof_mask = maskFromProjector(out.solved_projector_world);
-    out.pose.covariance = bodyToWorldAxes(out.match.covariance, R);
-    out.pose.source = PoseSource::kScanMatching;
     out.total_ms = msSince(t_total);
     return out;
 }
 
 SweepResult LaserOdometry::process(const Sweep& sweep,
-                                   const std::optional<std::vector<PosePrior>>& priors) {
-    return run(sweep, priors, 0);
+                                   const std::optional<std::vector<PosePrior>>& priors,
+                                   const MergeGate& gate) {
+    return run(sweep, priors, 0, gate);
 }
 
 void LaserOdometry::startWorkers() {

@@ -177,7 +177,11 @@ void BM_ExportPly(benchmark::State& state) {
 void BM_ExportLas(benchmark::State& state) {
     BM_ExportVsDd(state, "las", exporter::lasBytes(kPoints));
 }
+void BM_ExportE57(benchmark::State& state) {
+    BM_ExportVsDd(state, "e57", exporter::e57Bytes(kPoints, 0));
+}
 BENCHMARK(BM_ExportPly)->Unit(benchmark::kMillisecond)->Iterations(3)->UseManualTime();
+BENCHMARK(BM_ExportE57)->Unit(benchmark::kMillisecond)->Iterations(3)->UseManualTime();
 BENCHMARK(BM_ExportLas)->Unit(benchmark::kMillisecond)->Iterations(3)->UseManualTime();
 
 // The journal side of an export alone: open (every chunk's CRC checked) and stream the points

@@ -38,10 +38,17 @@ ate=$(eval_rmse "$work/eval.txt" '^ATE')
 at_most "$ate" "${HANDSCAN_E2E_MAX_ATE:-0.05}" || fail "ATE rmse $ate m above ${HANDSCAN_E2E_MAX_ATE:-0.05} m"
 
 mkdir -p "$work/stick"
-"$bin" -q export "$work/r1" --to "$work/stick" --format ply,las --name scan > "$work/export.txt"
-for f in cloud.ply cloud.las trajectory.tum trajectory.csv scan.json; do
+"$bin" -q export "$work/r1" --to "$work/stick" --format ply,las,e57 --name scan > "$work/export.txt"
+for f in cloud.ply cloud.las cloud.e57 trajectory.tum trajectory.csv scan.json report.html; do
   [ -s "$work/stick/scan/$f" ] || fail "export wrote no $f"
 done
+"$bin" info "$work/stick/scan/cloud.e57" > "$work/e57info.txt" || fail "handscan info cannot read cloud.e57"
+# The independent E57 reader (npm web-e57, installed by tools/test) on the replay's export.
+interop=$(cd "$(dirname "$0")/../../interop/export" && pwd)
+if command -v node > /dev/null && [ -d "$interop/node_modules/web-e57" ]; then
+  node --experimental-wasm-modules "$interop/check_e57.mjs" "$work/stick/scan" 2>/dev/null \
+    || fail "web-e57 does not read the export's cloud.e57 as its cloud.ply"
+fi
 
 # A power cut while recording: the file ends mid-chunk; replay uses every intact chunk.
 size=$(stat -c %s "$work/office.mcap")

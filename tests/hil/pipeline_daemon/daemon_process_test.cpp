@@ -5,20 +5,24 @@
 // shared memory is cut by SIGTERM, and the process exits 0 with the journal finished and intact.
 #include <fcntl.h>
 #include <gtest/gtest.h>
+#include <sched.h>
 #include <signal.h>
 #include <spawn.h>
 #include <sys/socket.h>
 #include <sys/un.h>
 #include <sys/wait.h>
 #include <unistd.h>
+#include <yaml-cpp/yaml.h>
 
 #include <algorithm>
 #include <chrono>
+#include <cstdlib>
 #include <fstream>
 #include <sstream>
 #include <thread>
 
 #include "daemon_rig.hpp"
+#include "handscan/core/realtime.hpp"
 #include "handscan/journal/journal_reader.hpp"
 #include "handscan/shm/text_field.hpp"
 
@@ -250,6 +254,192 @@ TEST(PipelineDaemonProcess, KilledMidScanLeavesARecoverableJournal) {
     ASSERT_TRUE(closed.isOk());
     EXPECT_TRUE(closed->summary().finished);
     EXPECT_EQ(closed->summary().points, back->point_count);
+}
+
+}  // namespace
+}  // namespace handscan::pipeline_daemon::test
+
+namespace handscan::pipeline_daemon::test {
+namespace {
+
+struct TaskPolicy {
+    std::string name;
+    int policy = -1;
+    int priority = -1;
+};
+
+// Every thread of process `pid`: its name (/proc/PID/task/TID/comm) and scheduling.
+std::vector<TaskPolicy> taskPolicies(pid_t pid) {
+    std::vector<TaskPolicy> tasks;
+    std::error_code ec;
+    for (const auto& e : fs::directory_iterator("/proc/" + std::to_string(pid) + "/task", ec)) {
+        const pid_t tid = std::stoi(e.path().filename().string());
+        TaskPolicy t;
+        std::ifstream(e.path() / "comm") >> t.name;
+        t.policy = ::sched_getscheduler(tid);
+        sched_param p{};
+        if (::sched_getparam(tid, &p) == 0) t.priority = p.sched_priority;
+        tasks.push_back(t);
+    }
+    return tasks;
+}
+
+const TaskPolicy* findTask(const std::vector<TaskPolicy>& tasks, const std::string& name) {
+    for (const TaskPolicy& t : tasks) {
+        if (t.name == name) return &t;
+    }
+    return nullptr;
+}
+
+std::uint64_t lockedKiB(pid_t pid) {
+    std::ifstream in("/proc/" + std::to_string(pid) + "/status");
+    for (std::string line; std::getline(in, line);) {
+        if (line.rfind("VmLck:", 0) == 0) return std::stoull(line.substr(6));
+    }
+    return 0;
+}
+
+// The daemon as the unit runs it with LimitRTPRIO (here: root): each device thread and the
+// driver's Xsens reader SCHED_FIFO at realtime.device_priority, the pipeline thread at
+// realtime.pipeline_priority, the main thread (commands, watchdog) and export at normal
+// priority, and its memory locked.
+TEST(PipelineDaemonProcess, RealtimeThreadsRunFifoAtTheConfiguredPriorities) {
+    if (!fs::exists(kDaemon)) GTEST_SKIP() << kDaemon << " not built";
+    if (::geteuid() != 0) GTEST_SKIP() << "SCHED_FIFO needs root or LimitRTPRIO here";
+    DaemonRig rig("realtime");
+    const fs::path log = rig.dir() / "daemon.log";
+    const pid_t pid = spawnDaemon(
+        {kDaemon, "--config", rig.deviceYaml(), "--calibration", DaemonRig::calibrationYaml(),
+         "--shm", rig.shmName(), "--map-capacity", "262144"},
+        {}, log);
+    ASSERT_GT(pid, 0);
+    const RealtimeConfig rt;  // the rig's device.yaml has no realtime: section
+    std::vector<TaskPolicy> tasks;
+    const bool all_up = waitUntil(
+        [&] {
+            tasks = taskPolicies(pid);
+            for (const char* n :
+                 {"hs-hokuyo", "hs-xsens", "hs-xsens-rx", "hs-encoder", "hs-pipeline"}) {
+                if (!findTask(tasks, n)) return false;
+            }
+            return true;
+        },
+        10.0);
+    const std::uint64_t locked = lockedKiB(pid);
+    ::kill(pid, SIGTERM);
+    int status = 0;
+    ::waitpid(pid, &status, 0);
+    ASSERT_TRUE(all_up) << readAll(log);
+    for (const TaskPolicy& t : tasks) {
+        std::printf("  %-16s %-11s priority %d\n", t.name.c_str(),
+                    t.policy == SCHED_FIFO ? "SCHED_FIFO" : "SCHED_OTHER", t.priority);
+        if (t.name == "hs-pipeline") {
+            EXPECT_EQ(t.policy, SCHED_FIFO) << t.name;
+            EXPECT_EQ(t.priority, rt.pipeline_priority) << t.name;
+        } else if (t.name.rfind("hs-", 0) == 0) {
+            EXPECT_EQ(t.policy, SCHED_FIFO) << t.name;
+            EXPECT_EQ(t.priority, rt.device_priority) << t.name;
+        } else {
+            EXPECT_EQ(t.policy, SCHED_OTHER) << t.name;  // main loop, export, spdlog, fakes
+        }
+    }
+    EXPECT_GT(locked, 10000u) << "VmLck: mlockall did not lock the daemon's memory";
+    EXPECT_EQ(readAll(log).find("not permitted"), std::string::npos) << readAll(log);
+}
+
+// Without the permission (the capabilities dropped, RLIMIT_RTPRIO 0: a developer's shell) the
+// daemon says so once per kind, runs every thread at normal priority, and works: READY, devices.
+TEST(PipelineDaemonProcess, RealtimeNotPermittedWarnsOnceAndRunsOn) {
+    if (!fs::exists(kDaemon)) GTEST_SKIP() << kDaemon << " not built";
+    if (!fs::exists("/usr/bin/setpriv") || !fs::exists("/usr/bin/prlimit"))
+        GTEST_SKIP() << "util-linux setpriv/prlimit missing";
+    DaemonRig rig("realtime-denied");
+    NotifySocket notify(rig.dir() / "notify.sock");
+    const fs::path log = rig.dir() / "daemon.log";
+    const pid_t pid = spawnDaemon(
+        {"/usr/bin/setpriv", "--bounding-set=-sys_nice,-ipc_lock", "--inh-caps=-sys_nice,-ipc_lock",
+         "--", "/usr/bin/prlimit", "--rtprio=0", "--memlock=65536", "--", kDaemon, "--config",
+         rig.deviceYaml(), "--calibration", DaemonRig::calibrationYaml(), "--shm", rig.shmName(),
+         "--map-capacity", "262144"},
+        {"NOTIFY_SOCKET=" + (rig.dir() / "notify.sock").string()}, log);
+    ASSERT_GT(pid, 0);
+    const bool ready = waitUntil(
+        [&] {
+            return notify.saw("hokuyo ok") && notify.saw("xsens ok") && notify.saw("encoder ok");
+        },
+        10.0);
+    std::vector<TaskPolicy> tasks = taskPolicies(pid);
+    ::kill(pid, SIGTERM);
+    int status = 0;
+    ::waitpid(pid, &status, 0);
+    const std::string text = readAll(log);
+    EXPECT_TRUE(ready) << text;
+    ASSERT_TRUE(findTask(tasks, "hs-pipeline")) << text;
+    for (const TaskPolicy& t : tasks) EXPECT_EQ(t.policy, SCHED_OTHER) << t.name;
+    const auto count = [&](const std::string& needle) {
+        std::size_t n = 0;
+        for (auto at = text.find(needle); at != std::string::npos; at = text.find(needle, at + 1))
+            ++n;
+        return n;
+    };
+    EXPECT_EQ(count("real-time scheduling not permitted"), 1u) << text;
+    EXPECT_EQ(count("memory locking not permitted"), 1u) << text;
+    EXPECT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 0) << text;
+}
+
+}  // namespace
+}  // namespace handscan::pipeline_daemon::test
+
+namespace handscan::pipeline_daemon::test {
+namespace {
+
+// The package's config relocated to the rig's fake devices: /etc/handscan/device.yaml as
+// installed, with each device section the rig sets (addresses, paths, storage) taken from the
+// rig's device.yaml and everything else (realtime:, calibration files) as shipped.
+void relocateInstalledConfig(const fs::path& installed, const std::string& rig_yaml) {
+    YAML::Node config = YAML::LoadFile(installed.string());
+    const YAML::Node rig = YAML::LoadFile(rig_yaml);
+    for (const auto& section : rig) {
+        for (const auto& key : section.second)
+            config[section.first.as<std::string>()][key.first.as<std::string>()] = key.second;
+    }
+    YAML::Emitter out;
+    out << config;
+    std::ofstream(installed) << out.c_str() << "\n";
+}
+
+// `handscan-pipeline --config /etc/handscan/device.yaml` from the Debian package unpacked into a
+// throwaway root (tests/e2e/package: HANDSCAN_PACKAGE_ROOT), against the fake devices: it reads
+// the installed config and calibration, says READY=1, opens every device, stops cleanly.
+TEST(PipelineDaemonInstalled, StartsFromThePackageRootAgainstFakeDevices) {
+    const char* root_env = std::getenv("HANDSCAN_PACKAGE_ROOT");
+    if (!root_env) GTEST_SKIP() << "HANDSCAN_PACKAGE_ROOT unset (ctest -R e2e.package sets it)";
+    const fs::path root(root_env);
+    const fs::path daemon = root / "usr/bin/handscan-pipeline";
+    const fs::path etc = root / "etc/handscan";
+    ASSERT_TRUE(fs::exists(daemon)) << daemon << ": run ctest -R e2e.package.unpack first";
+    DaemonRig rig("installed");
+    relocateInstalledConfig(etc / "device.yaml", rig.deviceYaml());
+    NotifySocket notify(rig.dir() / "notify.sock");
+    const fs::path log = rig.dir() / "daemon.log";
+    const pid_t pid = spawnDaemon(
+        {daemon.string(), "--config", (etc / "device.yaml").string(), "--calibration",
+         (etc / "calibration.yaml").string(), "--shm", rig.shmName(), "--map-capacity", "262144"},
+        {"NOTIFY_SOCKET=" + (rig.dir() / "notify.sock").string()}, log);
+    ASSERT_GT(pid, 0);
+    const bool ready = waitUntil([&] { return notify.saw("READY=1"); }, 10.0);
+    const bool devices = waitUntil(
+        [&] {
+            return notify.saw("hokuyo ok") && notify.saw("xsens ok") && notify.saw("encoder ok");
+        },
+        10.0);
+    ::kill(pid, SIGTERM);
+    int status = 0;
+    ::waitpid(pid, &status, 0);
+    EXPECT_TRUE(ready) << readAll(log);
+    EXPECT_TRUE(devices) << readAll(log);
+    EXPECT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 0) << readAll(log);
+    std::printf("%s", readAll(log).c_str());
 }
 
 }  // namespace

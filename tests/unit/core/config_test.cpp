@@ -174,5 +174,52 @@ TEST_F(ConfigTest, CalibrationMissingTransform) {
     }
 }
 
+constexpr const char* kTransforms =
+    "T_shaft_laser:\n  translation: [0, 0, 0.05]\n  rpy_deg: [0, -90, 0]\n"
+    "T_camera_shaftbase:\n  translation: [0, 0.08, 0]\n  rpy_deg: [0, 0, 0]\n";
+
+TEST_F(ConfigTest, CalibratedTimeOffsetsTakePrecedenceOverDeviceLatencies) {
+    const Calibration c = loadCalibration(
+        write("calibration.yaml", std::string(kTransforms) +
+                                      "time_offsets:\n  xsens_frame_latency_ms: 2.25\n"
+                                      "  motor_tpdo_latency_ms: 0.3\n"));
+    ASSERT_TRUE(c.xsens_frame_latency_ms && c.motor_tpdo_latency_ms);
+    DeviceConfig d;
+    d.xsens.frame_latency_ms = 1.0;
+    d.motor.tpdo_latency_ms = 0.12;
+    const DeviceConfig out = withCalibratedLatencies(d, c);
+    EXPECT_DOUBLE_EQ(out.xsens.frame_latency_ms, 2.25);
+    EXPECT_DOUBLE_EQ(out.motor.tpdo_latency_ms, 0.3);
+    // Without the keys, device.yaml's defaults stand.
+    const Calibration plain = loadCalibration(write("plain.yaml", kTransforms));
+    EXPECT_FALSE(plain.xsens_frame_latency_ms || plain.motor_tpdo_latency_ms);
+    EXPECT_DOUBLE_EQ(withCalibratedLatencies(d, plain).xsens.frame_latency_ms, 1.0);
+    EXPECT_DOUBLE_EQ(withCalibratedLatencies(d, plain).motor.tpdo_latency_ms, 0.12);
+}
+
+TEST_F(ConfigTest, CalibratedTimeOffsetsValidated) {
+    const std::string bad =
+        write("calibration.yaml",
+              std::string(kTransforms) + "time_offsets:\n  xsens_frame_latency_ms: -1\n");
+    try {
+        loadCalibration(bad);
+        FAIL() << "no error";
+    } catch (const ConfigError& e) {
+        EXPECT_EQ(std::string(e.what()).substr(bad.size()),
+                  ":8: time_offsets.xsens_frame_latency_ms: expected a number in 0..100, got -1");
+    }
+    const std::string typo =
+        write("typo.yaml", std::string(kTransforms) + "time_offsets:\n  imu_latency_ms: 1\n");
+    try {
+        loadCalibration(typo);
+        FAIL() << "no error";
+    } catch (const ConfigError& e) {
+        EXPECT_EQ(std::string(e.what()).substr(typo.size()),
+                  ":8: time_offsets.imu_latency_ms: expected one of the keys "
+                  "{motor_tpdo_latency_ms, xsens_frame_latency_ms}, got unknown key "
+                  "'imu_latency_ms'");
+    }
+}
+
 }  // namespace
 }  // namespace handscan

@@ -110,7 +110,7 @@ TEST_F(ExportTest, TrajectoryAndMetadataFiles) {
     const std::string journal = makeJournal(5);
     auto r = exportScan(journal, dir_.string(), {{"ply", "las"}, 0.0, "out", {}, {}});
     ASSERT_TRUE(r.isOk()) << r.status().message();
-    ASSERT_EQ(r->files.size(), 5u);
+    ASSERT_EQ(r->files.size(), 6u);
     const auto tum = readFile((dir_ / "out" / "trajectory.tum").string());
     EXPECT_EQ(std::string(tum.begin(), tum.end()),
               "0.000000000 0.000000000 0.000000000 0.000000000 0.000000000 0.000000000 0.000000000 "
@@ -135,23 +135,19 @@ TEST_F(ExportTest, UnknownFormatRejected) {
     const std::string journal = makeJournal(1);
     auto r = exportScan(journal, dir_.string(), {{"ply", "xyz"}, 0.0, "out", {}, {}});
     ASSERT_FALSE(r.isOk());
-    EXPECT_EQ(r.status().message(), "export: unknown format 'xyz' (expected ply, las)");
+    EXPECT_EQ(r.status().message(), "export: unknown format 'xyz' (expected ply, las, e57)");
     EXPECT_FALSE(fs::exists(dir_ / "out" / "cloud.ply"));
 }
 
-TEST_F(ExportTest, E57SaysWhyItIsMissing) {
-    const std::string journal = makeJournal(1);
-    auto r = exportScan(journal, dir_.string(), {{"e57"}, 0.0, "out", {}, {}});
-    ASSERT_FALSE(r.isOk());
-    EXPECT_EQ(r.status().message(),
-              "export: E57 is not available: Debian 12 packages no E57 library (libE57Format); "
-              "export LAS 1.4 or PLY and convert");
-    // ... and every export's scan.json says so too.
-    ASSERT_TRUE(exportScan(journal, dir_.string(), {{"ply"}, 0.0, "out", {}, {}}).isOk());
+TEST_F(ExportTest, ScanJsonListsTheFormatsWritten) {
+    const std::string journal = makeJournal(3);
+    ExportOptions defaults;  // every format
+    defaults.scan_name = "out";
+    ASSERT_TRUE(exportScan(journal, dir_.string(), defaults).isOk());
     const auto json = readFile((dir_ / "out" / "scan.json").string());
-    EXPECT_NE(std::string(json.begin(), json.end())
-                  .find("\"formats_unavailable\": {\"e57\": \"not available: Debian 12"),
-              std::string::npos);
+    const std::string text(json.begin(), json.end());
+    EXPECT_NE(text.find("\"formats\": [\"ply\", \"las\", \"e57\"]"), std::string::npos) << text;
+    EXPECT_EQ(text.find("unavailable"), std::string::npos) << text;
 }
 
 // The UI's and the CLI's progress bar: fractions only grow, from 0 to exactly 1 with "done", and
@@ -187,13 +183,14 @@ TEST_F(ExportTest, ProgressGrowsThroughTheStagesToDone) {
     }
     EXPECT_EQ(stages, (std::vector<std::string>{"reading journal", "writing cloud.ply, cloud.las",
                                                 "verifying cloud.ply", "verifying cloud.las",
-                                                "writing trajectory and metadata", "done"}));
+                                                "writing trajectory and metadata",
+                                                "writing report.html", "done"}));
     // One update per journal chunk while writing.
     EXPECT_EQ(
         std::count_if(seen.begin(), seen.end(),
                       [](const auto& s) { return s.second == "writing cloud.ply, cloud.las"; }),
         3);
-    EXPECT_EQ(r->files.size(), 5u);  // the repeated "ply" is written once
+    EXPECT_EQ(r->files.size(), 6u);  // the repeated "ply" is written once
 
     seen.clear();
     opt.voxel_m = 2.0;

@@ -46,9 +46,9 @@ TEST_F(ExportTest, StickPulledMidWriteThenRetry) {
     opt.faults = {};
     auto again = exportScan(journal, (dir_ / "stick").string(), opt);
     ASSERT_TRUE(again.isOk()) << again.status().message();
-    EXPECT_EQ(
-        filesIn(dir_ / "stick"),
-        (std::vector<std::string>{"cloud.ply", "scan.json", "trajectory.csv", "trajectory.tum"}));
+    EXPECT_EQ(filesIn(dir_ / "stick"),
+              (std::vector<std::string>{"cloud.ply", "report.html", "scan.json", "trajectory.csv",
+                                        "trajectory.tum"}));
 }
 
 TEST_F(ExportTest, TargetDirectoryVanished) {

@@ -39,6 +39,7 @@ struct XsensDriverOptions {
     TimeNs poll_timeout = 100 * kNsPerMs;
     TimeNs backoff_min = 100 * kNsPerMs;
     TimeNs backoff_max = 5 * kNsPerSec;
+    int fifo_priority = 0;  // of the driver's thread (core/realtime.hpp); 0 = normal scheduling
 };
 
 class XsensDriver {

@@ -7,6 +7,7 @@
 
 #include <Eigen/Geometry>
 #include <array>
+#include <optional>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -115,6 +116,11 @@ struct Calibration {
     CameraIntrinsics tracking;                                            // cam0 of the camchain
     CameraIntrinsics colour;                                              // cam1 of the camchain
     Eigen::Isometry3d T_colour_tracking = Eigen::Isometry3d::Identity();  // cam1 T_cn_cnm1
+    // The sensors' time offsets against the laser, as `handscan calibrate` measures them
+    // (calibration.yaml `time_offsets`): when present they take precedence over device.yaml's
+    // xsens.frame_latency_ms and motor.tpdo_latency_ms defaults (withCalibratedLatencies).
+    std::optional<double> xsens_frame_latency_ms;
+    std::optional<double> motor_tpdo_latency_ms;
     // IMU {I} -> tracking camera {C}: the inverse of cam0's T_cam_imu, kept for convenience.
     Eigen::Isometry3d T_camera_imu() const { return tracking.T_cam_imu; }
 };
@@ -123,6 +129,8 @@ DeviceConfig loadDeviceConfig(const std::string& path);
 // calibration.yaml holds the laser/shaft extrinsics and names the camchain file (relative to
 // itself) holding the cameras in Kalibr's format.
 Calibration loadCalibration(const std::string& path);
+// `device` with the latencies calibration.yaml measured in place of its defaults.
+DeviceConfig withCalibratedLatencies(DeviceConfig device, const Calibration& calibration);
 // Kalibr camchain alone (cam0 = tracking, cam1 = colour).
 void loadCamchain(const std::string& path, Calibration& calibration);
 

@@ -90,6 +90,9 @@ struct PoseEstimate {
         Eigen::Matrix<double, 6, 6>::Identity();  // (rot, trans)
     std::uint8_t solved_dof_mask = 0x3F;
     PoseSource source = PoseSource::kIntegrated;
+    // The pipeline's tracking monitor has lost the map (fusion::TrackingMonitor): the pose is
+    // the IMU prediction's guess; nothing placed with it may enter the map or the journal.
+    bool tracking_lost = false;
 };
 
 }  // namespace handscan

@@ -1,5 +1,6 @@
-// Exports a scan from its journal into a directory: colourised point cloud (PLY and/or LAS 1.4),
-// trajectory (TUM and CSV) and a JSON with device, calibration, software version and statistics.
+// Exports a scan from its journal into a directory: colourised point cloud (PLY, LAS 1.4, E57),
+// trajectory (TUM and CSV), a JSON with device, calibration, software version and statistics, and
+// report.html (handscan::report).
 // Every file is written safely (see SafeFileWriter); free space is checked first; progress is
 // reported. `exportToUsb` picks the removable stick, refuses anything else, and ends with a sync
 // so the caller can say "safe to remove". The CLI, the UI and the GPIO export button all call this.
@@ -17,12 +18,13 @@
 namespace handscan::exporter {
 
 struct ExportOptions {
-    std::vector<std::string> formats{"ply", "las"};  // ply | las
-    double voxel_m = 0.0;                            // 0: full resolution
+    std::vector<std::string> formats{"ply", "las", "e57"};  // ply | las | e57
+    double voxel_m = 0.0;                                   // 0: full resolution
     std::string scan_name;  // output sub-folder; default from the journal file
     // fraction in [0, 1] and what is being done
     std::function<void(double fraction, const std::string& stage)> progress;
     WriteFaults faults;  // test hook
+    bool report = true;  // report.html: map views, health over time, loop-closure gap
 };
 
 struct ExportReport {

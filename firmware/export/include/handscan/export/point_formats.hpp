@@ -1,7 +1,9 @@
 // Point-cloud file formats surveyors' tools open: PLY (binary little-endian: x y z as float,
-// red green blue as uchar, intensity as ushort, time as double) and LAS 1.4 with point data record
-// format 7 (RGB + GPS time, 36 bytes). The points stream through once: the count is known up front
-// (from the journal), the bounds are gathered while writing and patched into the header at the end.
+// red green blue as uchar, intensity as ushort, time as double), LAS 1.4 with point data record
+// format 7 (RGB + GPS time, 36 bytes) and ASTM E57 (one Data3D: x y z as double, intensity,
+// RGB with isColorInvalid, timeStamp; the trajectory as extension data). The points stream through
+// once: the count is known up front (from the journal), the bounds are gathered while writing and
+// patched into the header at the end.
 #pragma once
 
 #include <cstdint>
@@ -9,6 +11,7 @@
 #include <memory>
 #include <span>
 #include <string>
+#include <vector>
 
 #include "handscan/core/status.hpp"
 #include "handscan/export/safe_file.hpp"
@@ -50,12 +53,26 @@ struct LasOptions {
     int creation_year = 2026;
 };
 
+struct E57Options {
+    std::string scan_name = "scan";
+    std::string description =
+        "handheld spinning-laser scan; timeStamp in seconds of the scan clock";
+    std::string sensor_vendor = "handscan";
+    std::string sensor_model = "handscan handheld spinning-laser scanner";
+    std::string sensor_serial = "unknown";
+    std::string software_version;
+    std::vector<journal::TrajectoryPose> trajectory;  // written as handscan:trajectory
+};
+
 std::unique_ptr<PointFileWriter> makePlyWriter(SafeFileWriter& file);
 std::unique_ptr<PointFileWriter> makeLasWriter(SafeFileWriter& file, LasOptions options = {});
+// Installs its per-page CRC-32C check on `file`'s read-back.
+std::unique_ptr<PointFileWriter> makeE57Writer(SafeFileWriter& file, E57Options options);
 
 // Sizes, for the free-space check before writing.
 std::uint64_t plyBytes(std::uint64_t points);
 std::uint64_t lasBytes(std::uint64_t points);
+std::uint64_t e57Bytes(std::uint64_t points, std::uint64_t trajectory_poses);
 constexpr std::size_t kLasHeaderBytes = 375;
 constexpr std::size_t kLasPointRecordBytes = 36;
 

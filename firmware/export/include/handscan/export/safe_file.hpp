@@ -51,6 +51,11 @@ public:
     Status write(std::span<const std::uint8_t> bytes);  // buffered; the I/O overlaps the caller
     // fsync, read back and verify, rename, fsync the directory.
     Status commit();
+    // A format's own check of the bytes read back from the medium (e.g. E57's per-page CRC-32C):
+    // fed the whole file in order, in pieces of any size, on the read-back thread; returns an
+    // empty string when fine, else what is wrong (the export then fails with it).
+    using ReadBackCheck = std::function<std::string(std::span<const std::uint8_t> bytes)>;
+    void setReadBackCheck(ReadBackCheck check) { read_back_check_ = std::move(check); }
     std::uint64_t bytesWritten() const { return flushed_ + fill_; }
     const std::string& finalPath() const { return final_path_; }
     // Whether the data went to the medium with O_DIRECT (false: buffered, e.g. on tmpfs).
@@ -77,6 +82,7 @@ private:
     std::uint32_t crc_ = 0;           // over everything after the header region
     std::uint64_t error_offset_ = 0;  // where the I/O thread's write failed
     bool committed_ = false;
+    ReadBackCheck read_back_check_;
 };
 
 }  // namespace handscan::exporter

@@ -17,7 +17,10 @@ namespace handscan::pipeline_daemon {
 
 class ExportJob {
 public:
-    explicit ExportJob(exporter::SystemPaths usb_paths = {}) : usb_paths_(std::move(usb_paths)) {}
+    // `eject_request`: the file written after a verified export to the USB stick, which
+    // handscan-usb-eject.path turns into an unmount ("" writes none).
+    explicit ExportJob(exporter::SystemPaths usb_paths = {}, std::string eject_request = {})
+        : usb_paths_(std::move(usb_paths)), eject_request_(std::move(eject_request)) {}
     ~ExportJob();
     ExportJob(const ExportJob&) = delete;
     ExportJob& operator=(const ExportJob&) = delete;
@@ -36,7 +39,10 @@ public:
 private:
     void run(std::string source, std::string target);
 
+    void requestEject(const std::string& mount_point) const;
+
     exporter::SystemPaths usb_paths_;
+    std::string eject_request_;
     mutable std::mutex mutex_;
     shm::ExportStatus status_{};
     std::string stage_;

@@ -31,6 +31,8 @@ struct DaemonOptions {
     std::size_t map_capacity_points = std::size_t{4} << 20;
     TimeNs ready_timeout = 5 * kNsPerSec;  // READY=1 at the latest after this, devices or not
     exporter::SystemPaths usb_paths;       // where the USB stick is looked for
+    // Written after a verified export to the stick: handscan-usb-eject.path unmounts it.
+    std::string usb_eject_request = "/run/handscan/usb-eject";
     journal::JournalOptions journal;
 };
 

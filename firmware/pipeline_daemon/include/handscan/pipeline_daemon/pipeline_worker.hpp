@@ -42,7 +42,8 @@ public:
     PipelineWorker(const PipelineWorker&) = delete;
     PipelineWorker& operator=(const PipelineWorker&) = delete;
 
-    void start();
+    // Starts the pipeline thread, SCHED_FIFO at `fifo_priority` when permitted (0: normal).
+    void start(int fifo_priority = 0);
     void stop();
     // Runs `control` on the pipeline thread; the operator's message or why it was refused.
     Result<std::string> control(ScanControl control, TimeNs timeout = 5 * kNsPerSec);

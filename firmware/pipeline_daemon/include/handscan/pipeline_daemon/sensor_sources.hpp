@@ -47,7 +47,8 @@ public:
     SensorSource(const SensorSource&) = delete;
     SensorSource& operator=(const SensorSource&) = delete;
 
-    void start();
+    // Starts the device thread, SCHED_FIFO at `fifo_priority` when permitted (0: normal).
+    void start(int fifo_priority = 0);
     // Ends the thread (within one poll slice) and closes the device.
     void stop();
     SensorHealth& health() { return health_; }
@@ -62,9 +63,12 @@ protected:
     // retried after a back-off growing from `first_wait` to `max_wait`.
     void runSessions(TimeNs first_wait, TimeNs max_wait, const std::string& what, const char* hint,
                      const std::function<Status()>& session);
+    // The priority start() gave this device's thread, for a driver thread of its own.
+    int fifoPriority() const { return fifo_priority_; }
     SensorHealth health_;
 
 private:
+    int fifo_priority_ = 0;
     std::atomic<bool> stop_{false};
     std::thread thread_;
 };

@@ -17,6 +17,7 @@
 
 #include "handscan/core/config.hpp"
 #include "handscan/core/samples.hpp"
+#include "handscan/fusion/tracking_monitor.hpp"
 #include "handscan/fusion/transform_integrator.hpp"
 #include "handscan/imu/imu_predictor.hpp"
 #include "handscan/scan/laser_odometry.hpp"
@@ -30,6 +31,9 @@ struct LioConfig {
     scan::LaserOdometryConfig odometry;
     bool laser_enabled = true;  // false: IMU prediction only (--modules imu)
     bool imu_feedback = true;   // scan-matching poses correct the IMU predictor (section 4.2)
+    // Divergence detection: an inconsistent match neither enters the map nor corrects the
+    // predictor; a run of them is "tracking lost" until the old map agrees again.
+    fusion::TrackingMonitorConfig tracking;
     // With feedback the matcher's prior is the corrected IMU prediction (eq. 18); its standard
     // deviations. Measured on simulated 60 s walks: the prediction at a sweep's start differs
     // from the match by 2-3 mm rms per axis. 5 mm (not 2 cm) lets the prior hold the matcher
@@ -68,6 +72,9 @@ struct LioConfig {
 struct RegisteredSweep {
     scan::Sweep sweep;  // as assembled (body frame at its start), for --dump-sweeps
     scan::SweepResult result;
+    // The tracking monitor's verdict. !tracking.enters_map: the sweep was kept out of the map,
+    // and whoever journals or publishes the map must leave it out too.
+    fusion::TrackingVerdict tracking;
     std::vector<Eigen::Vector3f> points_world;
     std::vector<float> intensities;
     std::vector<TimeNs> times;
@@ -107,20 +114,28 @@ public:
     const scan::LaserOdometry& odometry() const { return *odometry_; }
     const scan::SweepAssemblerStats& assemblerStats() const { return assembler_->stats(); }
     const LioStats& stats() const { return stats_; }
+    // Divergence detection: the state, and the intervals with tracking lost (stats.json).
+    const fusion::TrackingMonitor& tracking() const { return monitor_; }
 
 private:
     void processSweeps();
     void matchSweep(scan::Sweep sweep);
+    // Feedback to the IMU predictor from one match (section 4.2), `trusted`: the match passed
+    // the tracking monitor; else every direction is unsolved.
+    void feedBack(const scan::Sweep& sweep, const scan::SweepResult& r, bool trusted);
     std::vector<scan::PosePrior> referencePrior(const scan::Sweep& sweep) const;
     // Information of the corrected IMU prediction as the matcher's prior (eq. 18), in the body
     // tangent at orientation R_world_body (see unsolved_prior_sigma_trans_m).
     Matrix6d predictionInformation(const Eigen::Matrix3d& R_world_body) const;
+    // The information of the prior a match started from (the tracking monitor's yardstick).
+    Matrix6d priorInformation(const std::optional<std::vector<scan::PosePrior>>& priors) const;
 
     LioConfig config_;
     imu::ImuPredictor predictor_;
     fusion::TransformIntegrator integrator_;
     std::unique_ptr<scan::SweepAssembler> assembler_;
     std::unique_ptr<scan::LaserOdometry> odometry_;
+    fusion::TrackingMonitor monitor_;
     std::vector<PoseEstimate> poses_;
     std::vector<RegisteredSweep> sweeps_;
     TimeNs last_unknown_pose_t_ = 0;

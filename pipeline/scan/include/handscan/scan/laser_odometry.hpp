@@ -12,6 +12,7 @@
 #include <condition_variable>
 #include <cstdint>
 #include <deque>
+#include <functional>
 #include <map>
 #include <memory>
 #include <mutex>
@@ -49,6 +50,7 @@ struct SweepResult {
     Eigen::Isometry3d T_world_prior = Eigen::Isometry3d::Identity();
     MatchResult match;
     bool first_sweep = false;  // no map yet: pose = prior, nothing solved
+    bool merged = false;       // merged into the map (the merge gate let it in)
     std::size_t edges = 0;     // features extracted
     std::size_t planars = 0;
     std::size_t local_map_points = 0;  // |Q_{m-1}|
@@ -61,6 +63,10 @@ struct SweepResult {
     double total_ms = 0.0;
 };
 
+// Decides after a sweep's match, before the merge, whether the sweep joins the map (e.g. the
+// tracking monitor: a diverging estimate must not fill the map with garbage).
+using MergeGate = std::function<bool(const SweepResult&)>;
+
 class LaserOdometry {
 public:
     explicit LaserOdometry(const LaserOdometryConfig& config = {});
@@ -68,9 +74,11 @@ public:
     LaserOdometry(const LaserOdometry&) = delete;
     LaserOdometry& operator=(const LaserOdometry&) = delete;
 
-    // Synchronous: matches `sweep` against the map of every earlier sweep, then merges it.
+    // Synchronous: matches `sweep` against the map of every earlier sweep, then merges it unless
+    // `gate` refuses.
     SweepResult process(const Sweep& sweep,
-                        const std::optional<std::vector<PosePrior>>& priors = std::nullopt);
+                        const std::optional<std::vector<PosePrior>>& priors = std::nullopt,
+                        const MergeGate& gate = {});
 
     // Asynchronous (6.4): returns at once; results come from poll() in sweep order.
     void submit(Sweep sweep, std::optional<std::vector<PosePrior>> priors = std::nullopt);
@@ -95,7 +103,7 @@ private:
     };
 
     SweepResult run(const Sweep& sweep, const std::optional<std::vector<PosePrior>>& priors,
-                    int thread);
+                    int thread, const MergeGate& gate = {});
     void workerLoop(int id);
     void startWorkers();
 

@@ -1,0 +1,62 @@
+// What the report says about a scan, gathered while the export streams its points once: duration,
+// walked distance, point count and coloured share, the sensors' health over time from the journal
+// (laser points per second, the camera's coloured share, the pose rate, and the dropouts where
+// either stopped), the intervals where the matcher left a direction degenerate (from the
+// replay's stats.json beside the journal, when there is one: the live journal does not hold
+// them), and the loop-closure gap when the walk came back to where it started.
+#pragma once
+
+#include <cstdint>
+#include <map>
+#include <optional>
+#include <span>
+#include <string>
+#include <vector>
+
+#include "handscan/journal/map_point.hpp"
+
+namespace handscan::report {
+
+struct HealthBin {
+    double t_s = 0.0;  // start of the bin, seconds from the scan's start
+    std::uint64_t points = 0, coloured = 0, poses = 0;
+};
+
+struct Interval {
+    double from_s = 0.0, to_s = 0.0;  // seconds from the scan's start
+    int directions = 0;               // degenerate directions (most in the interval)
+};
+
+struct ScanFacts {
+    double t0_s = 0.0;  // scan clock at the start
+    double duration_s = 0.0;
+    double distance_m = 0.0;  // along the trajectory
+    std::uint64_t points = 0, coloured = 0;
+    double bin_s = 1.0;
+    std::vector<HealthBin> bins;
+    std::vector<Interval> laser_dropouts, pose_dropouts;  // no points / no poses for > 1 s
+    bool have_sweep_stats = false;
+    std::vector<std::pair<double, int>> sweep_degenerate;  // (t from start, directions)
+    std::vector<Interval> degenerate;
+    std::optional<double> loop_gap_m;  // end-to-start distance when the walk closed a loop
+    std::string loop_note;             // why there is, or is not, a gap
+};
+
+class ScanFactsBuilder {
+public:
+    void add(std::span<const journal::MapPoint> points);
+    // `stats_json`: a replay's stats.json (per_sweep degenerate_directions), or empty.
+    ScanFacts finish(std::span<const journal::TrajectoryPose> trajectory,
+                     const std::string& stats_json) const;
+
+private:
+    struct Second {
+        std::uint64_t points = 0, coloured = 0;
+    };
+    std::map<std::int64_t, Second> seconds_;  // by whole second of the scan clock
+    std::int64_t last_key_ = 0;
+    Second* last_ = nullptr;
+    std::uint64_t points_ = 0, coloured_ = 0;
+};
+
+}  // namespace handscan::report

@@ -1,0 +1,130 @@
+#include "handscan/report/scan_facts.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <nlohmann/json.hpp>
+
+namespace handscan::report {
+namespace {
+
+constexpr double kDropoutS = 1.0;  // a sensor silent this long counts as a dropout
+constexpr std::size_t kMaxBins = 600;
+
+// Poses more than a dropout apart leave a gap; the walk's length skips the jump across it.
+void trajectoryFacts(std::span<const journal::TrajectoryPose> tr, double t0, ScanFacts& f) {
+    for (std::size_t k = 1; k < tr.size(); ++k) {
+        const double dt = tr[k].t_s - tr[k - 1].t_s;
+        f.distance_m +=
+            std::hypot(tr[k].x - tr[k - 1].x, tr[k].y - tr[k - 1].y, tr[k].z - tr[k - 1].z);
+        if (dt > kDropoutS) f.pose_dropouts.push_back({tr[k - 1].t_s - t0, tr[k].t_s - t0, 0});
+    }
+    if (tr.size() < 2) {
+        f.loop_note = "no trajectory to close a loop";
+        return;
+    }
+    const double gap = std::hypot(tr.back().x - tr.front().x, tr.back().y - tr.front().y,
+                                  tr.back().z - tr.front().z);
+    // A closed loop: the walker came back near the start after a real walk. The remaining
+    // distance is the drift the pipeline accumulated plus how exactly the start was re-taken.
+    const double near = std::max(2.0, 0.05 * f.distance_m);
+    char note[200];
+    if (f.distance_m >= 10.0 && gap <= near) {
+        f.loop_gap_m = gap;
+        std::snprintf(note, sizeof note,
+                      "the walk ended %.3f m from where it started after %.1f m (%.2f %% of the "
+                      "distance): drift plus how exactly the start was re-taken",
+                      gap, f.distance_m, 100.0 * gap / f.distance_m);
+    } else {
+        std::snprintf(note, sizeof note,
+                      "no closed loop: the walk ended %.1f m from its start after %.1f m", gap,
+                      f.distance_m);
+    }
+    f.loop_note = note;
+}
+
+void sweepFacts(const std::string& stats_json, double t0, double t_end, ScanFacts& f) {
+    if (stats_json.empty()) return;
+    const auto stats = nlohmann::json::parse(stats_json, nullptr, false);
+    if (!stats.is_object() || !stats.contains("per_sweep") || !stats["per_sweep"].is_array())
+        return;
+    f.have_sweep_stats = true;
+    for (const auto& s : stats["per_sweep"]) {
+        if (!s.contains("t_start_s") || !s.contains("degenerate_directions")) continue;
+        f.sweep_degenerate.emplace_back(s["t_start_s"].get<double>() - t0,
+                                        s["degenerate_directions"].get<int>());
+    }
+    // Consecutive degenerate sweeps make one interval, to the start of the next good sweep.
+    const auto& sw = f.sweep_degenerate;
+    for (std::size_t k = 0; k < sw.size(); ++k) {
+        if (sw[k].second == 0) continue;
+        Interval in{sw[k].first, sw[k].first, 0};
+        for (; k < sw.size() && sw[k].second > 0; ++k)
+            in.directions = std::max(in.directions, sw[k].second);
+        in.to_s = k < sw.size() ? sw[k].first : t_end - t0;
+        f.degenerate.push_back(in);
+    }
+}
+
+}  // namespace
+
+void ScanFactsBuilder::add(std::span<const journal::MapPoint> points) {
+    for (const journal::MapPoint& p : points) {
+        if (!std::isfinite(p.t_s)) continue;
+        const auto key = static_cast<std::int64_t>(std::floor(p.t_s));
+        if (!last_ || key != last_key_) {  // points come in time order: one lookup per second
+            last_ = &seconds_[key];
+            last_key_ = key;
+        }
+        const bool coloured = (p.r | p.g | p.b) != 0;
+        ++last_->points;
+        last_->coloured += coloured;
+        coloured_ += coloured;
+    }
+    points_ += points.size();
+}
+
+ScanFacts ScanFactsBuilder::finish(std::span<const journal::TrajectoryPose> tr,
+                                   const std::string& stats_json) const {
+    ScanFacts f;
+    f.points = points_;
+    f.coloured = coloured_;
+    double t0 = tr.empty() ? 0.0 : tr.front().t_s, t1 = tr.empty() ? 0.0 : tr.back().t_s;
+    if (!seconds_.empty()) {
+        t0 = tr.empty() ? double(seconds_.begin()->first)
+                        : std::min(t0, double(seconds_.begin()->first));
+        t1 = std::max(t1, double(seconds_.rbegin()->first + 1));
+    }
+    f.t0_s = t0;
+    f.duration_s = std::max(0.0, t1 - t0);
+    // Laser dropouts: whole seconds without a point between the first and the last.
+    for (auto it = seconds_.begin(); it != seconds_.end(); ++it) {
+        const auto next = std::next(it);
+        if (next != seconds_.end() && next->first - it->first > 1)
+            f.laser_dropouts.push_back({double(it->first + 1) - t0, double(next->first) - t0, 0});
+    }
+    // Health bins of a whole number of seconds, at most kMaxBins of them.
+    const auto seconds = static_cast<std::size_t>(std::ceil(f.duration_s));
+    const std::size_t per_bin = std::max<std::size_t>(1, (seconds + kMaxBins - 1) / kMaxBins);
+    f.bin_s = double(per_bin);
+    f.bins.resize(seconds == 0 ? 0 : (seconds + per_bin - 1) / per_bin);
+    for (std::size_t b = 0; b < f.bins.size(); ++b) f.bins[b].t_s = double(b * per_bin);
+    auto bin = [&](double t) -> HealthBin* {
+        if (f.bins.empty() || t < t0) return nullptr;
+        const auto b = static_cast<std::size_t>((t - t0) / f.bin_s);
+        return b < f.bins.size() ? &f.bins[b] : &f.bins.back();
+    };
+    for (const auto& [key, s] : seconds_) {
+        if (HealthBin* b = bin(double(key))) {
+            b->points += s.points;
+            b->coloured += s.coloured;
+        }
+    }
+    for (const journal::TrajectoryPose& p : tr)
+        if (HealthBin* b = bin(p.t_s)) ++b->poses;
+    trajectoryFacts(tr, t0, f);
+    sweepFacts(stats_json, t0, t1, f);
+    return f;
+}
+
+}  // namespace handscan::report
