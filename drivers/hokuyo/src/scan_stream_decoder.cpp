@@ -12,6 +12,7 @@ ScanStreamStats ScanStreamDecoder::stats() const {
 
 void ScanStreamDecoder::feed(TimeNs t_rx, std::span<const std::uint8_t> bytes,
                              std::vector<LaserScan>& scans, std::vector<ScipEvent>& events) {
+    const std::size_t first_event = events.size();
     parsed_.clear();
     parser_.feed(bytes, parsed_);
     for (ScipEvent& ev : parsed_) {
@@ -36,6 +37,30 @@ void ScanStreamDecoder::feed(TimeNs t_rx, std::span<const std::uint8_t> bytes,
         }
         events.push_back(std::move(ev));
     }
+    for (std::size_t i = first_event; i < events.size(); ++i) {
+        if (const auto* fault = std::get_if<ScipFault>(&events[i])) {
+            ++faults_;
+            last_fault_ = fault->message;
+        }
+    }
+}
+
+void ScanStreamDecoder::feed(TimeNs t_rx, std::span<const std::uint8_t> bytes,
+                             std::vector<LaserScan>& scans) {
+    scratch_.clear();
+    feed(t_rx, bytes, scans, scratch_);
+}
+
+StreamCounters ScanStreamDecoder::counters() const {
+    const ScanStreamStats s = stats();
+    StreamCounters c;
+    c.messages = s.scans;
+    c.checksum_failures = s.parser.checksum_failures;
+    c.resyncs = s.parser.resyncs;
+    c.gaps = s.missed_scans;
+    c.errors = faults_;
+    c.last_error = last_fault_;
+    return c;
 }
 
 void ScanStreamDecoder::decodeScan(const ScipFrame& frame, TimeNs t_rx,

@@ -24,6 +24,11 @@ void addNodeFilters(std::vector<CanFilter>& f, std::uint8_t node) {
         f.push_back(exactSffFilter(base + node));
 }
 
+EncoderTiming timing(const MotorConfig& c) {
+    const bool cyclic = c.tpdo1_transmission_type >= kTransmissionEventManufacturer;
+    return {cyclic ? static_cast<TimeNs>(c.cyclic_timer_ms) * kNsPerMs : 0, c.tpdo_latency};
+}
+
 }  // namespace
 
 const char* toString(MotorState s) {
@@ -47,7 +52,7 @@ const char* toString(MotorState s) {
 MotorDevice::MotorDevice(transport::CanBus& bus, MotorConfig config, Clock clock, RawTap* tap)
     : master_(bus, std::move(clock), tap, config.interface),
       cfg_(std::move(config)),
-      unwrapper_(cfg_.unwrap) {
+      clock_(cfg_.unwrap, timing(cfg_)) {
     master_.setFrameHandler([this](const TimedCanFrame& tf) { onFrame(tf); });
 }
 
@@ -128,7 +133,7 @@ void MotorDevice::onFrame(const TimedCanFrame& tf) {
                     static_cast<TimeNs>(2.5 * cfg_.cyclic_timer_ms * kNsPerMs)) {
                 ++stats_.late_positions;
             }
-            auto sample = unwrapper_.update(tf.t_host - cfg_.tpdo_latency, *pos);
+            auto sample = clock_.update(tf.t_host, *pos);
             if (!sample) {
                 ++stats_.bad_frames;
                 log().warn("motor: {} ({} at {} ns)", sample.status().message(), who, tf.t_host);
@@ -137,7 +142,7 @@ void MotorDevice::onFrame(const TimedCanFrame& tf) {
             have_position_ = true;
             last_position_ = tf.t_host;
             ++stats_.positions;
-            stats_.wraps = unwrapper_.wraps();
+            stats_.wraps = clock_.unwrapper().wraps();
             if (ready_.size() < kMaxQueuedSamples) ready_.push_back(*sample);
             return;
         }
@@ -222,7 +227,7 @@ Status MotorDevice::configureEncoder() {
         u.units_per_revolution = *upr;
         u.total_range = *range;
     }
-    unwrapper_ = PositionUnwrapper(u);
+    clock_ = EncoderSampleClock(u, timing(cfg_));
     if (Status s = master_.sdoWrite(n, od::kProducerHeartbeatTime, 0, cfg_.heartbeat_ms, 2,
                                     cfg_.sdo_timeout, cfg_.sdo_retries);
         !s)
@@ -343,8 +348,8 @@ Status MotorDevice::start() {
     }
     if (state_ == MotorState::kFault) return fault_;
     log().info("motor: encoder node {} streaming ({} units/rev, range {}, every {} ms){}",
-               cfg_.encoder_node, unwrapper_.config().units_per_revolution,
-               unwrapper_.config().total_range, cfg_.cyclic_timer_ms,
+               cfg_.encoder_node, resolution().units_per_revolution, resolution().total_range,
+               cfg_.cyclic_timer_ms,
                cfg_.drive ? ", drive node " + std::to_string(cfg_.drive->node) + " enabled"
                           : std::string());
     return Status::ok();

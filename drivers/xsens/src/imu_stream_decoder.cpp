@@ -26,6 +26,18 @@ TimeNs ImuFrameTiming::delayOf(std::size_t frame_bytes) const {
 ImuStreamDecoder::ImuStreamDecoder(std::string source, ImuFrameTiming timing)
     : source_(std::move(source)), timing_(timing), clock_(sampleTimeFineClock()) {}
 
+StreamCounters ImuStreamDecoder::counters() const {
+    const ImuStreamStats s = stats();
+    StreamCounters c;
+    c.messages = s.samples;
+    c.checksum_failures = s.checksum_failures;
+    c.resyncs = s.resyncs;
+    c.gaps = s.lost_packets;
+    c.errors = s.device_errors + s.malformed + s.incomplete;
+    c.last_error = lastProblem();
+    return c;
+}
+
 ImuStreamStats ImuStreamDecoder::stats() const {
     ImuStreamStats s = stats_;
     s.checksum_failures = parser_.stats().checksum_failures;

@@ -59,8 +59,8 @@ std::string linkExportedMap(const fs::path& out) {
 std::uint64_t droppedSamplesInLog(const fs::path& log) {
     std::ifstream in(log);
     const std::regex queues(R"(samples dropped at full queues \((\d+) in all\))");
-    const std::regex unprocessed(
-        R"((\d+) IMU, (\d+) encoder samples and (\d+) scans not processed before shutdown)");
+    // The worker's count of samples it had to drop at a shutdown (worker::PipelineWorker).
+    const std::regex unprocessed(R"((\d+) samples not processed before shutdown)");
     std::uint64_t at_queues = 0, at_shutdown = 0;
     std::string line;
     std::smatch m;
@@ -72,8 +72,7 @@ std::uint64_t droppedSamplesInLog(const fs::path& log) {
             at_queues = 0;
         }
         if (std::regex_search(line, m, queues)) at_queues = std::stoull(m[1]);
-        if (std::regex_search(line, m, unprocessed))
-            at_shutdown += std::stoull(m[1]) + std::stoull(m[2]) + std::stoull(m[3]);
+        if (std::regex_search(line, m, unprocessed)) at_shutdown += std::stoull(m[1]);
     }
     return at_queues + at_shutdown;
 }

@@ -9,7 +9,7 @@
 #include "handscan/live_output/live_publisher.hpp"
 #include "handscan/pipeline_daemon/command_handler.hpp"
 #include "handscan/pipeline_daemon/export_job.hpp"
-#include "handscan/pipeline_daemon/pipeline_worker.hpp"
+#include "handscan/pipeline_daemon/pipeline_thread.hpp"
 #include "handscan/pipeline_daemon/systemd_notifier.hpp"
 
 namespace handscan::pipeline_daemon {
@@ -17,7 +17,7 @@ namespace handscan::pipeline_daemon {
 struct PipelineDaemon::Parts {
     std::vector<std::unique_ptr<SensorSource>> sources;
     ExportJob exports;
-    std::unique_ptr<PipelineWorker> worker;
+    std::unique_ptr<PipelineThread> worker;
     std::unique_ptr<CommandHandler> commands;
     SystemdNotifier notifier;
     Parts(exporter::SystemPaths usb, std::string eject_request)
@@ -41,10 +41,12 @@ Status PipelineDaemon::open() {
         options_.device_config.empty() ? config_dir + "/device.yaml" : options_.device_config;
     RealtimeConfig realtime;
     try {
-        device_ = loadDeviceConfig(device_yaml);
-        realtime = loadRealtimeConfig(device_yaml);
         calibration_ = loadCalibration(
             options_.calibration.empty() ? config_dir + "/calibration.yaml" : options_.calibration);
+        // The latencies calibration.yaml measured (`handscan calibrate`) replace device.yaml's,
+        // as in replay.
+        device_ = withCalibratedLatencies(loadDeviceConfig(device_yaml), calibration_);
+        realtime = loadRealtimeConfig(device_yaml);
     } catch (const std::exception& e) {  // ConfigError: file, line, key, expected and found
         return Status(StatusCode::kInvalidArgument, e.what());
     }
@@ -78,7 +80,7 @@ Status PipelineDaemon::open() {
     };
     inputs.export_status = [this] { return parts_->exports.status(); };
     parts_->worker =
-        std::make_unique<PipelineWorker>(device_, calibration_, std::move(*publisher),
+        std::make_unique<PipelineThread>(device_, calibration_, std::move(*publisher),
                                          std::move(session), queues_, std::move(inputs));
     parts_->commands = std::make_unique<CommandHandler>(*parts_->worker, parts_->exports,
                                                         parts_->worker->commands());

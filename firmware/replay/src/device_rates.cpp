@@ -5,7 +5,7 @@
 #include "handscan/camera/frame_record.hpp"
 #include "handscan/camera/frame_timing.hpp"
 #include "handscan/recording/channels.hpp"
-#include "handscan/replay/stream_decoders.hpp"
+#include "handscan/sources/stream_config.hpp"
 
 namespace handscan::replay {
 namespace {
@@ -66,13 +66,13 @@ void takeCounters(const StreamCounters& s, SampleCount& c) {
 
 struct DeviceRateMeter::Streams {
     explicit Streams(const DeviceConfig& device)
-        : hokuyo(hokuyoTiming(device)),
-          xsens(xsensTiming(device)),
-          encoder(encoderStreamConfig(device)) {}
+        : hokuyo(sources::hokuyoTiming(device)),
+          xsens("Xsens", sources::xsensTiming(device)),
+          encoder(sources::encoderStreamConfig(device)) {}
 
-    HokuyoStreamDecoder hokuyo;
-    XsensStreamDecoder xsens;
-    EncoderStreamDecoder encoder;
+    hokuyo::ScanStreamDecoder hokuyo;
+    xsens::ImuStreamDecoder xsens;
+    motor::EncoderStreamDecoder encoder;
     SampleCount scans, imu, positions, edges;
     CameraStream track, colour;
     std::vector<LaserScan> scan_out;

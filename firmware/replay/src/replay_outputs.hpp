@@ -6,13 +6,13 @@
 #include <string>
 #include <vector>
 
+#include "handscan/core/call_timer.hpp"
 #include "handscan/core/samples.hpp"
 #include "handscan/core/status.hpp"
+#include "handscan/core/stream_counters.hpp"
 #include "handscan/export/safe_file.hpp"
 #include "handscan/lio/laser_inertial_odometry.hpp"
-#include "handscan/replay/call_timer.hpp"
 #include "handscan/replay/replay_engine.hpp"
-#include "handscan/replay/stream_decoders.hpp"
 #include "handscan/replay/tiled_voxel_map.hpp"
 
 namespace handscan::replay {

@@ -1,6 +1,6 @@
 // The replay's per-module timing keeps constant memory and still reports what sorting every
 // duration would: exact count, mean, total and maximum; median and 99th percentile within 0.25 %.
-#include "handscan/replay/call_timer.hpp"
+#include "handscan/core/call_timer.hpp"
 
 #include <gtest/gtest.h>
 

@@ -13,9 +13,11 @@
 #include <cstdint>
 #include <optional>
 #include <span>
+#include <string>
 #include <vector>
 
 #include "handscan/core/samples.hpp"
+#include "handscan/core/stream_counters.hpp"
 #include "handscan/hokuyo/scan_timestamper.hpp"
 #include "handscan/hokuyo/scip_stream_parser.hpp"
 #include "handscan/hokuyo/sensor_parameters.hpp"
@@ -36,6 +38,8 @@ public:
     // frames and faults to `events`.
     void feed(TimeNs t_rx, std::span<const std::uint8_t> bytes, std::vector<LaserScan>& scans,
               std::vector<ScipEvent>& events);
+    // The same for a recording: replies are of no use there, faults are only counted.
+    void feed(TimeNs t_rx, std::span<const std::uint8_t> bytes, std::vector<LaserScan>& scans);
     // A new connection: buffered bytes are dropped (the sensor clock mapping and the scan
     // sequence continue, so scans missed while reconnecting are counted).
     void resetLink() { parser_.reset(); }
@@ -43,6 +47,8 @@ public:
     const std::optional<SensorParameters>& parameters() const { return params_; }
     const ClockMapper& clock() const { return timestamper_.mapper(); }
     ScanStreamStats stats() const;
+    // The same as the counters every stream decoder reports (faults: ScipFault events).
+    StreamCounters counters() const;
 
 private:
     void decodeScan(const ScipFrame& frame, TimeNs t_rx, std::vector<LaserScan>& scans);
@@ -53,6 +59,9 @@ private:
     std::optional<std::uint32_t> last_t_device_;
     std::vector<ScipEvent> parsed_;
     ScanStreamStats stats_;
+    std::vector<ScipEvent> scratch_;
+    std::uint64_t faults_ = 0;
+    std::string last_fault_;
 };
 
 }  // namespace handscan::hokuyo

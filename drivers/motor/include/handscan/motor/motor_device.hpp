@@ -5,7 +5,8 @@
 //            (optional read of 6001h/6002h, heartbeat 1017h, TPDO1 transmission type 1800h:02,
 //            cyclic timer 6200h) -> NMT start -> first TPDO1; the drive (if any): 6060h = 3
 //            (profile velocity), controlword steps to `operation enabled`, target velocity 0.
-//   poll():  one frame at a time: TPDO1 -> EncoderSample (continuous angle, speed); heartbeat and
+//   poll():  one frame at a time: TPDO1 -> EncoderSample (continuous angle, speed, stamped by
+//            EncoderSampleClock as replay stamps the recorded frames); heartbeat and
 //            TPDO watchdogs; EMCY. A silent encoder, a reboot or an emergency is a fault: the
 //            drive is commanded to stop, the fault is latched and returned on every later poll.
 //   setMotorSpeed(): target velocity 60FFh by SDO (acknowledged) or by RPDO (cyclic).
@@ -19,7 +20,7 @@
 
 #include "handscan/core/samples.hpp"
 #include "handscan/motor/canopen_master.hpp"
-#include "handscan/motor/position_unwrapper.hpp"
+#include "handscan/motor/encoder_sample_clock.hpp"
 
 namespace handscan::motor {
 
@@ -38,7 +39,9 @@ struct MotorConfig {
     UnwrapperConfig unwrap;                   // units per revolution / range, overwritten when read
     bool read_resolution_from_device = true;  // SDO-read 6001h and 6002h at start
     std::uint16_t cyclic_timer_ms = 1;        // 6200h: TPDO1 period
-    TimeNs tpdo_latency = 0;                  // position sampled -> TPDO1 received (calibration)
+    // Position sampled -> TPDO1 received (calibration). Positions are stamped by the TPDO1
+    // cyclic-timer fit (EncoderSampleClock), as a recording of this bus replays them.
+    TimeNs tpdo_latency = 0;
     std::uint8_t tpdo1_transmission_type = kTransmissionEventManufacturer;
     std::uint16_t heartbeat_ms = 100;           // 1017h producer heartbeat time
     TimeNs heartbeat_timeout = 350 * kNsPerMs;  // silent encoder after this long without heartbeat
@@ -85,7 +88,7 @@ public:
     MotorState state() const { return state_; }
     const Status& fault() const { return fault_; }
     const MotorStats& stats() const { return stats_; }
-    const UnwrapperConfig& resolution() const { return unwrapper_.config(); }
+    const UnwrapperConfig& resolution() const { return clock_.unwrapper().config(); }
     std::optional<Cia402State> driveState() const { return drive_state_; }
 
 private:
@@ -99,7 +102,7 @@ private:
 
     CanOpenMaster master_;
     MotorConfig cfg_;
-    PositionUnwrapper unwrapper_;
+    EncoderSampleClock clock_;
     MotorState state_ = MotorState::kIdle;
     Status fault_;
     MotorStats stats_;

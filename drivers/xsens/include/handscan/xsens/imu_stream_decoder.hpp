@@ -19,6 +19,7 @@
 
 #include "handscan/core/clock_mapper.hpp"
 #include "handscan/core/samples.hpp"
+#include "handscan/core/stream_counters.hpp"
 #include "handscan/xsens/mtdata2.hpp"
 #include "handscan/xsens/xbus_parser.hpp"
 
@@ -77,6 +78,8 @@ public:
     void onProblem(std::function<void(const std::string&)> f) { on_problem_ = std::move(f); }
 
     ImuStreamStats stats() const;
+    // The same as the counters every stream decoder reports.
+    StreamCounters counters() const;
     const ClockMapper& clock() const { return clock_; }
     const std::string& lastProblem() const { return last_problem_; }
 

@@ -10,14 +10,14 @@
 #include <string>
 
 #include "handscan/pipeline_daemon/export_job.hpp"
-#include "handscan/pipeline_daemon/pipeline_worker.hpp"
+#include "handscan/pipeline_daemon/pipeline_thread.hpp"
 #include "handscan/shm/live_map_writer.hpp"
 
 namespace handscan::pipeline_daemon {
 
 class CommandHandler {
 public:
-    CommandHandler(PipelineWorker& worker, ExportJob& exports, shm::LiveMapWriter& channel)
+    CommandHandler(PipelineThread& worker, ExportJob& exports, shm::LiveMapWriter& channel)
         : worker_(worker), exports_(exports), channel_(channel) {}
 
     // Takes and answers every pending command of the channel.
@@ -34,7 +34,7 @@ private:
     };
     Outcome execute(shm::CommandType type, const std::string& argument, std::uint64_t seq);
 
-    PipelineWorker& worker_;
+    PipelineThread& worker_;
     ExportJob& exports_;
     shm::LiveMapWriter& channel_;
     std::uint64_t export_seq_ = 0;  // the command the running export answers (0: a button)

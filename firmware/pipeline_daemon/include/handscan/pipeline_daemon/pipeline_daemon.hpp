@@ -1,6 +1,6 @@
 // PipelineDaemon: `handscan-pipeline`, the scanner's real-time process. It opens every device of
 // device.yaml through its driver on its own thread (sensor_sources.hpp), runs the laser-inertial
-// pipeline on a worker thread fed by SPSC queues (pipeline_worker.hpp), publishes to the live-map
+// pipeline on a worker thread fed by SPSC queues (pipeline_thread.hpp), publishes to the live-map
 // shared memory and journals the scan, and executes the UI's and the buttons' commands
 // (command_handler.hpp). The main loop also feeds systemd (READY=1 once every device has been
 // tried, WATCHDOG=1 while the pipeline thread is alive, STATUS= lines). A stop request (SIGTERM)

@@ -1,8 +1,8 @@
 // The daemon's device threads. Each SensorSource owns one device through its real driver, opens
-// it, streams its samples into the pipeline's SPSC queues, and when the device is absent or
-// vanishes reports it in its SensorHealth and retries with back-off; the other devices and the
-// pipeline keep running. A full queue drops the sample and counts it (a driver never waits for
-// the pipeline).
+// it, streams its samples into the live source's SPSC queues (sources::LiveSource), and when the
+// device is absent or vanishes reports it in its SensorHealth and retries with back-off; the other
+// devices and the pipeline keep running. A full queue drops the sample and counts it (a driver
+// never waits for the pipeline).
 #pragma once
 
 #include <atomic>
@@ -13,22 +13,15 @@
 
 #include "handscan/core/config.hpp"
 #include "handscan/core/samples.hpp"
-#include "handscan/core/spsc_queue.hpp"
 #include "handscan/gpio/led_pattern.hpp"
 #include "handscan/pipeline_daemon/device_links.hpp"
 #include "handscan/pipeline_daemon/sensor_health.hpp"
+#include "handscan/sources/live_source.hpp"
 
 namespace handscan::pipeline_daemon {
 
-// Driver threads -> pipeline thread, one queue per stream (one producer each).
-struct SampleQueues {
-    SpscQueue<ImuSample> imu{4096};          // 20 s at 200 Hz
-    SpscQueue<EncoderSample> encoder{8192};  // 40 s at 200 Hz
-    SpscQueue<LaserScan> scans{512};         // 12 s at 40 Hz
-    SpscQueue<Image> colour_images{8};       // large frames: a few are enough for colouring
-    std::atomic<std::uint64_t> dropped{0};
-    std::atomic<float> camera_brightness{0};  // mean grey level of the tracking camera
-};
+// Driver threads -> pipeline thread: the live source's queues (sources/live_source.hpp).
+using sources::SampleQueues;
 
 // The operator's panel: what a button asks for, what the LEDs show.
 enum class ButtonAction { kToggleScan, kExport };

@@ -1,7 +1,7 @@
 // The device-level view of a recording's raw channels for `handscan info`: each raw stream is
-// decoded with the same decoders replay uses (stream_decoders.hpp; the camera codec's frame
-// records; the GPIO edge record), and the rate is counted in decoded samples on their own time
-// stamps - Hokuyo scans (step-0 time from the sensor's millisecond clock), Xsens samples
+// decoded with the drivers' stream decoders replay uses (sources/stream_config.hpp; the camera
+// codec's frame records; the GPIO edge record), and the rate is counted in decoded samples on their
+// own time stamps - Hokuyo scans (step-0 time from the sensor's millisecond clock), Xsens samples
 // (SampleTimeFine), encoder positions (TPDO1 on the encoder's cyclic timer), camera frames (V4L2
 // buffer timestamps), GPIO edges - instead of TCP segments, serial reads or CAN frames.
 #pragma once

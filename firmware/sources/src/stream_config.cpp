@@ -1,6 +1,6 @@
-#include "handscan/replay/stream_decoders.hpp"
+#include "handscan/sources/stream_config.hpp"
 
-namespace handscan::replay {
+namespace handscan::sources {
 
 hokuyo::ScanTimingConfig hokuyoTiming(const DeviceConfig& device) {
     hokuyo::ScanTimingConfig timing;
@@ -15,8 +15,8 @@ xsens::ImuFrameTiming xsensTiming(const DeviceConfig& device) {
     return timing;
 }
 
-EncoderStreamConfig encoderStreamConfig(const DeviceConfig& device) {
-    EncoderStreamConfig c;
+motor::EncoderStreamConfig encoderStreamConfig(const DeviceConfig& device) {
+    motor::EncoderStreamConfig c;
     c.node_id = static_cast<std::uint8_t>(device.motor.encoder_node_id);
     c.unwrapper.units_per_revolution =
         static_cast<std::uint32_t>(device.motor.encoder_counts_per_rev);
@@ -27,4 +27,4 @@ EncoderStreamConfig encoderStreamConfig(const DeviceConfig& device) {
     return c;
 }
 
-}  // namespace handscan::replay
+}  // namespace handscan::sources

@@ -1,14 +1,13 @@
-// PipelineWorker: the daemon's pipeline thread. It drains the drivers' SPSC queues, feeds the
-// samples to the laser-inertial odometry in time order (held back 100 ms so that a scan, which
-// arrives ~30 ms after its first step, is not overtaken by the IMU and encoder samples it needs),
-// colours each registered sweep from the colour camera, and writes every output: poses, display
-// map and status to shared memory (live_output::LivePublisher, the same code as replay --live),
-// poses and full-resolution points to the scan's journal while scanning (ScanSession). Scan
-// control runs on this thread too, so the journal and the map epoch have a single owner.
+// PipelineThread: the daemon's pipeline thread. It runs the one pipeline `handscan replay` runs
+// too (worker::PipelineWorker: samples merged by sample time, 100 ms behind now, laser-inertial
+// odometry, colourisation) on the live source (sources::LiveSource: the drivers' SPSC queues),
+// and writes every output: poses, display map and status to shared memory
+// (live_output::LivePublisher, the same code as replay --live), poses and full-resolution points
+// to the scan's journal while scanning (ScanSession). Scan control runs on this thread too, so
+// the journal and the map epoch have a single owner.
 #pragma once
 
 #include <atomic>
-#include <condition_variable>
 #include <deque>
 #include <functional>
 #include <future>
@@ -17,11 +16,11 @@
 #include <mutex>
 #include <thread>
 
-#include "handscan/colour/colouriser.hpp"
-#include "handscan/lio/laser_inertial_odometry.hpp"
 #include "handscan/live_output/live_publisher.hpp"
 #include "handscan/pipeline_daemon/scan_session.hpp"
 #include "handscan/pipeline_daemon/sensor_sources.hpp"
+#include "handscan/sources/live_source.hpp"
+#include "handscan/worker/pipeline_worker.hpp"
 
 namespace handscan::pipeline_daemon {
 
@@ -33,14 +32,14 @@ struct WorkerInputs {
     std::function<shm::ExportStatus()> export_status;
 };
 
-class PipelineWorker {
+class PipelineThread {
 public:
-    PipelineWorker(const DeviceConfig& device, const Calibration& calibration,
+    PipelineThread(const DeviceConfig& device, const Calibration& calibration,
                    std::unique_ptr<live_output::LivePublisher> publisher,
                    std::unique_ptr<ScanSession> session, SampleQueues& queues, WorkerInputs inputs);
-    ~PipelineWorker();
-    PipelineWorker(const PipelineWorker&) = delete;
-    PipelineWorker& operator=(const PipelineWorker&) = delete;
+    ~PipelineThread();
+    PipelineThread(const PipelineThread&) = delete;
+    PipelineThread& operator=(const PipelineThread&) = delete;
 
     // Starts the pipeline thread, SCHED_FIFO at `fifo_priority` when permitted (0: normal).
     void start(int fifo_priority = 0);
@@ -60,26 +59,24 @@ private:
         ScanControl control;
         std::promise<Result<std::string>> done;
     };
+    class Sink;
     void run();
     void handle(Request& r);
-    void drainQueues();
-    void feed(TimeNs horizon, TimeNs deadline = std::numeric_limits<TimeNs>::max());
-    void consume();
+    // Everything the drivers queued, into the worker; the live source's clock.
+    TimeNs pull();
+    void check(const Status& s);
+    void syncScanState();
     void publishStatus();
-    void resetPipeline();
 
     const DeviceConfig& device_;
-    const Calibration& calibration_;
     std::unique_ptr<live_output::LivePublisher> publisher_;
     std::unique_ptr<ScanSession> session_;
     SampleQueues& queues_;
     WorkerInputs inputs_;
-    std::unique_ptr<lio::LaserInertialOdometry> lio_;
-    std::unique_ptr<colour::Colouriser> colouriser_;
-    std::deque<ImuSample> imu_;
-    std::deque<EncoderSample> encoder_;
-    std::deque<LaserScan> scans_;
-    std::deque<Image> images_;
+    sources::LiveSource source_;
+    std::unique_ptr<Sink> sink_;
+    std::unique_ptr<worker::PipelineWorker> worker_;
+    std::vector<sources::Sample> samples_;
     TimeNs last_status_ = 0;
     std::uint64_t dropped_reported_ = 0;
     TimeNs dropped_logged_ = 0;

@@ -1,8 +1,7 @@
-#include "handscan/pipeline_daemon/pipeline_worker.hpp"
+#include "handscan/pipeline_daemon/pipeline_thread.hpp"
 
 #include <chrono>
 
-#include "handscan/camera/image_convert.hpp"
 #include "handscan/core/log.hpp"
 #include "handscan/core/realtime.hpp"
 #include "handscan/live_output/sweep_points.hpp"
@@ -10,54 +9,65 @@
 namespace handscan::pipeline_daemon {
 namespace {
 
-constexpr TimeNs kHoldBack = 100 * kNsPerMs;  // ordering window (see the header)
 constexpr TimeNs kLoopPeriod = 10 * kNsPerMs;
 constexpr TimeNs kStatusPeriod = 100 * kNsPerMs;
 constexpr TimeNs kFinishBudget = 3 * kNsPerSec;  // of systemd's 15 s TimeoutStopSec
 
-lio::LioConfig lioConfig(const DeviceConfig& device) {
-    lio::LioConfig c;
-    c.assembler.boundary = device.motor.sweep_boundary == "full"
-                               ? scan::SweepBoundary::kFullRevolution
-                               : scan::SweepBoundary::kHalfRevolution;
+worker::WorkerConfig workerConfig(const DeviceConfig& device) {
+    worker::WorkerConfig c;
+    c.lio = worker::lioConfigFor(device);
     // As in replay: scan-matching feedback corrects the IMU prediction (section 4.2).
-    c.imu_feedback = true;
+    c.lio.imu_feedback = true;
+    c.colourise = device.colour_camera.enabled;
     return c;
-}
-
-template <typename T>
-void drain(SpscQueue<T>& q, std::deque<T>& into) {
-    while (auto v = q.tryPop()) into.push_back(std::move(*v));
 }
 
 }  // namespace
 
-PipelineWorker::PipelineWorker(const DeviceConfig& device, const Calibration& calibration,
+// The worker's outputs: shared memory always, the journal while scanning.
+class PipelineThread::Sink final : public worker::WorkerSink {
+public:
+    Sink(live_output::LivePublisher& publisher, ScanSession& session)
+        : publisher_(publisher), session_(session) {}
+    Status pose(const PoseEstimate& p) override {
+        publisher_.pose(p);
+        // Poses guessed while tracking is lost are not the scan's trajectory.
+        if (!p.tracking_lost) session_.appendPose(live_output::trajectoryPose(p));
+        return Status::ok();
+    }
+    bool wantsSweeps() const override { return session_.scanning(); }
+    Status sweep(const lio::RegisteredSweep& s, std::span<const journal::MapPoint> pts) override {
+        if (!s.tracking.enters_map) return Status::ok();  // kept out of the map: nothing to add
+        session_.appendPoints(pts);
+        publisher_.sweep(s, pts);
+        return Status::ok();
+    }
+
+private:
+    live_output::LivePublisher& publisher_;
+    ScanSession& session_;
+};
+
+PipelineThread::PipelineThread(const DeviceConfig& device, const Calibration& calibration,
                                std::unique_ptr<live_output::LivePublisher> publisher,
                                std::unique_ptr<ScanSession> session, SampleQueues& queues,
                                WorkerInputs inputs)
     : device_(device),
-      calibration_(calibration),
       publisher_(std::move(publisher)),
       session_(std::move(session)),
       queues_(queues),
-      inputs_(std::move(inputs)) {
+      inputs_(std::move(inputs)),
+      source_(queues),
+      sink_(std::make_unique<Sink>(*publisher_, *session_)),
+      worker_(std::make_unique<worker::PipelineWorker>(workerConfig(device), calibration, *sink_)) {
     publisher_->setScanning(false);
     scan_state_.store(session_->state(), std::memory_order_release);
     journal_path_ = session_->journalPath();
-    resetPipeline();
-    if (device_.colour_camera.enabled) {
-        try {
-            colouriser_ = std::make_unique<colour::Colouriser>(calibration_);
-        } catch (const std::exception& e) {
-            log().error("colour camera: {}; the map stays uncoloured", e.what());
-        }
-    }
 }
 
-PipelineWorker::~PipelineWorker() { stop(); }
+PipelineThread::~PipelineThread() { stop(); }
 
-void PipelineWorker::start(int fifo_priority) {
+void PipelineThread::start(int fifo_priority) {
     last_loop_.store(monotonicNow(), std::memory_order_release);
     thread_ = std::thread([this, fifo_priority] {
         (void)enterRealtimeThread("hs-pipeline", fifo_priority);  // warns once if denied
@@ -65,12 +75,12 @@ void PipelineWorker::start(int fifo_priority) {
     });
 }
 
-void PipelineWorker::stop() {
+void PipelineThread::stop() {
     stop_.store(true, std::memory_order_release);
     if (thread_.joinable()) thread_.join();
 }
 
-Result<std::string> PipelineWorker::control(ScanControl c, TimeNs timeout) {
+Result<std::string> PipelineThread::control(ScanControl c, TimeNs timeout) {
     std::future<Result<std::string>> done;
     {
         std::lock_guard lock(mutex_);
@@ -84,16 +94,12 @@ Result<std::string> PipelineWorker::control(ScanControl c, TimeNs timeout) {
     return done.get();
 }
 
-std::string PipelineWorker::journalPath() const {
+std::string PipelineThread::journalPath() const {
     std::lock_guard lock(mutex_);
     return journal_path_;
 }
 
-void PipelineWorker::resetPipeline() {
-    lio_ = std::make_unique<lio::LaserInertialOdometry>(lioConfig(device_), calibration_);
-}
-
-void PipelineWorker::run() {
+void PipelineThread::run() {
     while (!stop_.load(std::memory_order_acquire)) {
         const TimeNs now = monotonicNow();
         last_loop_.store(now, std::memory_order_release);
@@ -103,9 +109,7 @@ void PipelineWorker::run() {
             requests.swap(requests_);
         }
         for (Request& r : requests) handle(r);
-        drainQueues();
-        feed(now - kHoldBack);
-        consume();
+        check(worker_->advance(pull()));
         session_->flushIfDue();
         if (now - last_status_ >= kStatusPeriod) publishStatus();
         std::this_thread::sleep_for(std::chrono::nanoseconds(kLoopPeriod));
@@ -116,7 +120,7 @@ void PipelineWorker::run() {
     requests_.clear();
 }
 
-void PipelineWorker::handle(Request& r) {
+void PipelineThread::handle(Request& r) {
     Result<std::string> out = std::string();
     switch (r.control) {
         case ScanControl::kStart: {
@@ -124,7 +128,7 @@ void PipelineWorker::handle(Request& r) {
             out = session_->start();
             if (out.isOk() && fresh) {
                 // A new scan: a new world frame and an empty map (hold still while it aligns).
-                resetPipeline();
+                worker_->reset();
                 publisher_->newScan();
             }
             break;
@@ -135,7 +139,7 @@ void PipelineWorker::handle(Request& r) {
         case ScanControl::kNewScan:
             out = session_->newScan();
             if (out.isOk()) {
-                resetPipeline();
+                worker_->reset();
                 publisher_->newScan();
             }
             break;
@@ -143,10 +147,8 @@ void PipelineWorker::handle(Request& r) {
             // Everything the drivers delivered belongs to the scan: process it, with the last
             // partial sweep, before the journal is closed - unless the pipeline is so far behind
             // that this would outlast systemd's stop timeout (then the backlog is dropped).
-            drainQueues();
-            feed(std::numeric_limits<TimeNs>::max(), monotonicNow() + kFinishBudget);
-            if (imu_.empty() && encoder_.empty() && scans_.empty()) lio_->finish();
-            consume();
+            (void)pull();
+            check(worker_->finish(monotonicNow() + kFinishBudget));
             if (Status s = session_->finish(); !s.isOk())
                 out = s;
             else
@@ -163,75 +165,21 @@ void PipelineWorker::handle(Request& r) {
     r.done.set_value(std::move(out));
 }
 
-void PipelineWorker::drainQueues() {
-    drain(queues_.imu, imu_);
-    drain(queues_.encoder, encoder_);
-    drain(queues_.scans, scans_);
-    drain(queues_.colour_images, images_);
+TimeNs PipelineThread::pull() {
+    samples_.clear();
+    auto clock = source_.next(samples_);  // a live source always answers with now
+    const TimeNs now = clock.isOk() && *clock ? **clock : monotonicNow();
+    for (sources::Sample& sample : samples_) worker_->add(std::move(sample));
+    return now;
 }
 
-void PipelineWorker::feed(TimeNs horizon, TimeNs deadline) {
-    // Merge the three streams by time up to the horizon.
-    for (std::uint64_t n = 1;; ++n) {
-        if ((n % 64) == 0 && monotonicNow() > deadline) {
-            log().warn(
-                "pipeline: {} IMU, {} encoder samples and {} scans not processed before shutdown",
-                imu_.size(), encoder_.size(), scans_.size());
-            imu_.clear();
-            encoder_.clear();
-            scans_.clear();
-            break;
-        }
-        const TimeNs t_imu =
-            imu_.empty() ? std::numeric_limits<TimeNs>::max() : imu_.front().t_host;
-        const TimeNs t_enc =
-            encoder_.empty() ? std::numeric_limits<TimeNs>::max() : encoder_.front().t_host;
-        const TimeNs t_scan =
-            scans_.empty() ? std::numeric_limits<TimeNs>::max() : scans_.front().t_host;
-        const TimeNs t = std::min({t_imu, t_enc, t_scan});
-        if (t == std::numeric_limits<TimeNs>::max() || t > horizon) break;
-        if (t == t_imu) {
-            lio_->addImu(imu_.front());
-            imu_.pop_front();
-        } else if (t == t_enc) {
-            lio_->addEncoder(encoder_.front());
-            encoder_.pop_front();
-        } else {
-            lio_->addScan(scans_.front());
-            scans_.pop_front();
-        }
-    }
-    while (!images_.empty() && images_.front().t_host <= horizon) {
-        if (colouriser_) {
-            // The colouriser takes decoded frames (pipeline/ knows no wire format).
-            Result<Image> bgr = camera::toBgr(images_.front());
-            if (Status s = bgr ? colouriser_->addImage(*bgr) : bgr.status(); !s.isOk())
-                log().warn("colour camera: {}", s.message());
-        }
-        images_.pop_front();
-    }
+void PipelineThread::check(const Status& s) {
+    // The sinks never fail (the journal reports its own trouble through the session).
+    if (!s.isOk()) log().error("pipeline: {}", s.message());
+    syncScanState();
 }
 
-void PipelineWorker::consume() {
-    for (const PoseEstimate& p : lio_->takePoses()) {
-        publisher_->pose(p);
-        session_->appendPose(live_output::trajectoryPose(p));
-    }
-    for (const lio::RegisteredSweep& s : lio_->takeSweeps()) {
-        if (!session_->scanning()) continue;  // between scans the map does not grow
-        std::optional<colour::ColourResult> colours;
-        if (colouriser_ && colouriser_->imageCount() > 0) {
-            const colour::PoseAtFn pose_at = [&](TimeNs t) {
-                auto p = lio_->integratedPoseAt(t);
-                return p.isOk() ? p->T_world_body : Eigen::Isometry3d::Identity();
-            };
-            colours = colouriser_->colourise(s.points_world, s.times, pose_at);
-        }
-        const std::vector<journal::MapPoint> pts =
-            live_output::sweepMapPoints(s, colours ? &*colours : nullptr);
-        session_->appendPoints(pts);
-        publisher_->sweep(s, pts);
-    }
+void PipelineThread::syncScanState() {
     if (session_->state() != scan_state_.load(std::memory_order_acquire)) {
         // The journal stopped the scan (disk full): tell everyone.
         publisher_->setScanning(session_->scanning());
@@ -239,7 +187,7 @@ void PipelineWorker::consume() {
     }
 }
 
-void PipelineWorker::publishStatus() {
+void PipelineThread::publishStatus() {
     last_status_ = monotonicNow();
     // Samples the drivers could not queue: the pipeline fell behind (say so, at most once a
     // second).
@@ -258,8 +206,10 @@ void PipelineWorker::publishStatus() {
     s.camera_brightness = queues_.camera_brightness.load(std::memory_order_relaxed);
     if (!session_->problem().empty()) {
         s.message = session_->problem();
-    } else if (!lio_->aligned()) {
+    } else if (!worker_->lio().aligned()) {
         s.message = "hold still: aligning with gravity";
+    } else if (worker_->lio().tracking().lost()) {
+        s.message = fusion::TrackingMonitor::kLostMessage;
     } else if (session_->scanning()) {
         s.message = "scanning";
     } else if (session_->state() == shm::ScanState::kStopped) {
@@ -267,7 +217,7 @@ void PipelineWorker::publishStatus() {
     } else {
         s.message = "ready to scan";
     }
-    publisher_->status(*lio_, s);
+    publisher_->status(worker_->lio(), s);
 }
 
 }  // namespace handscan::pipeline_daemon

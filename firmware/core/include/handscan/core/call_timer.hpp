@@ -1,4 +1,4 @@
-// Per-module cost of calls (replay's stats.json). Each module keeps a histogram with buckets 0.5 %
+// Per-module cost of calls (the pipeline worker's and replay's stats.json). Each module keeps a histogram with buckets 0.5 %
 // wide on a log scale (1 ns .. 100 s), not every duration: memory stays constant however long the
 // recording (a 30-minute replay times about two million calls). Mean, total and maximum are
 // exact; the median and the 99th percentile are within 0.25 % of the exact order statistics.
@@ -12,7 +12,7 @@
 #include <string>
 #include <vector>
 
-namespace handscan::replay {
+namespace handscan {
 
 struct CallStats {
     std::uint64_t calls = 0;
@@ -102,4 +102,4 @@ private:
     std::map<std::string, Module> modules_;
 };
 
-}  // namespace handscan::replay
+}  // namespace handscan

@@ -1,17 +1,16 @@
 // The recorded-stream decoders give back what the codecs' encode side (what the devices and the
 // simulator send) put in, with host times from the devices' clocks.
-#include "handscan/replay/stream_decoders.hpp"
+#include "handscan/hokuyo/scan_stream_decoder.hpp"
+#include "handscan/xsens/imu_stream_decoder.hpp"
 
 #include <gtest/gtest.h>
 
 #include <random>
 
 #include "handscan/hokuyo/scip_codec.hpp"
-#include "handscan/motor/candump_format.hpp"
-#include "handscan/motor/canopen.hpp"
 #include "handscan/xsens/mtdata2.hpp"
 
-namespace handscan::replay {
+namespace handscan::sources {
 namespace {
 
 std::span<const std::uint8_t> bytesOf(const std::string& s) {
@@ -30,7 +29,7 @@ std::string utm30PpReply() {
                                         {"SCAN", "2400"}});
 }
 
-TEST(HokuyoStreamDecoder, ScansFromAStreamSplitAnywhere) {
+TEST(RecordedHokuyoStream, ScansFromAStreamSplitAnywhere) {
     hokuyo::ScanRequest req;  // ME0000108001000
     std::string stream = utm30PpReply() + hokuyo::encodeScanAck(req);
     std::vector<hokuyo::ScanPayload> sent;
@@ -45,7 +44,7 @@ TEST(HokuyoStreamDecoder, ScansFromAStreamSplitAnywhere) {
         sent.push_back(p);
         stream += hokuyo::encodeScanFrame(req, p);
     }
-    HokuyoStreamDecoder dec;
+    hokuyo::ScanStreamDecoder dec;
     std::vector<LaserScan> out;
     std::mt19937 rng(5);
     std::size_t pos = 0;
@@ -75,7 +74,7 @@ TEST(HokuyoStreamDecoder, ScansFromAStreamSplitAnywhere) {
     EXPECT_EQ(c.gaps, 0u);
 }
 
-TEST(HokuyoStreamDecoder, CorruptBlockLosesOnlyThatScanAndCountsTheGap) {
+TEST(RecordedHokuyoStream, CorruptBlockLosesOnlyThatScanAndCountsTheGap) {
     hokuyo::ScanRequest req;
     std::string stream = utm30PpReply();
     for (int k = 0; k < 3; ++k) {
@@ -87,7 +86,7 @@ TEST(HokuyoStreamDecoder, CorruptBlockLosesOnlyThatScanAndCountsTheGap) {
         if (k == 1) frame[frame.size() / 2] ^= 0x01;  // a flipped bit in a data block
         stream += frame;
     }
-    HokuyoStreamDecoder dec;
+    hokuyo::ScanStreamDecoder dec;
     std::vector<LaserScan> out;
     dec.feed(kNsPerSec, bytesOf(stream), out);
     ASSERT_EQ(out.size(), 2u);
@@ -96,12 +95,12 @@ TEST(HokuyoStreamDecoder, CorruptBlockLosesOnlyThatScanAndCountsTheGap) {
     EXPECT_EQ(dec.counters().gaps, 1u);
 }
 
-TEST(HokuyoStreamDecoder, ScanBeforeParametersIsReportedNotGuessed) {
+TEST(RecordedHokuyoStream, ScanBeforeParametersIsReportedNotGuessed) {
     hokuyo::ScanRequest req;
     hokuyo::ScanPayload p;
     p.ranges.assign(1081, 1000);
     p.intensities.assign(1081, 1);
-    HokuyoStreamDecoder dec;
+    hokuyo::ScanStreamDecoder dec;
     std::vector<LaserScan> out;
     dec.feed(0, bytesOf(hokuyo::encodeScanFrame(req, p)), out);
     EXPECT_TRUE(out.empty());
@@ -109,7 +108,7 @@ TEST(HokuyoStreamDecoder, ScanBeforeParametersIsReportedNotGuessed) {
     EXPECT_NE(dec.counters().last_error.find("before the PP reply"), std::string::npos);
 }
 
-TEST(XsensStreamDecoder, SamplesOnTheHostClockWithGapsAndADroppedByte) {
+TEST(RecordedXsensStream, SamplesOnTheHostClockWithGapsAndADroppedByte) {
     std::vector<std::uint8_t> stream;
     std::vector<std::size_t> frame_starts;
     for (std::uint16_t k = 0; k < 400; ++k) {
@@ -126,7 +125,7 @@ TEST(XsensStreamDecoder, SamplesOnTheHostClockWithGapsAndADroppedByte) {
     }
     stream.erase(stream.begin() +
                  static_cast<std::ptrdiff_t>(frame_starts[200] + 10));  // a byte lost on the wire
-    XsensStreamDecoder dec;
+    xsens::ImuStreamDecoder dec;
     std::vector<ImuSample> out;
     // Received in 8-packet bursts 1-3 ms after the sample instants.
     const TimeNs t0 = 100 * kNsPerSec;
@@ -150,9 +149,9 @@ TEST(XsensStreamDecoder, SamplesOnTheHostClockWithGapsAndADroppedByte) {
 // plus its own wire time after the sample, plus jitter. The clock fit follows the lower envelope
 // of the receive times, so without the timing the samples come out 1.5 ms late: at the 370 deg/s
 // of aggressive hand motion that turned every sweep and output pose by 0.5 deg (drift 0.7 %).
-TEST(XsensStreamDecoder, SampleTimesFreeOfTheFramesLatencyAndWireTime) {
+TEST(RecordedXsensStream, SampleTimesFreeOfTheFramesLatencyAndWireTime) {
     const xsens::ImuFrameTiming timing{1 * kNsPerMs, 921600};
-    XsensStreamDecoder timed(timing), untimed;
+    xsens::ImuStreamDecoder timed("Xsens", timing), untimed;
     std::vector<ImuSample> out_timed, out_untimed;
     std::vector<TimeNs> sampled;
     std::mt19937 rng(5);
@@ -187,67 +186,5 @@ TEST(XsensStreamDecoder, SampleTimesFreeOfTheFramesLatencyAndWireTime) {
     EXPECT_EQ(xsens::ImuFrameTiming({2 * kNsPerMs, 0}).delayOf(50), 2 * kNsPerMs);
 }
 
-TEST(EncoderStreamDecoder, CyclicTimerRemovesReceiveJitter) {
-    EncoderStreamConfig cfg;
-    cfg.node_id = 1;
-    cfg.unwrapper.units_per_revolution = 16384;
-    cfg.unwrapper.total_range = 16384;
-    cfg.tpdo_period_ns = 5 * kNsPerMs;
-    EncoderStreamDecoder dec(cfg);
-    // With the minimum latency calibrated (motor.tpdo_latency_ms) the times are the sampling's.
-    EncoderStreamConfig calibrated = cfg;
-    calibrated.tpdo_latency_ns = 200 * kNsPerUs;
-    EncoderStreamDecoder dec_calibrated(calibrated);
-    std::vector<EncoderSample> out_calibrated;
-    std::mt19937 rng(9);
-    std::uniform_real_distribution<double> jitter_ms(0.0,
-                                                     2.0);  // arbitration + USB adapter polling
-    std::vector<EncoderSample> out;
-    std::vector<TimeNs> sent;
-    const double rev_per_s = 1.0;
-    for (int k = 0; k < 4000; ++k) {
-        if (k == 1000) continue;  // a lost frame
-        const TimeNs t_sent = 50 * kNsPerSec + static_cast<TimeNs>(k) * 5 * kNsPerMs;
-        const auto counts =
-            static_cast<std::uint32_t>(std::llround(toSeconds(t_sent) * rev_per_s * 16384)) % 16384;
-        motor::CandumpRecord rec;
-        rec.has_time = true;
-        rec.interface = "can0";
-        rec.frame = motor::encodeEncoderPositionTpdo(1, counts);
-        const TimeNs t_rx = t_sent + static_cast<TimeNs>((0.2 + jitter_ms(rng)) * 1e6);
-        rec.setTimeNs(t_rx);
-        const std::string line = motor::formatCandumpLogLine(rec);
-        dec.feed(t_rx, bytesOf(line), out);
-        dec_calibrated.feed(t_rx, bytesOf(line), out_calibrated);
-        sent.push_back(t_sent);
-    }
-    ASSERT_EQ(out.size(), sent.size()) << dec.counters().last_error;
-    EXPECT_EQ(dec.counters().gaps, 1u);
-    double max_err_ms = 0;
-    std::size_t worst = 0;
-    for (std::size_t i = 500; i < out.size(); ++i) {
-        // The constant 0.2 ms of minimum latency is not observable; the jitter must be gone.
-        const double err = std::abs(toSeconds(out[i].t_host - sent[i]) * 1e3 - 0.2);
-        if (err > max_err_ms) worst = i;
-        max_err_ms = std::max(max_err_ms, err);
-    }
-    SCOPED_TRACE("worst at sample " + std::to_string(worst));
-    EXPECT_LT(max_err_ms, 0.1) << "receive jitter (0-2 ms) left in the encoder times";
-    ASSERT_EQ(out_calibrated.size(), sent.size());
-    for (std::size_t i = 500; i < out_calibrated.size(); ++i) {
-        ASSERT_NEAR(toSeconds(out_calibrated[i].t_host - sent[i]) * 1e3, 0.0, 0.1)
-            << "sample " << i;
-    }
-    EXPECT_NEAR(out.back().speed_radps, 2 * M_PI * rev_per_s, 0.05);
-}
-
-TEST(EncoderStreamDecoder, GarbageLinesAreCountedNotFatal) {
-    EncoderStreamDecoder dec({});
-    std::vector<EncoderSample> out;
-    dec.feed(0, bytesOf("not a candump line\n"), out);
-    EXPECT_TRUE(out.empty());
-    EXPECT_EQ(dec.counters().errors, 1u);
-}
-
 }  // namespace
-}  // namespace handscan::replay
+}  // namespace handscan::sources

@@ -1,0 +1,95 @@
+#include "handscan/sources/recorded_source.hpp"
+
+#include <algorithm>
+#include <thread>
+
+#include "handscan/core/log.hpp"
+
+namespace handscan::sources {
+
+Result<std::unique_ptr<RecordedSource>> RecordedSource::open(const std::string& path,
+                                                             const DeviceConfig& device,
+                                                             RecordedSourceOptions options) {
+    auto reader = recording::McapReader::open(path);
+    if (!reader.isOk()) return reader.status();
+    if ((*reader)->truncated())
+        log().warn("{}: recording was cut short; replaying every intact chunk", path);
+    for (const char* topic : {kXsensTopic, kHokuyoTopic, kCanTopic}) {
+        const bool needed = std::string(topic) == kXsensTopic || options.laser;
+        if (needed && !(*reader)->findTopic(topic)) {
+            return Status(StatusCode::kNotFound,
+                          path + ": no " + std::string(topic) +
+                              " channel; the pipeline needs it (or choose --modules imu)");
+        }
+    }
+    return std::unique_ptr<RecordedSource>(new RecordedSource(std::move(*reader), device, options));
+}
+
+RecordedSource::RecordedSource(std::unique_ptr<recording::McapReader> reader,
+                               const DeviceConfig& device, RecordedSourceOptions options)
+    : reader_(std::move(reader)),
+      options_(options),
+      colour_(options.colour && reader_->findTopic(kColourTopic) != nullptr),
+      it_(reader_->messages({[&] {
+          std::vector<std::string> topics{kXsensTopic};
+          if (colour_) topics.push_back(kColourTopic);
+          if (options.laser) {
+              topics.push_back(kHokuyoTopic);
+              topics.push_back(kCanTopic);
+          }
+          return topics;
+      }()})),
+      hokuyo_(hokuyoTiming(device)),
+      xsens_("Xsens", xsensTiming(device)),
+      encoder_(encoderStreamConfig(device)),
+      wall_start_(std::chrono::steady_clock::now()) {}
+
+double RecordedSource::durationHint() const {
+    const auto& s = reader_->statistics();
+    return s ? toSeconds(s->message_end_time - s->message_start_time) : 0.0;
+}
+
+void RecordedSource::pace(TimeNs log_time) {
+    if (options_.fast) return;
+    // Recorded pace on the wall clock.
+    const auto due =
+        wall_start_ +
+        std::chrono::nanoseconds(static_cast<std::int64_t>(
+            static_cast<double>(log_time - t_first_) / std::max(0.01, options_.speed)));
+    std::this_thread::sleep_until(due);
+}
+
+Result<std::optional<TimeNs>> RecordedSource::next(std::vector<Sample>& out) {
+    if (!it_.next(msg_)) {
+        if (!it_.status().isOk()) return it_.status();
+        return std::optional<TimeNs>();
+    }
+    if (t_first_ == 0) {
+        t_first_ = msg_.log_time;
+        wall_start_ = std::chrono::steady_clock::now();
+    }
+    t_last_ = msg_.log_time;
+    pace(msg_.log_time);
+    const std::string& topic = msg_.channel->topic;
+    if (topic == kXsensTopic) {
+        imu_.clear();
+        timed("decode_xsens", [&] { xsens_.feed(msg_.log_time, msg_.data, imu_); });
+        for (ImuSample& s : imu_) out.emplace_back(std::move(s));
+    } else if (topic == kHokuyoTopic) {
+        scans_.clear();
+        timed("decode_hokuyo", [&] { hokuyo_.feed(msg_.log_time, msg_.data, scans_); });
+        for (LaserScan& s : scans_) out.emplace_back(std::move(s));
+    } else if (topic == kCanTopic) {
+        positions_.clear();
+        timed("decode_can", [&] { encoder_.feed(msg_.log_time, msg_.data, positions_); });
+        for (EncoderSample& s : positions_) out.emplace_back(s);
+    } else if (topic == kColourTopic) {
+        timed("decode_colour", [&] {
+            auto img = colour_decoder_.decode(msg_.log_time, msg_.data);
+            if (img.isOk()) out.emplace_back(std::move(*img));
+        });
+    }
+    return std::optional<TimeNs>(msg_.log_time);
+}
+
+}  // namespace handscan::sources

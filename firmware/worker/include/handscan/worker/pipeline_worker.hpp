@@ -1,0 +1,95 @@
+// PipelineWorker: the one pipeline the scanner runs and the bench measures. `handscan-pipeline`
+// feeds it from the live devices (sources::LiveSource), `handscan replay` from a recording
+// (sources::RecordedSource). It merges the samples by sample time (SampleMerger: a hold-back
+// window behind the source's clock, the whole rest at the end), runs the laser-inertial odometry
+// (IMU prediction, sweep assembly, scan matching: pipeline/lio), colours each registered sweep
+// from the colour camera (pipeline/colour), and hands the poses and the sweeps' map points to a
+// sink: the daemon's shared memory and scan journal, or replay's trajectory, map, stats, journal
+// and shared memory. Single-threaded; the caller owns the thread.
+#pragma once
+
+#include <cstdint>
+#include <functional>
+#include <limits>
+#include <memory>
+#include <span>
+#include <vector>
+
+#include "handscan/colour/colouriser.hpp"
+#include "handscan/core/call_timer.hpp"
+#include "handscan/core/config.hpp"
+#include "handscan/journal/map_point.hpp"
+#include "handscan/lio/laser_inertial_odometry.hpp"
+#include "handscan/sources/sample_source.hpp"
+#include "handscan/worker/sample_merger.hpp"
+
+namespace handscan::worker {
+
+// Where the worker's outputs go.
+class WorkerSink {
+public:
+    virtual ~WorkerSink() = default;
+    // Every 200 Hz integrated pose.
+    [[nodiscard]] virtual Status pose(const PoseEstimate& pose) = 0;
+    // False: registered sweeps are not wanted now (between scans), so they are not coloured.
+    virtual bool wantsSweeps() const { return true; }
+    // A registered sweep and its coloured full-resolution map points.
+    [[nodiscard]] virtual Status sweep(const lio::RegisteredSweep& sweep,
+                                       std::span<const journal::MapPoint> points) = 0;
+};
+
+struct WorkerConfig {
+    lio::LioConfig lio;
+    bool colourise = true;  // colour the sweeps when colour images come
+    // Ordering window behind the source's clock (see SampleMerger): longer than any device's
+    // delivery delay (a scan's ~30 ms from its first step, a camera frame's exposure).
+    TimeNs hold_back = 100 * kNsPerMs;
+};
+
+// The odometry's settings for this device (the sweep boundary of the motor), everything else the
+// pipeline's defaults.
+lio::LioConfig lioConfigFor(const DeviceConfig& device);
+
+class PipelineWorker {
+public:
+    // `timer` (may be null): per-stage costs for stats.json.
+    PipelineWorker(WorkerConfig config, const Calibration& calibration, WorkerSink& sink,
+                   CallTimer* timer = nullptr);
+
+    void add(sources::Sample sample) { merger_.push(std::move(sample)); }
+    // Runs every queued sample taken more than the hold-back before `source_clock` through the
+    // pipeline, in time order, and hands the outputs to the sink. Past `deadline` (host monotonic
+    // time) the rest is dropped with a warning (a shutdown that must not outlast its timeout).
+    [[nodiscard]] Status advance(TimeNs source_clock,
+                                 TimeNs deadline = std::numeric_limits<TimeNs>::max());
+    // End of input: every queued sample, then the last partial sweep.
+    [[nodiscard]] Status finish(TimeNs deadline = std::numeric_limits<TimeNs>::max());
+    // A new scan: a new world frame and an empty map (the queued samples stay).
+    void reset();
+
+    const lio::LaserInertialOdometry& lio() const { return *lio_; }
+    std::size_t pending() const { return merger_.size(); }
+    std::uint64_t colourErrors() const { return colour_errors_; }
+    bool colourising() const { return colouriser_ != nullptr; }
+
+private:
+    [[nodiscard]] Status run(TimeNs horizon, TimeNs deadline);
+    void process(sources::Sample& sample);
+    [[nodiscard]] Status consume();
+    template <typename Fn>
+    auto timed(const char* module, Fn&& fn) {
+        if (timer_ != nullptr) return timer_->time(module, fn);
+        return fn();
+    }
+
+    WorkerConfig config_;
+    const Calibration& calibration_;
+    WorkerSink& sink_;
+    CallTimer* timer_;
+    SampleMerger merger_;
+    std::unique_ptr<lio::LaserInertialOdometry> lio_;
+    std::unique_ptr<colour::Colouriser> colouriser_;
+    std::uint64_t colour_errors_ = 0;
+};
+
+}  // namespace handscan::worker
