@@ -6,8 +6,8 @@
 #include "command_registry.hpp"
 #include "handscan/core/log.hpp"
 #include "handscan/core/se3.hpp"
-#include "handscan/eval/tum.hpp"
 #include "handscan/replay/replay_engine.hpp"
+#include "handscan/tum/tum_file.hpp"
 
 namespace handscan::cli {
 namespace {
@@ -16,12 +16,12 @@ volatile std::sig_atomic_t g_interrupted = 0;
 
 // The pose of a TUM trajectory at time t (interpolated on SE(3); clamped at the ends).
 std::function<Eigen::Isometry3d(TimeNs)> trajectoryMotion(
-    std::shared_ptr<const eval::Trajectory> tr) {
+    std::shared_ptr<const tum::Trajectory> tr) {
     return [tr](TimeNs t) {
         const double ts = toSeconds(t);
         const auto it =
             std::lower_bound(tr->begin(), tr->end(), ts,
-                             [](const eval::StampedPose& p, double v) { return p.t_s < v; });
+                             [](const tum::StampedPose& p, double v) { return p.t_s < v; });
         if (it == tr->begin()) return tr->front().T;
         if (it == tr->end()) return tr->back().T;
         const auto& a = *(it - 1);
@@ -82,14 +82,14 @@ const RegisterCommand kReplay{
         return std::function<int()>([o, modules, reference] {
             o->use_laser = *modules != "imu";
             if (!reference->empty()) {
-                auto tr = eval::readTum(*reference);
+                auto tr = tum::readTum(*reference);
                 if (!tr.isOk() || tr->size() < 2) {
                     log().error("--reference-motion {}: {}", *reference,
                                 tr.isOk() ? "needs at least two poses" : tr.status().message());
                     return 1;
                 }
                 o->reference_motion =
-                    trajectoryMotion(std::make_shared<const eval::Trajectory>(std::move(*tr)));
+                    trajectoryMotion(std::make_shared<const tum::Trajectory>(std::move(*tr)));
             }
             Progress bar("replay", 1.0);
             o->progress = [&](double f) { bar.update(f); };

@@ -5,7 +5,7 @@
 #include <string>
 
 #include "handscan/camera/png_payload.hpp"
-#include "handscan/transport/v4l2_device.hpp"
+#include "handscan/core/v4l2_types.hpp"
 
 namespace handscan::camera {
 namespace {
@@ -26,8 +26,8 @@ Status bad(const std::string& what) {
 
 // Minimum bytes per line of an uncompressed format (0 = compressed, no stride).
 std::uint64_t minStride(std::uint32_t fourcc, std::uint32_t width) {
-    if (fourcc == transport::kFourccGrey) return width;
-    if (fourcc == transport::kFourccYuyv) return 2ull * width;
+    if (fourcc == kFourccGrey) return width;
+    if (fourcc == kFourccYuyv) return 2ull * width;
     return 0;
 }
 
@@ -128,16 +128,16 @@ Result<FrameRecordView> decodeFrameRecord(std::span<const std::uint8_t> b, Frame
     const std::uint64_t min_stride = minStride(h.fourcc, h.width);
     if (min_stride > 0) {
         if (h.stride < min_stride)
-            return bad(transport::fourccName(h.fourcc) + " stride " + std::to_string(h.stride) +
-                       " < " + std::to_string(min_stride));
+            return bad(fourccName(h.fourcc) + " stride " + std::to_string(h.stride) + " < " +
+                       std::to_string(min_stride));
         // The last line needs only its pixels, not the padding.
         if (h.bytesused < static_cast<std::uint64_t>(h.stride) * (h.height - 1) + min_stride) {
-            return bad(transport::fourccName(h.fourcc) + " payload " + std::to_string(h.bytesused) +
+            return bad(fourccName(h.fourcc) + " payload " + std::to_string(h.bytesused) +
                        " bytes too short for " + std::to_string(h.width) + "x" +
                        std::to_string(h.height) + " stride " + std::to_string(h.stride));
         }
-    } else if (h.fourcc != transport::kFourccMjpeg) {
-        return bad("unknown pixel format '" + transport::fourccName(h.fourcc) + "'");
+    } else if (h.fourcc != kFourccMjpeg) {
+        return bad("unknown pixel format '" + fourccName(h.fourcc) + "'");
     }
     v.stored_size = h.bytesused;
     if (version == kFrameRecordCodedVersion) {

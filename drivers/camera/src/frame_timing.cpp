@@ -1,6 +1,6 @@
 #include "handscan/camera/frame_timing.hpp"
 
-#include "handscan/transport/v4l2_device.hpp"
+#include "handscan/core/v4l2_types.hpp"
 
 namespace handscan::camera {
 
@@ -18,11 +18,11 @@ const char* toString(TimestampSource s) {
 
 FrameTime midExposureTime(std::uint32_t flags, TimeNs ts, TimeNs exposure, TimeNs readout,
                           TimeNs t_dequeue) {
-    const std::uint32_t clock = flags & transport::kV4l2BufFlagTimestampMask;
-    if (clock != transport::kV4l2BufFlagTimestampMonotonic) {
+    const std::uint32_t clock = flags & kV4l2BufFlagTimestampMask;
+    if (clock != kV4l2BufFlagTimestampMonotonic) {
         return {t_dequeue - readout - exposure / 2, TimestampSource::kHostDequeue};
     }
-    if ((flags & transport::kV4l2BufFlagTstampSrcMask) == transport::kV4l2BufFlagTstampSrcSoe) {
+    if ((flags & kV4l2BufFlagTstampSrcMask) == kV4l2BufFlagTstampSrcSoe) {
         return {ts + exposure / 2, TimestampSource::kStartOfExposure};
     }
     return {ts - readout - exposure / 2, TimestampSource::kEndOfFrame};

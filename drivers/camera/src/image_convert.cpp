@@ -6,7 +6,7 @@
 #include <opencv2/imgproc.hpp>
 #include <string>
 
-#include "handscan/transport/v4l2_device.hpp"
+#include "handscan/core/v4l2_types.hpp"
 
 namespace handscan::camera {
 namespace {
@@ -84,22 +84,22 @@ Result<Image> decodeMjpeg(const Image& in, bool grey) {
 }  // namespace
 
 std::optional<PixelFormat> pixelFormatFromFourcc(std::uint32_t fourcc) {
-    if (fourcc == transport::kFourccGrey) return PixelFormat::kGrey8;
-    if (fourcc == transport::kFourccYuyv) return PixelFormat::kYuyv;
-    if (fourcc == transport::kFourccMjpeg) return PixelFormat::kMjpeg;
+    if (fourcc == kFourccGrey) return PixelFormat::kGrey8;
+    if (fourcc == kFourccYuyv) return PixelFormat::kYuyv;
+    if (fourcc == kFourccMjpeg) return PixelFormat::kMjpeg;
     return std::nullopt;
 }
 
 std::uint32_t fourccFromPixelFormat(PixelFormat f) {
     switch (f) {
         case PixelFormat::kGrey8:
-            return transport::kFourccGrey;
+            return kFourccGrey;
         case PixelFormat::kYuyv:
-            return transport::kFourccYuyv;
+            return kFourccYuyv;
         case PixelFormat::kMjpeg:
-            return transport::kFourccMjpeg;
+            return kFourccMjpeg;
         case PixelFormat::kBgr8:
-            return transport::fourcc('B', 'G', 'R', '3');
+            return fourcc('B', 'G', 'R', '3');
     }
     return 0;
 }

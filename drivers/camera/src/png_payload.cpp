@@ -6,7 +6,7 @@
 #include <csetjmp>
 #include <string>
 
-#include "handscan/transport/v4l2_device.hpp"
+#include "handscan/core/v4l2_types.hpp"
 
 namespace handscan::camera {
 namespace {
@@ -22,8 +22,7 @@ struct PngLayout {
 };
 
 PngLayout layoutOf(const FrameRecordHeader& h) {
-    if (h.fourcc == transport::kFourccYuyv)
-        return {PNG_COLOR_TYPE_GRAY_ALPHA, PNG_FORMAT_GA, h.stride / 2};
+    if (h.fourcc == kFourccYuyv) return {PNG_COLOR_TYPE_GRAY_ALPHA, PNG_FORMAT_GA, h.stride / 2};
     return {PNG_COLOR_TYPE_GRAY, PNG_FORMAT_GRAY, h.stride};
 }
 
@@ -64,9 +63,8 @@ bool writePng(png_structp png, png_infop info, const PngLayout& l, std::uint32_t
 }  // namespace
 
 bool canStorePng(const FrameRecordHeader& h) {
-    const bool grey = h.fourcc == transport::kFourccGrey && h.stride >= h.width;
-    const bool yuyv =
-        h.fourcc == transport::kFourccYuyv && h.stride >= 2ull * h.width && h.stride % 2 == 0;
+    const bool grey = h.fourcc == kFourccGrey && h.stride >= h.width;
+    const bool yuyv = h.fourcc == kFourccYuyv && h.stride >= 2ull * h.width && h.stride % 2 == 0;
     return (grey || yuyv) && h.height > 0 && h.stride > 0 &&
            static_cast<std::uint64_t>(h.stride) * h.height == h.bytesused;
 }
@@ -75,7 +73,7 @@ Result<std::vector<std::uint8_t>> encodePngPayload(const FrameRecordHeader& h,
                                                    std::span<const std::uint8_t> buffer) {
     if (!canStorePng(h) || buffer.size() != h.bytesused) {
         return Status(StatusCode::kInvalidArgument,
-                      "PNG payload: a " + transport::fourccName(h.fourcc) + " buffer of " +
+                      "PNG payload: a " + fourccName(h.fourcc) + " buffer of " +
                           std::to_string(buffer.size()) + " bytes is not " +
                           std::to_string(h.stride) + " x " + std::to_string(h.height) +
                           " whole lines of GREY or YUYV; store it uncoded");
@@ -101,9 +99,9 @@ Status decodePngPayload(const FrameRecordHeader& h, std::span<const std::uint8_t
                         std::vector<std::uint8_t>& buffer) {
     if (!canStorePng(h)) {
         return {StatusCode::kProtocolError,
-                "PNG payload of a " + transport::fourccName(h.fourcc) + " " +
-                    std::to_string(h.width) + "x" + std::to_string(h.height) + " stride " +
-                    std::to_string(h.stride) + " buffer of " + std::to_string(h.bytesused) +
+                "PNG payload of a " + fourccName(h.fourcc) + " " + std::to_string(h.width) + "x" +
+                    std::to_string(h.height) + " stride " + std::to_string(h.stride) +
+                    " buffer of " + std::to_string(h.bytesused) +
                     " bytes: only whole-line GREY and YUYV buffers are stored as PNG"};
     }
     const PngLayout l = layoutOf(h);

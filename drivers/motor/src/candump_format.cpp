@@ -6,10 +6,6 @@
 namespace handscan::motor {
 namespace {
 
-using transport::kCanErrFlag;
-using transport::kCanFdMaxDataLength;
-using transport::kCanMaxDataLength;
-
 int hexNibble(char c) {
     if (c >= '0' && c <= '9') return c - '0';
     if (c >= 'A' && c <= 'F') return c - 'A' + 10;
@@ -100,16 +96,14 @@ Status parseId(std::string_view digits, CanFrame& f, std::string_view text) {
     if (digits.size() == 8) {
         if (id & kCanErrFlag) {
             f.error = true;
-            f.id = id & transport::kCanErrMask;
+            f.id = id & kCanErrMask;
         } else {
-            if (id > transport::kCanEffMask)
-                return bad("identifier", "29-bit identifier out of range", text);
+            if (id > kCanEffMask) return bad("identifier", "29-bit identifier out of range", text);
             f.extended = true;
             f.id = id;
         }
     } else {
-        if (id > transport::kCanSffMask)
-            return bad("identifier", "11-bit identifier above 7FF", text);
+        if (id > kCanSffMask) return bad("identifier", "11-bit identifier above 7FF", text);
         f.id = id;
     }
     return Status::ok();
@@ -119,13 +113,11 @@ void appendId(std::string& out, const CanFrame& f) {
     char buf[16];
     if (f.error) {
         std::snprintf(buf, sizeof buf, "%08X",
-                      static_cast<unsigned>((f.id & transport::kCanErrMask) | kCanErrFlag));
+                      static_cast<unsigned>((f.id & kCanErrMask) | kCanErrFlag));
     } else if (f.extended) {
-        std::snprintf(buf, sizeof buf, "%08X",
-                      static_cast<unsigned>(f.id & transport::kCanEffMask));
+        std::snprintf(buf, sizeof buf, "%08X", static_cast<unsigned>(f.id & kCanEffMask));
     } else {
-        std::snprintf(buf, sizeof buf, "%03X",
-                      static_cast<unsigned>(f.id & transport::kCanSffMask));
+        std::snprintf(buf, sizeof buf, "%03X", static_cast<unsigned>(f.id & kCanSffMask));
     }
     out += buf;
 }

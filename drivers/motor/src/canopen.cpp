@@ -73,7 +73,7 @@ const char* toString(CanOpenFunction f) {
 CobIdInfo classifyCobId(const CanFrame& f) {
     CobIdInfo info;
     if (f.extended || f.error) return info;
-    const std::uint32_t id = f.id & transport::kCanSffMask;
+    const std::uint32_t id = f.id & kCanSffMask;
     const std::uint32_t fn = id >> 7;
     const auto node = static_cast<std::uint8_t>(id & 0x7F);
     if (id == 0x000) return {CanOpenFunction::kNmt, 0, 0};

@@ -34,7 +34,7 @@ Status CanOpenMaster::send(const CanFrame& frame) {
     return bus_.send(frame);
 }
 
-Result<transport::TimedCanFrame> CanOpenMaster::receive(TimeNs timeout) {
+Result<TimedCanFrame> CanOpenMaster::receive(TimeNs timeout) {
     auto r = bus_.receive(timeout);
     if (r) tap(r->t_host, r->frame);
     return r;
@@ -72,7 +72,7 @@ Result<SdoMessage> CanOpenMaster::sdoTransfer(const CanFrame& request, SdoKind e
         std::optional<SdoMessage> answer;
         const FrameHandler owner = handler_;
         // Intercept the matching server response; everything else goes to the owner.
-        auto intercept = [&](const transport::TimedCanFrame& tf) {
+        auto intercept = [&](const TimedCanFrame& tf) {
             const CobIdInfo info = classifyCobId(tf.frame);
             if (info.function == CanOpenFunction::kSdoResponse && info.node == req->node) {
                 auto m = decodeSdo(tf.frame);

@@ -19,9 +19,9 @@ std::string hex(unsigned v, int digits) {
 
 std::string ms(TimeNs t) { return std::to_string(t / kNsPerMs) + " ms"; }
 
-void addNodeFilters(std::vector<transport::CanFilter>& f, std::uint8_t node) {
+void addNodeFilters(std::vector<CanFilter>& f, std::uint8_t node) {
     for (std::uint32_t base : {0x080u, 0x180u, 0x580u, 0x700u})
-        f.push_back(transport::exactSffFilter(base + node));
+        f.push_back(exactSffFilter(base + node));
 }
 
 EncoderTiming timing(const MotorConfig& c) {
@@ -53,7 +53,7 @@ MotorDevice::MotorDevice(transport::CanBus& bus, MotorConfig config, Clock clock
     : master_(bus, std::move(clock), tap, config.interface),
       cfg_(std::move(config)),
       clock_(cfg_.unwrap, timing(cfg_)) {
-    master_.setFrameHandler([this](const transport::TimedCanFrame& tf) { onFrame(tf); });
+    master_.setFrameHandler([this](const TimedCanFrame& tf) { onFrame(tf); });
 }
 
 void MotorDevice::raiseFault(Status cause) {
@@ -73,7 +73,7 @@ void MotorDevice::raiseFault(Status cause) {
     }
 }
 
-void MotorDevice::onFrame(const transport::TimedCanFrame& tf) {
+void MotorDevice::onFrame(const TimedCanFrame& tf) {
     ++stats_.frames;
     const CobIdInfo info = classifyCobId(tf.frame);
     const bool from_encoder = info.node == cfg_.encoder_node;
@@ -312,7 +312,7 @@ Status MotorDevice::start() {
     have_position_ = false;
     drive_state_.reset();
 
-    std::vector<transport::CanFilter> filters;
+    std::vector<CanFilter> filters;
     addNodeFilters(filters, cfg_.encoder_node);
     if (cfg_.drive) addNodeFilters(filters, cfg_.drive->node);
     if (Status s = master_.bus().setFilters(filters); !s) return s;

@@ -13,7 +13,7 @@ void PacedCanBus::anchor() {
 
 TimeNs PacedCanBus::now() const { return anchored_ ? inner_now_() + offset_ : monotonicNow(); }
 
-Result<transport::TimedCanFrame> PacedCanBus::receive(TimeNs timeout) {
+Result<TimedCanFrame> PacedCanBus::receive(TimeNs timeout) {
     anchor();
     auto r = inner_.receive(timeout);
     // The inner bus jumps its clock to the next frame (or by the timeout); wait until the host
@@ -22,7 +22,7 @@ Result<transport::TimedCanFrame> PacedCanBus::receive(TimeNs timeout) {
     const TimeNs wait = due - monotonicNow();
     if (wait > 0) std::this_thread::sleep_for(std::chrono::nanoseconds(wait));
     if (!r.isOk()) return r;
-    transport::TimedCanFrame f = *r;
+    TimedCanFrame f = *r;
     f.t_host = due;
     return f;
 }

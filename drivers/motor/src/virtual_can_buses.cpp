@@ -13,8 +13,8 @@ Status EmulatedCanBus::open() {
     return Status::ok();
 }
 
-Status EmulatedCanBus::setFilters(std::span<const transport::CanFilter> filters) {
-    if (filters.size() > transport::kCanMaxFilters)
+Status EmulatedCanBus::setFilters(std::span<const CanFilter> filters) {
+    if (filters.size() > kCanMaxFilters)
         return {StatusCode::kInvalidArgument, "more than 512 CAN filters"};
     filters_.assign(filters.begin(), filters.end());
     return Status::ok();
@@ -29,7 +29,7 @@ void EmulatedCanBus::record(TimeNs t, const CanFrame& f) {
     *recorder_ << formatCandumpLogLine(rec) << '\n';
 }
 
-Result<transport::TimedCanFrame> EmulatedCanBus::receive(TimeNs timeout) {
+Result<TimedCanFrame> EmulatedCanBus::receive(TimeNs timeout) {
     if (!open_ || down_) return Status(StatusCode::kDisconnected, describe() + " is down");
     const TimeNs deadline = now_ + (timeout > 0 ? timeout : 0);
     for (;;) {
@@ -43,11 +43,11 @@ Result<transport::TimedCanFrame> EmulatedCanBus::receive(TimeNs timeout) {
             now_ = deadline;
             return Status(StatusCode::kTimeout, "no frame");
         }
-        transport::TimedCanFrame f = first->pop();
+        TimedCanFrame f = first->pop();
         if (f.t_host > now_) now_ = f.t_host;
         f.t_host = now_;
         record(now_, f.frame);
-        if (transport::canFilterMatches(filters_, f.frame)) return f;
+        if (canFilterMatches(filters_, f.frame)) return f;
     }
 }
 
@@ -83,8 +83,8 @@ void CandumpLogBus::skipBefore(TimeNs t) {
     started_ = true;
 }
 
-Status CandumpLogBus::setFilters(std::span<const transport::CanFilter> filters) {
-    if (filters.size() > transport::kCanMaxFilters)
+Status CandumpLogBus::setFilters(std::span<const CanFilter> filters) {
+    if (filters.size() > kCanMaxFilters)
         return {StatusCode::kInvalidArgument, "more than 512 CAN filters"};
     filters_.assign(filters.begin(), filters.end());
     return Status::ok();
@@ -109,7 +109,7 @@ bool CandumpLogBus::fillNext() {
     return next_.has_value();
 }
 
-Result<transport::TimedCanFrame> CandumpLogBus::receive(TimeNs timeout) {
+Result<TimedCanFrame> CandumpLogBus::receive(TimeNs timeout) {
     if (!open_) return Status(StatusCode::kDisconnected, describe() + " is closed");
     for (;;) {
         if (!fillNext())
@@ -125,10 +125,10 @@ Result<transport::TimedCanFrame> CandumpLogBus::receive(TimeNs timeout) {
             now_ += timeout;
             return Status(StatusCode::kTimeout, "no frame");
         }
-        transport::TimedCanFrame f{t > now_ ? t : now_, next_->frame};
+        TimedCanFrame f{t > now_ ? t : now_, next_->frame};
         now_ = f.t_host;
         next_.reset();
-        if (transport::canFilterMatches(filters_, f.frame)) return f;
+        if (canFilterMatches(filters_, f.frame)) return f;
     }
 }
 

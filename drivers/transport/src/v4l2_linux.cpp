@@ -201,15 +201,6 @@ private:
 
 }  // namespace
 
-std::string fourccName(std::uint32_t code) {
-    std::string s(4, '?');
-    for (int i = 0; i < 4; ++i) {
-        const char c = static_cast<char>((code >> (8 * i)) & 0xFF);
-        if (c >= 0x20 && c < 0x7F) s[static_cast<std::size_t>(i)] = c;
-    }
-    return s;
-}
-
 std::unique_ptr<V4l2Device> makeLinuxV4l2Device(std::string path) {
     return std::make_unique<LinuxV4l2Device>(std::move(path));
 }

@@ -1,5 +1,6 @@
 #include "handscan/worker/pipeline_worker.hpp"
 
+#include "handscan/camera/image_convert.hpp"
 #include "handscan/core/log.hpp"
 #include "handscan/live_output/sweep_points.hpp"
 
@@ -66,7 +67,9 @@ void PipelineWorker::process(sources::Sample& sample) {
         timed("sweep_assembly_and_matching", [&] { lio_->addScan(*scan); });
     } else if (const auto* image = std::get_if<Image>(&sample)) {
         if (!colouriser_) return;
-        if (Status s = colouriser_->addImage(*image); !s.isOk()) {
+        // The colouriser takes decoded frames (pipeline/ knows no wire format).
+        Result<Image> bgr = camera::toBgr(*image);
+        if (Status s = bgr ? colouriser_->addImage(*bgr) : bgr.status(); !s.isOk()) {
             if (colour_errors_++ == 0) log().warn("colour camera: {}", s.message());
         }
     }

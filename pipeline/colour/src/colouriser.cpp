@@ -5,8 +5,6 @@
 #include <limits>
 #include <string>
 
-#include "handscan/camera/image_convert.hpp"
-
 namespace handscan::colour {
 namespace {
 
@@ -142,11 +140,18 @@ Status Colouriser::addImage(const Image& image) {
                                                   std::to_string(images_.front().t_host) +
                                                   " ns); frames must arrive roughly in order"};
     }
-    Result<Image> bgr = camera::toBgr(image);
-    if (!bgr) return {bgr.status().code(), where() + ": " + bgr.status().message()};
+    if (image.format != PixelFormat::kBgr8 || image.stride_bytes < image.width * 3 ||
+        image.data.size() <
+            static_cast<std::size_t>(image.stride_bytes) * static_cast<std::size_t>(image.height)) {
+        return {StatusCode::kInvalidArgument,
+                where() + ": not a decoded BGR8 image of its size (format " +
+                    std::to_string(static_cast<int>(image.format)) + ", stride " +
+                    std::to_string(image.stride_bytes) + ", " + std::to_string(image.data.size()) +
+                    " bytes); decode camera frames with camera::toBgr before colouring"};
+    }
     const auto pos = std::upper_bound(images_.begin(), images_.end(), image.t_host,
                                       [](TimeNs t, const Image& im) { return t < im.t_host; });
-    images_.insert(pos, std::move(bgr).value());
+    images_.insert(pos, image);
     while (images_.size() > config_.max_images) images_.pop_front();
     return Status::ok();
 }

@@ -41,7 +41,9 @@ public:
         img.stride_bytes = static_cast<int>(rec->header.stride);
         img.exposure_ns = static_cast<TimeNs>(rec->header.exposure_us) * kNsPerUs;
         img.data.assign(rec->payload.begin(), rec->payload.end());
-        frames.push_back(std::move(img));
+        Result<Image> bgr = camera::toBgr(img);  // decoded by the camera driver, as replay does
+        if (!bgr) return bgr.status();
+        frames.push_back(std::move(bgr).value());
         return Status::ok();
     }
     std::vector<Image> frames;

@@ -6,6 +6,7 @@
 
 #include <cstdio>
 
+#include "handscan/camera/image_convert.hpp"
 #include "handscan/core/se3.hpp"
 #include "synthetic_scene.hpp"
 
@@ -255,7 +256,11 @@ TEST_F(ColouriserTest, BufferKeepsTheNewestFramesAndRejectsBadOnes) {
         yuyv.t_host = k * 200 * kMs;
         yuyv.sequence = static_cast<std::uint32_t>(k);
         yuyv.data.assign(3200u * 1200u, 128);  // mid grey: Y = U = V = 128
-        ASSERT_TRUE(col.addImage(yuyv));
+        // The colouriser takes decoded frames only; the camera driver decodes.
+        EXPECT_FALSE(col.addImage(yuyv).isOk());
+        Result<Image> bgr = camera::toBgr(yuyv);
+        ASSERT_TRUE(bgr.isOk()) << bgr.status().message();
+        ASSERT_TRUE(col.addImage(*bgr));
     }
     EXPECT_EQ(col.imageCount(), 3u);
     EXPECT_EQ(col.oldestImageTime(), 400 * kMs);
@@ -268,13 +273,15 @@ TEST_F(ColouriserTest, BufferKeepsTheNewestFramesAndRejectsBadOnes) {
     ASSERT_TRUE(r.valid(0));
     for (int c = 0; c < 3; ++c) EXPECT_NEAR(r.rgb[0][static_cast<std::size_t>(c)], 128, 3);
 
-    yuyv.t_host = 100 * kMs;  // older than the full buffer
-    Status s = col.addImage(yuyv);
+    Image grey = *camera::toBgr(yuyv);
+    grey.t_host = 100 * kMs;  // older than the full buffer
+    Status s = col.addImage(grey);
     EXPECT_FALSE(s.isOk());
     EXPECT_NE(s.message().find("older"), std::string::npos) << s.message();
-    yuyv.t_host = 900 * kMs;
-    yuyv.width = 640;
-    s = col.addImage(yuyv);
+    grey.t_host = 900 * kMs;
+    grey.width = 640;
+    grey.stride_bytes = 640 * 3;
+    s = col.addImage(grey);
     EXPECT_FALSE(s.isOk());
     EXPECT_NE(s.message().find("1600x1200"), std::string::npos) << s.message();
     Image jpeg;
@@ -286,6 +293,8 @@ TEST_F(ColouriserTest, BufferKeepsTheNewestFramesAndRejectsBadOnes) {
     s = col.addImage(jpeg);
     EXPECT_FALSE(s.isOk());
     EXPECT_NE(s.message().find("colour frame"), std::string::npos) << s.message();
+    EXPECT_NE(s.message().find("camera::toBgr"), std::string::npos) << s.message();
+    EXPECT_FALSE(camera::toBgr(jpeg).isOk());  // and the driver's decoder names the bad JPEG
     EXPECT_EQ(col.imageCount(), 3u);
     EXPECT_EQ(col.newestImageTime(), 800 * kMs);
 }

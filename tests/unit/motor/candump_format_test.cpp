@@ -100,7 +100,7 @@ TEST(CandumpDefaultLine, ParsesAndFormatsTheScreenFormat) {
 
     CandumpRecord rec;
     rec.interface = "can0";
-    rec.frame = transport::makeCanFrame(0x181, std::array<std::uint8_t, 4>{0x11, 0x22, 0x33, 0x44});
+    rec.frame = makeCanFrame(0x181, std::array<std::uint8_t, 4>{0x11, 0x22, 0x33, 0x44});
     EXPECT_EQ(formatCandumpDefaultLine(rec), "  can0  181   [4]  11 22 33 44");
 
     auto rtr = parseCandumpDefaultLine("(1700000000.000001)  can0  12345678   [2]  remote request");
@@ -127,7 +127,7 @@ TEST(CandumpRecord, SetsTimeFromNanoseconds) {
     EXPECT_EQ(rec.time_s, 12345);
     EXPECT_EQ(rec.time_us, 678901);
     rec.interface = "can0";
-    rec.frame = transport::makeCanFrame(0x701, std::array<std::uint8_t, 1>{0x05});
+    rec.frame = makeCanFrame(0x701, std::array<std::uint8_t, 1>{0x05});
     EXPECT_EQ(formatCandumpLogLine(rec), "(0000012345.678901) can0 701#05");
 }
 

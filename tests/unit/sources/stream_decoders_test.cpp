@@ -1,13 +1,12 @@
 // The recorded-stream decoders give back what the codecs' encode side (what the devices and the
 // simulator send) put in, with host times from the devices' clocks.
-#include "handscan/hokuyo/scan_stream_decoder.hpp"
-#include "handscan/xsens/imu_stream_decoder.hpp"
-
 #include <gtest/gtest.h>
 
 #include <random>
 
+#include "handscan/hokuyo/scan_stream_decoder.hpp"
 #include "handscan/hokuyo/scip_codec.hpp"
+#include "handscan/xsens/imu_stream_decoder.hpp"
 #include "handscan/xsens/mtdata2.hpp"
 
 namespace handscan::sources {

@@ -22,8 +22,7 @@ std::uint32_t CanStream::positionAt(double t) const {
     return static_cast<std::uint32_t>(wrapped);
 }
 
-void CanStream::emit(double t_send, const transport::CanFrame& frame,
-                     std::vector<StreamMessage>& out) {
+void CanStream::emit(double t_send, const CanFrame& frame, std::vector<StreamMessage>& out) {
     mo::CandumpRecord rec;
     rec.has_time = true;
     rec.interface = cfg_.interface;

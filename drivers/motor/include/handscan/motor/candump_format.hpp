@@ -13,12 +13,10 @@
 #include <string>
 #include <string_view>
 
+#include "handscan/core/can_frame.hpp"
 #include "handscan/core/status.hpp"
-#include "handscan/transport/can_bus.hpp"
 
 namespace handscan::motor {
-
-using transport::CanFrame;
 
 struct CandumpRecord {
     bool has_time = false;     // false for default-format lines printed without -t

@@ -11,12 +11,10 @@
 #include <optional>
 #include <string>
 
+#include "handscan/core/can_frame.hpp"
 #include "handscan/core/status.hpp"
-#include "handscan/transport/can_bus.hpp"
 
 namespace handscan::motor {
-
-using transport::CanFrame;
 
 // ---- COB-IDs of the predefined connection set -------------------------------------------------
 constexpr std::uint32_t kCobNmt = 0x000;

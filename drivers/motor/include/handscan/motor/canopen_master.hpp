@@ -19,7 +19,7 @@ using Clock = std::function<TimeNs()>;
 
 class CanOpenMaster {
 public:
-    using FrameHandler = std::function<void(const transport::TimedCanFrame&)>;
+    using FrameHandler = std::function<void(const TimedCanFrame&)>;
 
     CanOpenMaster(transport::CanBus& bus, Clock clock, RawTap* tap, std::string interface_name);
 
@@ -29,7 +29,7 @@ public:
 
     [[nodiscard]] Status send(const CanFrame& frame);
     // One frame (tapped), or kTimeout / kDisconnected.
-    [[nodiscard]] Result<transport::TimedCanFrame> receive(TimeNs timeout);
+    [[nodiscard]] Result<TimedCanFrame> receive(TimeNs timeout);
     // Receives and dispatches frames to the handler until `done()` holds or `timeout` passed.
     [[nodiscard]] Status pumpUntil(const std::function<bool()>& done, TimeNs timeout,
                                    const std::string& what);

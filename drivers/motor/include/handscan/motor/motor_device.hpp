@@ -92,7 +92,7 @@ public:
     std::optional<Cia402State> driveState() const { return drive_state_; }
 
 private:
-    void onFrame(const transport::TimedCanFrame& tf);
+    void onFrame(const TimedCanFrame& tf);
     void raiseFault(Status cause);
     void checkWatchdogs(TimeNs now);
     Status waitForBoot();

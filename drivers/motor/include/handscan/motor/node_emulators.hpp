@@ -15,7 +15,6 @@
 
 namespace handscan::motor {
 
-using transport::TimedCanFrame;
 constexpr TimeNs kNever = std::numeric_limits<TimeNs>::max();
 
 class CanNodeEmulator {

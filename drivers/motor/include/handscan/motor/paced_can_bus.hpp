@@ -30,11 +30,11 @@ public:
     Status open() override { return inner_.open(); }
     void close() override { inner_.close(); }
     bool isOpen() const override { return inner_.isOpen(); }
-    Status setFilters(std::span<const transport::CanFilter> filters) override {
+    Status setFilters(std::span<const CanFilter> filters) override {
         return inner_.setFilters(filters);
     }
-    Result<transport::TimedCanFrame> receive(TimeNs timeout) override;
-    Status send(const transport::CanFrame& frame) override { return inner_.send(frame); }
+    Result<TimedCanFrame> receive(TimeNs timeout) override;
+    Status send(const CanFrame& frame) override { return inner_.send(frame); }
     std::string describe() const override { return inner_.describe() + " (paced)"; }
 
 private:

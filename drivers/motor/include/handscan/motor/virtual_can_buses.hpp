@@ -36,11 +36,11 @@ public:
     Status open() override;
     void close() override { open_ = false; }
     bool isOpen() const override { return open_; }
-    Status setFilters(std::span<const transport::CanFilter> filters) override;
-    Result<transport::TimedCanFrame> receive(TimeNs timeout) override;
+    Status setFilters(std::span<const CanFilter> filters) override;
+    Result<TimedCanFrame> receive(TimeNs timeout) override;
     Status send(const CanFrame& frame) override;
     std::string describe() const override { return "emulated " + interface_; }
-    const std::vector<transport::TimedCanFrame>& sent() const { return sent_; }
+    const std::vector<TimedCanFrame>& sent() const { return sent_; }
 
 private:
     void record(TimeNs t, const CanFrame& f);
@@ -48,8 +48,8 @@ private:
     TimeNs now_;
     std::string interface_;
     std::vector<CanNodeEmulator*> nodes_;
-    std::vector<transport::CanFilter> filters_;
-    std::vector<transport::TimedCanFrame> sent_;
+    std::vector<CanFilter> filters_;
+    std::vector<TimedCanFrame> sent_;
     std::ostream* recorder_ = nullptr;
     bool open_ = true;
     bool down_ = false;
@@ -72,8 +72,8 @@ public:
     Status open() override { return Status::ok(); }
     void close() override { open_ = false; }
     bool isOpen() const override { return open_; }
-    Status setFilters(std::span<const transport::CanFilter> filters) override;
-    Result<transport::TimedCanFrame> receive(TimeNs timeout) override;
+    Status setFilters(std::span<const CanFilter> filters) override;
+    Result<TimedCanFrame> receive(TimeNs timeout) override;
     Status send(const CanFrame& frame) override;
     std::string describe() const override { return "candump log " + name_; }
 
@@ -83,7 +83,7 @@ private:
     std::unique_ptr<std::istream> in_;
     std::ostream* out_;
     std::string name_;
-    std::vector<transport::CanFilter> filters_;
+    std::vector<CanFilter> filters_;
     std::optional<CandumpRecord> next_;
     std::uint64_t line_no_ = 0;
     std::uint64_t bad_lines_ = 0;

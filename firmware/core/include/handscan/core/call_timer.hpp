@@ -1,7 +1,8 @@
-// Per-module cost of calls (the pipeline worker's and replay's stats.json). Each module keeps a histogram with buckets 0.5 %
-// wide on a log scale (1 ns .. 100 s), not every duration: memory stays constant however long the
-// recording (a 30-minute replay times about two million calls). Mean, total and maximum are
-// exact; the median and the 99th percentile are within 0.25 % of the exact order statistics.
+// Per-module cost of calls (the pipeline worker's and replay's stats.json). Each module keeps a
+// histogram with buckets 0.5 % wide on a log scale (1 ns .. 100 s), not every duration: memory
+// stays constant however long the recording (a 30-minute replay times about two million calls).
+// Mean, total and maximum are exact; the median and the 99th percentile are within 0.25 % of the
+// exact order statistics.
 #pragma once
 
 #include <algorithm>

@@ -1,6 +1,7 @@
 // Colourisation of registered laser points with the HD colour camera (paper section 10.2: the
 // laser map is coloured by a 1600x1200 camera at 5 Hz). The Colouriser keeps the last few colour
-// frames, decoded to BGR once, with their mid-exposure host times. For a batch of world-frame
+// frames, already decoded to BGR by the camera driver (camera::toBgr: YUYV, MJPEG), with their
+// mid-exposure host times; it never sees a wire format. For a batch of world-frame
 // points with their capture times it picks, per point, the frame closest in time (falling back to
 // the other bracketing frame when the closest cannot see the point), moves the point into the
 // colour camera with the body pose AT THAT FRAME'S TIME (the device moves between the laser
@@ -73,8 +74,8 @@ public:
     // Throws std::invalid_argument for a camera model we cannot project (start-up only).
     Colouriser(const Calibration& calibration, ColouriserConfig config = {});
 
-    // Decodes a colour frame (YUYV, MJPEG, BGR or grey) to BGR and keeps it; the oldest frame goes
-    // when the buffer is full. Errors name the frame: undecodable data, a size that is not cam1's
+    // Keeps a decoded colour frame (PixelFormat::kBgr8, rows of stride_bytes); the oldest frame
+    // goes when the buffer is full. Errors name the frame: not BGR8, a size that is not cam1's
     // resolution, or a frame older than the buffer. The buffer is unchanged on error.
     [[nodiscard]] Status addImage(const Image& image);
 

@@ -45,7 +45,7 @@ public:
     std::uint32_t positionAt(double t) const;
 
 private:
-    void emit(double t_send, const transport::CanFrame& frame, std::vector<StreamMessage>& out);
+    void emit(double t_send, const CanFrame& frame, std::vector<StreamMessage>& out);
     CanStreamConfig cfg_;
     const ShaftModel& shaft_;
     TimeNs host_start_;

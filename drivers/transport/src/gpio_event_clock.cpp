@@ -1,6 +1,6 @@
-#include "handscan/gpio/gpio_lines.hpp"
+#include "handscan/transport/gpio_lines.hpp"
 
-namespace handscan::gpio {
+namespace handscan::transport {
 
 TimeNs eventTimeToMonotonic(TimeNs event_ns, TimeNs monotonic_now, TimeNs realtime_now) {
     const auto dist = [](TimeNs a, TimeNs b) { return a > b ? a - b : b - a; };
@@ -8,4 +8,4 @@ TimeNs eventTimeToMonotonic(TimeNs event_ns, TimeNs monotonic_now, TimeNs realti
     return event_ns - (realtime_now - monotonic_now);  // pre-5.7 kernel: REALTIME stamp
 }
 
-}  // namespace handscan::gpio
+}  // namespace handscan::transport

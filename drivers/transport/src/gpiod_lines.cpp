@@ -7,9 +7,9 @@
 #include <cstdlib>
 #include <cstring>
 
-#include "handscan/gpio/gpio_lines.hpp"
+#include "handscan/transport/gpio_lines.hpp"
 
-namespace handscan::gpio {
+namespace handscan::transport {
 namespace {
 
 std::string err(const std::string& what) { return what + ": " + std::strerror(errno); }
@@ -160,4 +160,4 @@ Result<std::unique_ptr<GpioChip>> openGpiodChip(const std::string& name,
     return std::unique_ptr<GpioChip>(new GpiodChip(chip, name, consumer));
 }
 
-}  // namespace handscan::gpio
+}  // namespace handscan::transport

@@ -1,4 +1,4 @@
-#include "handscan/eval/tum.hpp"
+#include "handscan/tum/tum_file.hpp"
 
 #include <fmt/format.h>
 
@@ -6,7 +6,7 @@
 #include <fstream>
 #include <sstream>
 
-namespace handscan::eval {
+namespace handscan::tum {
 
 Result<Trajectory> parseTum(const std::string& text, const std::string& name) {
     Trajectory out;
@@ -77,4 +77,4 @@ Status writeTum(const std::string& path, const Trajectory& trajectory) {
     return Status::ok();
 }
 
-}  // namespace handscan::eval
+}  // namespace handscan::tum
