@@ -299,7 +299,7 @@ Result<ExportReport> exportScan(const std::string& source, const std::string& ta
                 if (failure.isOk()) failure = c.writer->write(pts);
             }
             for (const journal::MapPoint& p : pts) {
-                if (p.r != 0 || p.g != 0 || p.b != 0) ++report.coloured_points;
+                if (journal::hasColour(p)) ++report.coloured_points;
             }
             if (scan_report) scan_report->exportedPoints(pts);
             done += static_cast<double>(pts.size());

@@ -76,7 +76,7 @@ void ScanFactsBuilder::add(std::span<const journal::MapPoint> points) {
             last_ = &seconds_[key];
             last_key_ = key;
         }
-        const bool coloured = (p.r | p.g | p.b) != 0;
+        const bool coloured = journal::hasColour(p);
         ++last_->points;
         last_->coloured += coloured;
         coloured_ += coloured;

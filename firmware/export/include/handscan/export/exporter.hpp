@@ -32,7 +32,7 @@ struct ExportReport {
     std::vector<std::string> files;
     std::uint64_t points = 0;  // points written (after voxel filtering)
     std::uint64_t journal_points = 0;
-    // Points the colour camera saw (an uncoloured point keeps RGB 0,0,0 in the journal).
+    // Points the colour camera saw (journal::hasColour).
     std::uint64_t coloured_points = 0;
     std::uint64_t bytes = 0;
     Bounds bounds;

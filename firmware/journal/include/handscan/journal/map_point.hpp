@@ -12,6 +12,9 @@ struct MapPoint {
     std::uint16_t intensity = 0;
 };
 
+// Whether the colour camera saw the point: an uncoloured point keeps RGB 0,0,0.
+inline bool hasColour(const MapPoint& p) { return (p.r | p.g | p.b) != 0; }
+
 // A trajectory sample of the rig's body frame in the scan's world frame.
 struct TrajectoryPose {
     double t_s = 0.0;
