@@ -11,6 +11,7 @@
 #include <thread>
 
 #include "child_process.hpp"
+#include "handscan/export/point_formats.hpp"
 #include "handscan/shm/live_map_reader.hpp"
 #include "handscan/shm/text_field.hpp"
 
@@ -133,7 +134,7 @@ TEST(OperatorFlow, StartScanStopExportSafeToRemove) {
     }
     EXPECT_NE(header.find("element vertex " + std::to_string(points) + "\n"), std::string::npos)
         << header;
-    EXPECT_EQ(fs::file_size(ply), header.size() + points * sizeof(shm::DisplayPoint));
+    EXPECT_EQ(fs::file_size(ply), header.size() + points * exporter::kPlyPointRecordBytes);
 
     // The UI shows the finished export and the whole map.
     if (ensureDisplay().empty() && fs::exists(kUi)) {
