@@ -41,6 +41,8 @@ public:
 
 struct WorkerConfig {
     lio::LioConfig lio;
+    // Diagnostics of a tool (replay --reference-motion), never set on the device.
+    std::shared_ptr<const lio::MotionOverride> motion_override;
     bool colourise = true;  // colour the sweeps when colour images come
     // Run the visual-inertial odometry on the tracking-camera frames that come, as scan
     // matching's prior. Off by default: on simulated walks it still makes the pipeline worse

@@ -25,6 +25,7 @@
 #include "handscan/fusion/tracking_monitor.hpp"
 #include "handscan/fusion/transform_integrator.hpp"
 #include "handscan/imu/imu_predictor.hpp"
+#include "handscan/lio/motion_override.hpp"
 #include "handscan/scan/laser_odometry.hpp"
 #include "handscan/scan/sweep_assembler.hpp"
 
@@ -68,16 +69,6 @@ struct LioConfig {
     // Without the laser (--modules imu,vision) the VIO's poses correct the IMU predictor and
     // anchor the 200 Hz output at this interval.
     double visual_feedback_interval_s = 0.2;
-    // Diagnostics only (`handscan replay --reference-motion GT.tum`): sweeps are assembled with
-    // this motion (e.g. ground truth) instead of the IMU prediction, and each match starts from
-    // it at the sweep's start, moved by a deterministic error of reference_perturb_m /
-    // reference_perturb_rad, without feedback to the IMU: the scan matcher and the map measured
-    // alone, apart from the prediction. The 200 Hz poses then carry each match forward with
-    // the reference's increments (in place of the VIO of section 7), not with the uncorrected
-    // prediction.
-    scan::PoseAtFn reference_motion;
-    double reference_perturb_m = 0.0;
-    double reference_perturb_rad = 0.0;
 };
 
 // A registered sweep: its points in the world with their own times, after the match.
@@ -107,7 +98,9 @@ struct LioStats {
 
 class LaserInertialOdometry {
 public:
-    LaserInertialOdometry(const LioConfig& config, const Calibration& calibration);
+    // `motion` (diagnostics, may be null): assemble and match with it instead of the prediction.
+    LaserInertialOdometry(const LioConfig& config, const Calibration& calibration,
+                          std::shared_ptr<const MotionOverride> motion = nullptr);
     ~LaserInertialOdometry();
 
     void addImu(const ImuSample& sample);
@@ -145,7 +138,6 @@ private:
                   const Matrix6d& visual_solved);
     // The directions every VIO frame in [t_from, t_to] solved (zero without full coverage).
     Matrix6d visualSolved(TimeNs t_from, TimeNs t_to) const;
-    std::vector<scan::PosePrior> referencePrior(const scan::Sweep& sweep) const;
     // Information of the corrected IMU prediction as the matcher's prior (eq. 18), in the body
     // tangent at orientation R_world_body (see unsolved_prior_sigma_trans_m).
     // `solved_world`: the directions the prediction is trusted in (world axes).
@@ -155,6 +147,7 @@ private:
     Matrix6d priorInformation(const std::optional<std::vector<scan::PosePrior>>& priors) const;
 
     LioConfig config_;
+    std::shared_ptr<const MotionOverride> motion_;
     imu::ImuPredictor predictor_;
     fusion::TransformIntegrator integrator_;
     std::unique_ptr<scan::SweepAssembler> assembler_;
