@@ -7,6 +7,7 @@
 #include "handscan/core/log.hpp"
 #include "handscan/core/se3.hpp"
 #include "handscan/replay/replay_engine.hpp"
+#include "handscan/tum/trajectory_pose.hpp"
 #include "handscan/tum/tum_file.hpp"
 
 namespace handscan::cli {
@@ -17,16 +18,7 @@ volatile std::sig_atomic_t g_interrupted = 0;
 // The pose of a TUM trajectory at time t (interpolated on SE(3); clamped at the ends).
 std::function<Eigen::Isometry3d(TimeNs)> trajectoryMotion(
     std::shared_ptr<const tum::Trajectory> tr) {
-    return [tr](TimeNs t) {
-        const double ts = toSeconds(t);
-        const auto it =
-            std::lower_bound(tr->begin(), tr->end(), ts,
-                             [](const tum::StampedPose& p, double v) { return p.t_s < v; });
-        if (it == tr->begin()) return tr->front().T;
-        if (it == tr->end()) return tr->back().T;
-        const auto& a = *(it - 1);
-        return interpolate(a.T, it->T, (ts - a.t_s) / (it->t_s - a.t_s));
-    };
+    return [tr](TimeNs t) { return tum::poseAt(*tr, toSeconds(t)); };
 }
 
 const RegisterCommand kReplay{
