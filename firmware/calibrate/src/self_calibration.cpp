@@ -285,8 +285,9 @@ Result<SelfCalibrationReport> selfCalibrate(const SelfCalibrationOptions& o) {
         }
         // The gyro's two: written when determined (always applied between rounds).
         const bool deciding = chosen == &model;
-        const bool zero_ok = gyro->zero_std_rad <= o.solver.determined_std[C::kEncoderZero];
-        const bool imu_ok = gyro->imu_time_std_s <= o.solver.determined_std[C::kImuTime];
+        const double refuse = o.solver.refuse_fraction_of_prior;
+        const bool zero_ok = gyro->zero_std_rad <= refuse * o.solver.prior_std[C::kEncoderZero];
+        const bool imu_ok = gyro->imu_time_std_s <= refuse * o.solver.prior_std[C::kImuTime];
         last.x[C::kEncoderZero] = gyro->zero_rad;
         last.std[C::kEncoderZero] = gyro->zero_std_rad;
         last.x[C::kImuTime] = gyro->imu_time_s;
@@ -299,11 +300,11 @@ Result<SelfCalibrationReport> selfCalibrate(const SelfCalibrationOptions& o) {
             last.notes.push_back(fmt::format(
                 "encoder zero: not determined by this recording (std {:.3g} deg > {:.3g})",
                 gyro->zero_std_rad * 180 / M_PI,
-                o.solver.determined_std[C::kEncoderZero] * 180 / M_PI));
+                refuse * o.solver.prior_std[C::kEncoderZero] * 180 / M_PI));
         if (deciding && !imu_ok)
             last.notes.push_back(fmt::format(
                 "IMU time offset: not determined by this recording (std {:.3g} ms > {:.3g})",
-                gyro->imu_time_std_s * 1e3, o.solver.determined_std[C::kImuTime] * 1e3));
+                gyro->imu_time_std_s * 1e3, refuse * o.solver.prior_std[C::kImuTime] * 1e3));
         if (last.solved[C::kEncoderZero]) chosen->base.encoder_zero_offset_rad += gyro->zero_rad;
         if (last.solved[C::kImuTime]) chosen->imu_time_s += gyro->imu_time_s;
         current = applied(*chosen, device, last, notes);
@@ -358,6 +359,11 @@ Result<SelfCalibrationReport> selfCalibrate(const SelfCalibrationOptions& o) {
         p.value = values[j][1];
         p.std = last.solved[j] ? last.std[j] * C::displayScale(j) : INFINITY;
         p.written = last.solved[j];
+        if (p.written && last.std[j] > o.solver.target_std[j])
+            notes.push_back(fmt::format(
+                "{}: written, but its std {:.3g} {} is above the {:.3g} {} an instrument needs; "
+                "calibrate on a longer walk with more turning",
+                p.name, p.std, p.unit, o.solver.target_std[j] * C::displayScale(j), p.unit));
         report.parameters.push_back(p);
     }
     notes.push_back(
@@ -380,7 +386,10 @@ Result<SelfCalibrationReport> selfCalibrate(const SelfCalibrationOptions& o) {
     for (const auto& p : report.parameters)
         comments.push_back(
             p.written ? fmt::format("{}: {:.4f} {} (std {:.4f})", p.name, p.value, p.unit, p.std)
-                      : fmt::format("{}: not determined, kept as given", p.name));
+                      : fmt::format("{}: {}, kept as given", p.name,
+                                    std::string(p.name) == C::name(C::kEncoderTime)
+                                        ? "not separable from the encoder zero"
+                                        : "not determined"));
     if (Status st = writeCalibrationYaml(o.out, current, camchain, comments); !st.isOk()) return st;
     if (temporary) fs::remove_all(work);
     return report;

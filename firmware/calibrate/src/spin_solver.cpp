@@ -210,7 +210,7 @@ SpinSolution solveDetermined(std::span<const SpinObservation> obs, const SpinMod
         double worst_ratio = 1.0;
         for (int j = 0; j < kN; ++j) {
             if (!free[j]) continue;
-            double ratio = s.std[j] / opt.determined_std[j];
+            double ratio = s.std[j] / (opt.refuse_fraction_of_prior * opt.prior_std[j]);
             if (!std::isfinite(ratio)) ratio = 1e300;
             // Time offsets first (see the header): they rank above any geometric parameter.
             const bool time = j == SpinCorrection::kEncoderTime || j == SpinCorrection::kImuTime;
@@ -227,9 +227,10 @@ SpinSolution solveDetermined(std::span<const SpinObservation> obs, const SpinMod
         }
         const double scale = SpinCorrection::displayScale(worst);
         notes.push_back(fmt::format(
-            "{}: not determined by this recording (std {:.3g} {} > {:.3g}); kept as given",
+            "{}: not determined by this recording (std {:.3g} {} > {:.3g}, half the start's "
+            "uncertainty); kept as given",
             SpinCorrection::name(worst), s.std[worst] * scale, SpinCorrection::unit(worst),
-            opt.determined_std[worst] * scale));
+            opt.refuse_fraction_of_prior * opt.prior_std[worst] * scale));
         free[worst] = false;
         refused[worst] = true;
         bool any = false;
