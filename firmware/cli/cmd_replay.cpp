@@ -5,29 +5,12 @@
 
 #include "command_registry.hpp"
 #include "handscan/core/log.hpp"
-#include "handscan/core/se3.hpp"
 #include "handscan/replay/replay_engine.hpp"
-#include "handscan/tum/tum_file.hpp"
 
 namespace handscan::cli {
 namespace {
 
 volatile std::sig_atomic_t g_interrupted = 0;
-
-// The pose of a TUM trajectory at time t (interpolated on SE(3); clamped at the ends).
-std::function<Eigen::Isometry3d(TimeNs)> trajectoryMotion(
-    std::shared_ptr<const tum::Trajectory> tr) {
-    return [tr](TimeNs t) {
-        const double ts = toSeconds(t);
-        const auto it =
-            std::lower_bound(tr->begin(), tr->end(), ts,
-                             [](const tum::StampedPose& p, double v) { return p.t_s < v; });
-        if (it == tr->begin()) return tr->front().T;
-        if (it == tr->end()) return tr->back().T;
-        const auto& a = *(it - 1);
-        return interpolate(a.T, it->T, (ts - a.t_s) / (it->t_s - a.t_s));
-    };
-}
 
 const RegisterCommand kReplay{
     "replay", "Run the pipeline on a recording: trajectory.tum, map.ply, stats.json, journal",
@@ -72,8 +55,7 @@ const RegisterCommand kReplay{
         sub.add_flag("--hold", o->hold, "with --live: keep the final state published until Ctrl-C");
         sub.add_option("--shm-name", o->shm_name,
                        "shared-memory region name (default: the daemon's)");
-        auto reference = std::make_shared<std::string>();
-        sub.add_option("--reference-motion", *reference,
+        sub.add_option("--reference-motion", o->reference_motion,
                        "diagnostics: assemble sweeps with this TUM trajectory (ground truth) and "
                        "match from it; "
                        "trajectory.tum carries each match forward with it")
@@ -82,18 +64,8 @@ const RegisterCommand kReplay{
                        "with --reference-motion: prior error (m)");
         sub.add_option("--reference-perturb-deg", o->reference_perturb_deg,
                        "with --reference-motion: prior error (deg)");
-        return std::function<int()>([o, modules, reference] {
+        return std::function<int()>([o, modules] {
             o->use_laser = *modules != "imu";
-            if (!reference->empty()) {
-                auto tr = tum::readTum(*reference);
-                if (!tr.isOk() || tr->size() < 2) {
-                    log().error("--reference-motion {}: {}", *reference,
-                                tr.isOk() ? "needs at least two poses" : tr.status().message());
-                    return 1;
-                }
-                o->reference_motion =
-                    trajectoryMotion(std::make_shared<const tum::Trajectory>(std::move(*tr)));
-            }
             Progress bar("replay", 1.0);
             o->progress = [&](double f) { bar.update(f); };
             std::signal(SIGINT, [](int) { g_interrupted = 1; });

@@ -16,6 +16,7 @@
 #include "handscan/lio/laser_inertial_odometry.hpp"
 #include "handscan/live_output/live_publisher.hpp"
 #include "handscan/live_output/sweep_points.hpp"
+#include "handscan/replay/reference_motion.hpp"
 #include "handscan/scan/ply_writer.hpp"
 #include "handscan/sources/recorded_source.hpp"
 #include "handscan/viz/viz_sink.hpp"
@@ -39,15 +40,20 @@ double peakRssMiB() {
     return static_cast<double>(ru.ru_maxrss) / 1024.0;  // ru_maxrss is in KiB on Linux
 }
 
-worker::WorkerConfig workerConfig(const ReplayOptions& o, const DeviceConfig& device, bool colour) {
+Result<worker::WorkerConfig> workerConfig(const ReplayOptions& o, const DeviceConfig& device,
+                                          bool colour) {
     worker::WorkerConfig c;
     c.lio = worker::lioConfigFor(device);
     c.lio.laser_enabled = o.use_laser;
     c.lio.imu_feedback = o.imu_feedback;
     c.lio.odometry.max_threads = 1;  // replay is deterministic: sweeps are matched in order
-    c.lio.reference_motion = o.reference_motion;
-    c.lio.reference_perturb_m = o.reference_perturb_m;
-    c.lio.reference_perturb_rad = o.reference_perturb_deg * M_PI / 180.0;
+    if (!o.reference_motion.empty()) {
+        auto reference = ReferenceMotion::load(
+            o.reference_motion, o.reference_perturb_m, o.reference_perturb_deg * M_PI / 180.0,
+            c.lio.odometry.prior_sigma_rot_rad, c.lio.odometry.prior_sigma_trans_m);
+        if (!reference.isOk()) return reference.status();
+        c.motion_override = *reference;
+    }
     c.colourise = colour;
     return c;
 }
@@ -172,6 +178,8 @@ Result<ReplayReport> runReplay(const ReplayOptions& o) {
         live = std::move(*p);
     }
 
+    auto worker_config = workerConfig(o, device, source.hasColour());
+    if (!worker_config.isOk()) return worker_config.status();
     ReplaySink sink(o, outputs, journal.get(), live.get());
     std::unique_ptr<viz::VizSink> viz;
     if (!o.viz_path.empty()) {
@@ -180,7 +188,7 @@ Result<ReplayReport> runReplay(const ReplayOptions& o) {
         viz = std::move(*v);
         viz_tap = viz.get();
     }
-    worker::PipelineWorker worker(workerConfig(o, device, source.hasColour()), calibration,
+    worker::PipelineWorker worker(std::move(*worker_config), calibration,
                                   viz ? static_cast<worker::WorkerSink&>(*viz) : sink, &timer);
     const auto wall_start = std::chrono::steady_clock::now();
     const double duration_hint = source.durationHint();

@@ -28,7 +28,8 @@ PipelineWorker::PipelineWorker(WorkerConfig config, const Calibration& calibrati
 }
 
 void PipelineWorker::reset() {
-    lio_ = std::make_unique<lio::LaserInertialOdometry>(config_.lio, calibration_);
+    lio_ = std::make_unique<lio::LaserInertialOdometry>(config_.lio, calibration_,
+                                                        config_.motion_override);
 }
 
 Status PipelineWorker::advance(TimeNs source_clock, TimeNs deadline) {

@@ -8,8 +8,10 @@
 namespace handscan::lio {
 
 LaserInertialOdometry::LaserInertialOdometry(const LioConfig& config,
-                                             const Calibration& calibration)
+                                             const Calibration& calibration,
+                                             std::shared_ptr<const MotionOverride> motion)
     : config_(config),
+      motion_(std::move(motion)),
       predictor_(config.imu, calibration.T_camera_imu()),
       integrator_(predictor_),
       monitor_(config.tracking) {
@@ -17,7 +19,7 @@ LaserInertialOdometry::LaserInertialOdometry(const LioConfig& config,
     // A time the predictor cannot answer (before gravity alignment, beyond its history) is
     // remembered: a sweep containing it is not placed (see matchSweep).
     auto pose_at = [this](TimeNs t) -> Eigen::Isometry3d {
-        if (config_.reference_motion) return config_.reference_motion(t);
+        if (motion_) return motion_->poseAt(t);
         auto T = predictor_.poseAt(t);
         if (T.isOk()) return *T;
         last_unknown_pose_t_ = std::max(last_unknown_pose_t_, t);
@@ -37,14 +39,14 @@ void LaserInertialOdometry::addImu(const ImuSample& sample) {
         return;
     }
     if (!predictor_.initialized()) return;
-    if (config_.reference_motion) {
-        // Diagnostics: nothing corrects the IMU prediction, so the reference motion stands in for
-        // the VIO of section 7 - the 200 Hz output is the last match carried forward by the
-        // reference's increments, in the reference's frame (before the first match: the
-        // reference itself), and trajectory.tum measures the matcher.
+    if (motion_) {
+        // Diagnostics: nothing corrects the IMU prediction, so the override stands in for the
+        // VIO of section 7 - the 200 Hz output is the last match carried forward by the
+        // override's increments, in its frame (before the first match: the override itself),
+        // and trajectory.tum measures the matcher.
         PoseEstimate ref;
         ref.t_host = sample.t_host;
-        ref.T_world_body = config_.reference_motion(sample.t_host);
+        ref.T_world_body = motion_->poseAt(sample.t_host);
         ref.source = PoseSource::kVisualOdometry;
         integrator_.setVisualPose(ref);
         if (!integrator_.lastScanPose()) {
@@ -96,11 +98,11 @@ void LaserInertialOdometry::matchSweep(scan::Sweep sweep) {
         ++stats_.unplaced_sweeps;
         return;
     }
-    // Diagnostics (--reference-motion): the matcher alone, from the reference motion, no feedback.
-    const bool reference = static_cast<bool>(config_.reference_motion);
+    // Diagnostics (a motion override): the matcher alone, from the override, no feedback.
+    const bool reference = static_cast<bool>(motion_);
     std::optional<std::vector<scan::PosePrior>> priors;
     if (reference) {
-        priors = referencePrior(sweep);
+        priors = motion_->matchPrior(sweep, stats_.sweeps);
     } else if (config_.imu_feedback) {
         // The predictor was corrected by the previous match while this sweep was assembled:
         // place every point again with the corrected motion, so the sweep is rigid in one frame.
@@ -222,32 +224,6 @@ Matrix6d LaserInertialOdometry::predictionInformation(const Eigen::Matrix3d& R_w
     const Matrix6d P = scan::bodyToWorldAxes(last_solved_world_, R_world_body.transpose());
     const Matrix6d Q = Matrix6d::Identity() - P;
     return P * solved * P + Q * unsolved * Q;
-}
-
-std::vector<scan::PosePrior> LaserInertialOdometry::referencePrior(const scan::Sweep& sweep) const {
-    // A different error direction for every sweep, the same on every run (deterministic replay).
-    const auto k = static_cast<double>(sweep.index);
-    const Eigen::Vector3d axis =
-        Eigen::Vector3d(std::sin(1.3 * k + 0.4), std::cos(2.1 * k), std::sin(0.7 * k + 1.9))
-            .normalized();
-    const Eigen::Vector3d dir =
-        Eigen::Vector3d(std::cos(1.7 * k + 0.2), std::sin(0.9 * k + 1.1), std::cos(2.9 * k))
-            .normalized();
-    Eigen::Isometry3d perturb = Eigen::Isometry3d::Identity();
-    // The first sweep founds the map (nothing to match against): placed at the reference itself.
-    const double s = stats_.sweeps == 0 ? 0.0 : 1.0;
-    perturb.linear() =
-        Eigen::AngleAxisd(s * config_.reference_perturb_rad, axis).toRotationMatrix();
-    perturb.translation() = s * config_.reference_perturb_m * dir;
-    scan::PosePrior p;
-    p.T_world_body = sweep.T_world_start_odom * perturb;
-    const auto& oc = config_.odometry;
-    p.information.setZero();
-    p.information.diagonal().head<3>().setConstant(
-        1.0 / (oc.prior_sigma_rot_rad * oc.prior_sigma_rot_rad));
-    p.information.diagonal().tail<3>().setConstant(
-        1.0 / (oc.prior_sigma_trans_m * oc.prior_sigma_trans_m));
-    return {p};
 }
 
 std::vector<PoseEstimate> LaserInertialOdometry::takePoses() {

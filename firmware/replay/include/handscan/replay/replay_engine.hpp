@@ -7,7 +7,6 @@
 // publishes to the same shared memory as the daemon, so the UI can show any recording.
 #pragma once
 
-#include <Eigen/Geometry>
 #include <cstdint>
 #include <functional>
 #include <string>
@@ -28,9 +27,9 @@ struct ReplayOptions {
     // pose. Off (--no-imu-feedback): the IMU runs open loop and its relative motion per sweep
     // seeds the matcher, which drifts (24.8 % on the 60 s office walk vs 0.66 % with feedback).
     bool imu_feedback = true;
-    // Diagnostics: assemble sweeps with this motion (ground truth) and match from it, perturbed
-    // (see lio::LioConfig::reference_motion): the scan matcher's own accuracy.
-    std::function<Eigen::Isometry3d(TimeNs)> reference_motion;
+    // Diagnostics: a TUM file (ground truth) to assemble sweeps with and match from, perturbed
+    // (see ReferenceMotion): the scan matcher's own accuracy.
+    std::string reference_motion;
     double reference_perturb_m = 0.0;
     double reference_perturb_deg = 0.0;
     bool colourise = true;        // colour points from /camera/colour when recorded

@@ -40,6 +40,8 @@ public:
 
 struct WorkerConfig {
     lio::LioConfig lio;
+    // Diagnostics of a tool (replay --reference-motion), never set on the device.
+    std::shared_ptr<const lio::MotionOverride> motion_override;
     bool colourise = true;  // colour the sweeps when colour images come
     // Ordering window behind the source's clock (see SampleMerger): longer than any device's
     // delivery delay (a scan's ~30 ms from its first step, a camera frame's exposure).

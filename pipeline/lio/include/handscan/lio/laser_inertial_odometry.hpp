@@ -20,6 +20,7 @@
 #include "handscan/fusion/tracking_monitor.hpp"
 #include "handscan/fusion/transform_integrator.hpp"
 #include "handscan/imu/imu_predictor.hpp"
+#include "handscan/lio/motion_override.hpp"
 #include "handscan/scan/laser_odometry.hpp"
 #include "handscan/scan/sweep_assembler.hpp"
 
@@ -56,16 +57,6 @@ struct LioConfig {
     // 3.8 2.7 14.9 4.0 / 7.4 14.8; 10 cm: max 0.21 / 3.6 2.9 14.4 4.4 / 8.5 11.9; 20 cm: max
     // 0.20 / 2.9 4.6 14.1 3.6 / 7.3 10.8; 50 cm: max 0.17 / -.
     double unsolved_prior_sigma_trans_m = 0.2;
-    // Diagnostics only (`handscan replay --reference-motion GT.tum`): sweeps are assembled with
-    // this motion (e.g. ground truth) instead of the IMU prediction, and each match starts from
-    // it at the sweep's start, moved by a deterministic error of reference_perturb_m /
-    // reference_perturb_rad, without feedback to the IMU: the scan matcher and the map measured
-    // alone, apart from the prediction. The 200 Hz poses then carry each match forward with
-    // the reference's increments (in place of the VIO of section 7), not with the uncorrected
-    // prediction.
-    scan::PoseAtFn reference_motion;
-    double reference_perturb_m = 0.0;
-    double reference_perturb_rad = 0.0;
 };
 
 // A registered sweep: its points in the world with their own times, after the match.
@@ -92,7 +83,9 @@ struct LioStats {
 
 class LaserInertialOdometry {
 public:
-    LaserInertialOdometry(const LioConfig& config, const Calibration& calibration);
+    // `motion` (diagnostics, may be null): assemble and match with it instead of the prediction.
+    LaserInertialOdometry(const LioConfig& config, const Calibration& calibration,
+                          std::shared_ptr<const MotionOverride> motion = nullptr);
     ~LaserInertialOdometry();
 
     void addImu(const ImuSample& sample);
@@ -123,7 +116,6 @@ private:
     // Feedback to the IMU predictor from one match (section 4.2), `trusted`: the match passed
     // the tracking monitor; else every direction is unsolved.
     void feedBack(const scan::Sweep& sweep, const scan::SweepResult& r, bool trusted);
-    std::vector<scan::PosePrior> referencePrior(const scan::Sweep& sweep) const;
     // Information of the corrected IMU prediction as the matcher's prior (eq. 18), in the body
     // tangent at orientation R_world_body (see unsolved_prior_sigma_trans_m).
     Matrix6d predictionInformation(const Eigen::Matrix3d& R_world_body) const;
@@ -131,6 +123,7 @@ private:
     Matrix6d priorInformation(const std::optional<std::vector<scan::PosePrior>>& priors) const;
 
     LioConfig config_;
+    std::shared_ptr<const MotionOverride> motion_;
     imu::ImuPredictor predictor_;
     fusion::TransformIntegrator integrator_;
     std::unique_ptr<scan::SweepAssembler> assembler_;
