@@ -13,6 +13,7 @@
 #include "foxglove/FrameTransforms.pb.h"
 #include "foxglove/PointCloud.pb.h"
 #include "foxglove/PoseInFrame.pb.h"
+#include "foxglove/PosesInFrame.pb.h"
 #include "handscan/camera/image_convert.hpp"
 #include "handscan/core/log.hpp"
 #include "handscan/msgs/Imu.pb.h"
@@ -132,14 +133,15 @@ struct VizWriter::Impl {
     scan::SpinGeometry spin;
     std::unique_ptr<recording::McapWriter> mcap;
     std::map<std::string, std::uint16_t> schemas;
-    std::uint16_t pose_ch = 0, tf_ch = 0, sweep_ch = 0, map_ch = 0, imu_ch = 0, status_ch = 0,
-                  gt_ch = 0;
+    std::uint16_t pose_ch = 0, path_ch = 0, tf_ch = 0, sweep_ch = 0, map_ch = 0, imu_ch = 0,
+                  status_ch = 0, gt_ch = 0;
     std::uint16_t image_ch[2] = {0, 0}, calibration_ch[2] = {0, 0};
     std::string buffer;  // serialised message, reused
     DisplayMap map;
     std::deque<EncoderSample> encoder;  // the samples around the poses still to come
     TimeNs last_pose_t = 0;
-    TimeNs last_track_t = 0;  // the last tracking-camera frame written
+    TimeNs last_track_t = 0;              // the last tracking-camera frame written
+    std::vector<Eigen::Isometry3d> path;  // the trajectory's poses 10 cm or 10 deg apart
     std::deque<std::pair<TimeNs, Eigen::Isometry3d>> ground_truth;  // until the first pose
     std::optional<Eigen::Isometry3d> T_world_gtworld;
     bool static_tf_written = false;
@@ -181,6 +183,7 @@ struct VizWriter::Impl {
         };
         std::vector<Wanted> wanted = {
             {&pose_ch, "/pose", foxglove::PoseInFrame::descriptor()},
+            {&path_ch, "/path", foxglove::PosesInFrame::descriptor()},
             {&tf_ch, "/tf", foxglove::FrameTransforms::descriptor()},
             {&sweep_ch, "/sweep", foxglove::PointCloud::descriptor()},
             {&map_ch, "/map", foxglove::PointCloud::descriptor()},
@@ -243,6 +246,31 @@ struct VizWriter::Impl {
         if (std::abs(nearest->first - p.t_host) > kGroundTruthMatch) return;
         T_world_gtworld = p.T_world_body * nearest->second.inverse();
         ground_truth.clear();
+    }
+
+    // The path keeps a pose once the body moved 10 cm or turned 10 deg from the last one kept:
+    // the trajectory's shape at a size independent of the pose rate and of standing still.
+    void extendPath(const Eigen::Isometry3d& T) {
+        if (!path.empty()) {
+            const Eigen::Isometry3d d = path.back().inverse() * T;
+            if (d.translation().norm() < 0.1 && Eigen::AngleAxisd(d.linear()).angle() < 0.1745)
+                return;
+        }
+        path.push_back(T);
+    }
+
+    Status writePath(TimeNs t) {
+        foxglove::PosesInFrame msg;
+        setTime(msg.mutable_timestamp(), t);
+        msg.set_frame_id(kWorld);
+        const std::size_t n = path.size(), kept = std::min(n, config.path_max_poses);
+        for (std::size_t j = 0; j < kept; ++j) {
+            // Evenly thinned beyond the budget; the newest pose always last.
+            const std::size_t i = kept < n ? (j + 1 == kept ? n - 1 : j * n / kept) : j;
+            foxglove::Pose* pose = msg.add_poses();
+            setIsometry(pose->mutable_position(), pose->mutable_orientation(), path[i]);
+        }
+        return write(path_ch, t, msg);
     }
 
     // body -> imu and body -> cameras from the camchain (body is the tracking camera {C}), and the
@@ -313,6 +341,7 @@ Status VizWriter::pose(const PoseEstimate& p) {
     auto* pose = m.pose_msg.mutable_pose();
     setIsometry(pose->mutable_position(), pose->mutable_orientation(), p.T_world_body);
     if (Status s = m.write(m.pose_ch, p.t_host, m.pose_msg); !s.isOk()) return s;
+    if (!p.tracking_lost) m.extendPath(p.T_world_body);  // guesses are no part of the path
 
     m.tf.Clear();
     addTransform(m.tf, p.t_host, kWorld, kBody, p.T_world_body);
@@ -488,6 +517,7 @@ Status VizWriter::sweep(const lio::RegisteredSweep& s, std::span<const journal::
     m.imu_n = m.scan_n = m.encoder_n = m.image_n[0] = m.image_n[1] = 0;
     m.rates_since = t;
     if (Status st = m.write(m.status_ch, t, status); !st.isOk()) return st;
+    if (Status st = m.writePath(std::max(t, m.last_pose_t)); !st.isOk()) return st;
 
     // The camchain's frames again once per sweep, so a viewer that seeks finds them near.
     m.tf.Clear();

@@ -9,14 +9,17 @@
 //   the size the camchain gives the camera;
 //   /imu, /status and the ground truth carry what they say.
 //
-// usage: node check_viz.mjs VIZ.mcap REPLAY_DIR TRACK_WxH COLOUR_WxH
+//   the Foxglove layout (tools/foxglove/handscan-layout.json) names only topics the file has and
+//   plots only fields its messages carry.
+//
+// usage: node check_viz.mjs VIZ.mcap REPLAY_DIR TRACK_WxH COLOUR_WxH LAYOUT.json
 import { readFile } from "node:fs/promises";
 import { McapIndexedReader } from "@mcap/core";
 import { decompress } from "fzstd";
 import protobuf from "protobufjs";
 import descriptor from "protobufjs/ext/descriptor/index.js";
 
-const [file, replayDir, trackSize, colourSize] = process.argv.slice(2);
+const [file, replayDir, trackSize, colourSize, layoutFile] = process.argv.slice(2);
 const failures = [];
 const check = (ok, what) => {
   if (!ok) failures.push(what);
@@ -33,6 +36,7 @@ const reader = await McapIndexedReader.Initialize({ readable, decompressHandlers
 // ---- Channels and schemas ------------------------------------------------------------------------
 const expectedTypes = {
   "/pose": "foxglove.PoseInFrame",
+  "/path": "foxglove.PosesInFrame",
   "/tf": "foxglove.FrameTransforms",
   "/sweep": "foxglove.PointCloud",
   "/map": "foxglove.PointCloud",
@@ -139,6 +143,18 @@ check(tfWithLaser >= 0.95 * poses.length, `/tf: body->laser with only ${tfWithLa
 for (const f of ["world->body", "body->laser", "body->imu", "body->camera_track", "body->camera_colour", "world->groundtruth_world"]) {
   check(frames.has(f), `/tf has no ${f}`);
 }
+
+// /path once per sweep: the trajectory so far, each pose one of /pose's, the newest last.
+const paths = byTopic["/path"] ?? [];
+check(paths.length === count("/status"), `/path: ${paths.length} messages for ${count("/status")} sweeps`);
+const key = (p) => `${p.position.x},${p.position.y},${p.position.z}`;
+const poseKeys = new Set(poses.map(({ msg }) => key(msg.pose)));
+for (const { msg } of paths) {
+  check(msg.frame_id === "world", `/path frame ${msg.frame_id}`);
+  check(msg.poses.length >= 1 && msg.poses.every((p) => poseKeys.has(key(p))), "/path holds a pose that is not on /pose");
+}
+const lastPath = paths.length ? paths[paths.length - 1].msg.poses : [];
+check(lastPath.length >= 10, `/path ends with only ${lastPath.length} poses`);
 
 // ---- Point clouds -----------------------------------------------------------------------------
 const layout = [
@@ -249,6 +265,20 @@ if (gtAlignment && poses.length > 0) {
   const dl = Math.hypot(pl[0] - last.msg.pose.position.x, pl[1] - last.msg.pose.position.y, pl[2] - last.msg.pose.position.z);
   check(dl < 0.5, `last pose ${dl} m from the aligned ground truth`);
   console.log(`ground truth: last pose ${dl.toFixed(3)} m from the aligned ground truth`);
+}
+
+// ---- The layout: its topics exist, its plot paths resolve in the decoded messages -------------
+const foxgloveLayout = JSON.parse(await readFile(layoutFile, "utf8"));
+for (const [panel, config] of Object.entries(foxgloveLayout.configById)) {
+  const topics = [...Object.keys(config.topics ?? {})];
+  if (config.imageMode?.imageTopic) topics.push(config.imageMode.imageTopic, config.imageMode.calibrationTopic);
+  for (const t of topics) check(count(t) > 0, `layout ${panel}: topic ${t} is not in the file`);
+  for (const { value } of config.paths ?? []) {
+    const [topic, ...fields] = value.split(".");
+    let v = byTopic[topic]?.[1]?.msg;
+    for (const f of fields) v = v?.[f];
+    check(v !== undefined && v !== null, `layout ${panel}: plot path ${value} resolves to nothing`);
+  }
 }
 
 const summary = Object.entries(byTopic).map(([t, m]) => `${t} ${m.length}`).join(", ");

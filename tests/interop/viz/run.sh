@@ -16,7 +16,8 @@ mkdir -p "$work"
 "$bin" -q sim --scene office --duration 6 --seed 4 --out "$work/office.mcap"
 "$bin" -q replay "$work/office.mcap" --fast --out "$work/replay" --viz "$work/office.viz.mcap"
 # The camchain's sizes (config/camchain.yaml): the tracking camera 640x512, the colour 1600x1200.
-node "$here/check_viz.mjs" "$work/office.viz.mcap" "$work/replay" 640x512 1600x1200
+node "$here/check_viz.mjs" "$work/office.viz.mcap" "$work/replay" 640x512 1600x1200 \
+  "$here/../../../tools/foxglove/handscan-layout.json"
 rec=$(stat -c %s "$work/office.mcap")
 viz=$(stat -c %s "$work/office.viz.mcap")
 echo "recording $rec bytes, viz $viz bytes"

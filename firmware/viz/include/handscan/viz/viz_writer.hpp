@@ -3,6 +3,8 @@
 // MCAP + protobuf reader. Channels (frame ids: world, body = the tracking camera {C}, laser,
 // imu, camera_track, camera_colour, groundtruth_world):
 //   /pose               foxglove.PoseInFrame       every 200 Hz integrated pose, in world
+//   /path               foxglove.PosesInFrame      the trajectory so far once per sweep (poses
+//                                                  10 cm or 10 deg apart, at most 2000)
 //   /tf                 foxglove.FrameTransforms   world->body and body->laser (encoder angle
 //                                                  interpolated at the pose's time) with every
 //                                                  pose; body->imu/cameras (camchain) per sweep
@@ -36,6 +38,7 @@ namespace handscan::viz {
 struct VizConfig {
     float map_voxel_m = 0.05f;            // the display map's voxel, as the touch screen's
     std::size_t map_max_points = 100000;  // a /map snapshot beyond this is thinned (DisplayMap)
+    std::size_t path_max_poses = 2000;    // a longer /path is thinned evenly
     int jpeg_quality = 80;
     // Frames that must be encoded (not already JPEG or PNG) and are wider than this are halved
     // until they fit (encoding a 1600 px frame whole costs replay time a viewer does not need).
