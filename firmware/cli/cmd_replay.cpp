@@ -57,6 +57,9 @@ const RegisterCommand kReplay{
             "scan-matching poses correct the IMU prediction's velocity, biases and gravity "
             "(default on; "
             "--no-imu-feedback: the IMU runs open loop and only its increments seed the matcher)");
+        sub.add_option("--viz", o->viz_path,
+                       "also write this MCAP with standard Foxglove channels (protobuf): /map, "
+                       "/sweep, /pose, /tf, /imu, /status, camera images, ground truth");
         sub.add_flag("--live", o->live, "publish to the live-map shared memory (the UI shows it)");
         sub.add_flag("--hold", o->hold, "with --live: keep the final state published until Ctrl-C");
         sub.add_option("--shm-name", o->shm_name,

@@ -52,6 +52,9 @@ RecordedSource::RecordedSource(std::unique_ptr<recording::McapReader> reader,
               topics.push_back(kHokuyoTopic);
               topics.push_back(kCanTopic);
           }
+          for (const std::string& t : options.extra_topics) {
+              if (std::find(topics.begin(), topics.end(), t) == topics.end()) topics.push_back(t);
+          }
           return topics;
       }()})),
       hokuyo_(hokuyoTiming(device)),
@@ -89,6 +92,7 @@ Result<std::optional<TimeNs>> RecordedSource::next(std::vector<Sample>& out) {
     }
     t_last_ = msg_.log_time;
     pace(msg_.log_time);
+    if (options_.tap) options_.tap(msg_);
     const std::string& topic = msg_.channel->topic;
     if (topic == kXsensTopic) {
         imu_.clear();
@@ -105,12 +109,12 @@ Result<std::optional<TimeNs>> RecordedSource::next(std::vector<Sample>& out) {
         timed("decode_can", [&] { encoder_.feed(msg_.log_time, msg_.data, positions_); });
         for (EncoderSample& s : positions_)
             if (keep(kEncoderKind)) out.emplace_back(s);
-    } else if (topic == kColourTopic) {
+    } else if (topic == kColourTopic && colour_) {  // else read only for the tap
         timed("decode_colour", [&] {
             auto img = colour_decoder_.decode(msg_.log_time, msg_.data);
             if (img.isOk() && keep(kColourKind)) out.emplace_back(std::move(*img));
         });
-    } else if (topic == kTrackingTopic) {
+    } else if (topic == kTrackingTopic && tracking_) {  // else read only for the tap
         timed("decode_tracking", [&] {
             auto img = tracking_decoder_.decode(msg_.log_time, msg_.data);
             if (img.isOk() && keep(kTrackingKind)) {

@@ -48,6 +48,9 @@ struct ReplayOptions {
     double map_memory_mib = 256.0;
     std::string map_spill_dir;
     bool write_journal = true;
+    // A second MCAP with standard Foxglove channels (viz::VizSink: map, sweeps, poses, tf,
+    // images, IMU, status, ground truth) for viewers; "" writes none.
+    std::string viz_path;
     bool live = false;     // publish to shared memory
     bool hold = false;     // keep the final state published until interrupted
     std::string shm_name;  // default: the daemon's region
@@ -63,6 +66,7 @@ struct ReplayReport {
     std::uint64_t sweeps = 0;
     std::uint64_t map_points = 0;
     std::string stats_json_path;
+    std::uint64_t viz_bytes = 0;  // --viz file size
 };
 
 Result<ReplayReport> runReplay(const ReplayOptions& options);

@@ -9,6 +9,7 @@
 
 #include <array>
 #include <chrono>
+#include <functional>
 #include <memory>
 #include <string>
 
@@ -37,6 +38,10 @@ struct RecordedSourceOptions {
     bool fast = true;            // as fast as possible; else paced at the recording's pace
     double speed = 1.0;          // pace multiplier without `fast`
     CallTimer* timer = nullptr;  // decode_* costs, when set
+    // Also read these topics (a viewer's: /camera/track, /groundtruth/pose), and hand every
+    // message read, of any topic, to `tap` before it is decoded; the samples are the same.
+    std::vector<std::string> extra_topics;
+    std::function<void(const recording::RecordedMessage&)> tap;
 };
 
 class RecordedSource final : public SampleSource {
