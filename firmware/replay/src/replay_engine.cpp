@@ -55,6 +55,7 @@ Result<worker::WorkerConfig> workerConfig(const ReplayOptions& o, const DeviceCo
         c.motion_override = *reference;
     }
     c.colourise = colour;
+    c.visual = o.use_vision;
     return c;
 }
 
@@ -134,6 +135,8 @@ Result<ReplayReport> runReplay(const ReplayOptions& o) {
     sources::RecordedSourceOptions source_options;
     source_options.laser = o.use_laser;
     source_options.colour = o.colourise;
+    source_options.tracking = o.use_vision;
+    source_options.skip_every_other = o.skip_every_other;
     source_options.fast = o.fast;
     source_options.speed = o.speed;
     source_options.timer = &timer;
@@ -148,6 +151,10 @@ Result<ReplayReport> runReplay(const ReplayOptions& o) {
     auto opened = sources::RecordedSource::open(o.recording, device, source_options);
     if (!opened.isOk()) return opened.status();
     sources::RecordedSource& source = **opened;
+    if (o.vision_required && !source.hasTracking())
+        return Status(StatusCode::kNotFound,
+                      o.recording + ": no /camera/track channel; --modules imu,vision needs the " +
+                          "tracking camera (or choose --modules imu,laser)");
     std::error_code ec;
     fs::create_directories(o.out_dir, ec);
     if (ec)
@@ -229,6 +236,7 @@ Result<ReplayReport> runReplay(const ReplayOptions& o) {
     StatsInputs in{report,
                    timer.summary(),
                    pipeline,
+                   worker.visual(),
                    source.hokuyo(),
                    source.xsens(),
                    source.encoder(),

@@ -21,7 +21,11 @@ struct ReplayOptions {
     std::string out_dir;
     bool fast = false;      // as fast as possible instead of recorded pace
     double speed = 1.0;     // pace multiplier without --fast
-    bool use_laser = true;  // --modules imu: IMU prediction only
+    bool use_laser = true;  // --modules imu | imu,vision: no laser
+    // The visual-inertial odometry on /camera/track when recorded (--modules all | imu,vision).
+    bool use_vision = false;
+    bool vision_required = false;   // --modules imu,vision: the recording must have /camera/track
+    bool skip_every_other = false;  // drop every other sample of every stream (2x speed)
     // Scan-matching poses correct the IMU predictor's pose, velocity, biases and gravity
     // direction (section 4.2) in the solved DOFs; the matcher's prior is then the integrated
     // pose. Off (--no-imu-feedback): the IMU runs open loop and its relative motion per sweep
