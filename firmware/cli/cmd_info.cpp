@@ -9,6 +9,7 @@
 #include "command_registry.hpp"
 #include "handscan/core/config.hpp"
 #include "handscan/core/log.hpp"
+#include "handscan/recording/channels.hpp"
 #include "handscan/recording/mcap_reader.hpp"
 #include "handscan/recording/recording_summary.hpp"
 #include "handscan/replay/device_rates.hpp"
@@ -65,7 +66,11 @@ const RegisterCommand kInfo{
                     if (progress) progress->update(f);
                 },
                 [&](const recording::RecordedMessage& m) {
-                    devices.feed(m.channel->topic, m.log_time, m.data);
+                    // A device's raw stream by topic and encoding: a --viz file's /camera/track
+                    // (foxglove.CompressedImage) is not a camera's frame records.
+                    const recording::ChannelSpec* spec = recording::findChannel(m.channel->topic);
+                    if (spec != nullptr && spec->message_encoding == m.channel->message_encoding)
+                        devices.feed(m.channel->topic, m.log_time, m.data);
                 });
             if (progress) progress->finish();
             if (!summary) {

@@ -71,8 +71,11 @@ private:
             if (colour_) {
                 if (!c_.queues.colour_images.tryPush(std::move(**frame)))
                     c_.queues.dropped.fetch_add(1, std::memory_order_relaxed);
-            } else if (const float luma = meanLuma(**frame); luma >= 0) {
-                c_.queues.camera_brightness.store(luma, std::memory_order_relaxed);
+            } else {
+                if (const float luma = meanLuma(**frame); luma >= 0)
+                    c_.queues.camera_brightness.store(luma, std::memory_order_relaxed);
+                if (!c_.queues.tracking_images.tryPush(std::move(**frame)))
+                    c_.queues.dropped.fetch_add(1, std::memory_order_relaxed);
             }
         }
         (void)cam.stop();

@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "handscan/core/se3.hpp"
+#include "handscan/tum/trajectory_pose.hpp"
 
 namespace handscan::replay {
 
@@ -31,13 +32,7 @@ Result<std::shared_ptr<const ReferenceMotion>> ReferenceMotion::load(const std::
 }
 
 Eigen::Isometry3d ReferenceMotion::poseAt(TimeNs t) const {
-    const double ts = toSeconds(t);
-    const auto it = std::lower_bound(trajectory_.begin(), trajectory_.end(), ts,
-                                     [](const tum::StampedPose& p, double v) { return p.t_s < v; });
-    if (it == trajectory_.begin()) return trajectory_.front().T;
-    if (it == trajectory_.end()) return trajectory_.back().T;
-    const auto& a = *(it - 1);
-    return interpolate(a.T, it->T, (ts - a.t_s) / (it->t_s - a.t_s));
+    return tum::poseAt(trajectory_, toSeconds(t));
 }
 
 std::vector<scan::PosePrior> ReferenceMotion::matchPrior(const scan::Sweep& sweep,

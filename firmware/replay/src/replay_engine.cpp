@@ -19,6 +19,7 @@
 #include "handscan/replay/reference_motion.hpp"
 #include "handscan/scan/ply_writer.hpp"
 #include "handscan/sources/recorded_source.hpp"
+#include "handscan/viz/viz_sink.hpp"
 #include "handscan/worker/pipeline_worker.hpp"
 #include "replay_outputs.hpp"
 
@@ -54,6 +55,7 @@ Result<worker::WorkerConfig> workerConfig(const ReplayOptions& o, const DeviceCo
         c.motion_override = *reference;
     }
     c.colourise = colour;
+    c.visual = o.use_vision;
     return c;
 }
 
@@ -133,12 +135,26 @@ Result<ReplayReport> runReplay(const ReplayOptions& o) {
     sources::RecordedSourceOptions source_options;
     source_options.laser = o.use_laser;
     source_options.colour = o.colourise;
+    source_options.tracking = o.use_vision;
+    source_options.skip_every_other = o.skip_every_other;
     source_options.fast = o.fast;
     source_options.speed = o.speed;
     source_options.timer = &timer;
+    // --viz: the recording's frames and ground truth too, tapped into the viz file once open.
+    viz::VizSink* viz_tap = nullptr;
+    if (!o.viz_path.empty()) {
+        source_options.extra_topics = viz::VizSink::recordedTopics(!o.colourise);
+        source_options.tap = [&viz_tap](const recording::RecordedMessage& m) {
+            if (viz_tap != nullptr) viz_tap->recorded(m);
+        };
+    }
     auto opened = sources::RecordedSource::open(o.recording, device, source_options);
     if (!opened.isOk()) return opened.status();
     sources::RecordedSource& source = **opened;
+    if (o.vision_required && !source.hasTracking())
+        return Status(StatusCode::kNotFound,
+                      o.recording + ": no /camera/track channel; --modules imu,vision needs the " +
+                          "tracking camera (or choose --modules imu,laser)");
     std::error_code ec;
     fs::create_directories(o.out_dir, ec);
     if (ec)
@@ -172,7 +188,15 @@ Result<ReplayReport> runReplay(const ReplayOptions& o) {
     auto worker_config = workerConfig(o, device, source.hasColour());
     if (!worker_config.isOk()) return worker_config.status();
     ReplaySink sink(o, outputs, journal.get(), live.get());
-    worker::PipelineWorker worker(std::move(*worker_config), calibration, sink, &timer);
+    std::unique_ptr<viz::VizSink> viz;
+    if (!o.viz_path.empty()) {
+        auto v = viz::VizSink::create({o.viz_path, !o.colourise, {}, &timer}, calibration, &sink);
+        if (!v.isOk()) return v.status();
+        viz = std::move(*v);
+        viz_tap = viz.get();
+    }
+    worker::PipelineWorker worker(std::move(*worker_config), calibration,
+                                  viz ? static_cast<worker::WorkerSink&>(*viz) : sink, &timer);
     const auto wall_start = std::chrono::steady_clock::now();
     const double duration_hint = source.durationHint();
     std::vector<sources::Sample> samples;
@@ -181,6 +205,7 @@ Result<ReplayReport> runReplay(const ReplayOptions& o) {
         auto clock = source.next(samples);
         if (!clock.isOk()) return clock.status();
         if (!*clock) break;
+        if (viz) viz->samples(samples);
         for (sources::Sample& s : samples) worker.add(std::move(s));
         if (Status st = worker.advance(**clock); !st.isOk()) return st;
         if (live && (n % 64) == 0)
@@ -189,6 +214,8 @@ Result<ReplayReport> runReplay(const ReplayOptions& o) {
             o.progress(toSeconds(**clock - source.firstTime()) / duration_hint);
     }
     if (Status st = worker.finish(); !st.isOk()) return st;
+    // A failed viz file is reported after the scan's own outputs are written (below).
+    const Status viz_status = viz ? viz->close() : Status::ok();
     if (journal) {
         if (Status st = journal->finish(); !st.isOk()) return st;
     }
@@ -209,6 +236,7 @@ Result<ReplayReport> runReplay(const ReplayOptions& o) {
     StatsInputs in{report,
                    timer.summary(),
                    pipeline,
+                   worker.visual(),
                    source.hokuyo(),
                    source.xsens(),
                    source.encoder(),
@@ -218,6 +246,8 @@ Result<ReplayReport> runReplay(const ReplayOptions& o) {
     auto stats_path = outputs.writeStats(in);
     if (!stats_path.isOk()) return stats_path.status();
     report.stats_json_path = *stats_path;
+    if (viz) report.viz_bytes = viz->bytesWritten();
+    if (!viz_status.isOk()) return viz_status;
     if (live) {
         live->status(pipeline, replayStatus(pipeline, source, outputs, /*finished=*/true));
         while (o.hold && !(o.interrupted && o.interrupted())) {

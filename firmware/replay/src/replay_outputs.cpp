@@ -64,6 +64,31 @@ void trackingJson(std::ostringstream& os, const fusion::TrackingMonitor& m) {
     os << "]},\n";
 }
 
+// The visual-inertial odometry (section 5): frames, how many solved something / everything, the
+// mean features and depth kinds, and the stretches it was bypassed (section 8: dark,
+// texture-less; recording times in s, "end_s": null while still bypassed at the end).
+void visualJson(std::ostringstream& os, const worker::VisualStage& v) {
+    const worker::VisualStageStats& s = v.stats();
+    const double n = s.processed > 0 ? static_cast<double>(s.processed) : 1.0;
+    os << "  \"vio\": {\"first_frame_s\": " << toSeconds(s.t_first) << ", \"frames\": " << s.frames
+       << ", \"processed\": " << s.processed << ", \"used\": " << s.used
+       << ", \"all_solved\": " << s.all_solved << ", \"keyframes\": " << s.keyframes
+       << ", \"errors\": " << s.errors << ", \"mean_features\": " << s.features_sum / n
+       << ", \"mean_with_laser_depth\": " << s.laser_depth_sum / n
+       << ", \"mean_triangulated\": " << s.triangulated_sum / n << ", \"bypassed\": [";
+    bool first = true;
+    for (const worker::BypassInterval& b : v.bypassed()) {
+        os << (first ? "" : ", ") << "{\"begin_s\": " << toSeconds(b.t_begin) << ", \"end_s\": ";
+        if (b.t_end != 0)
+            os << toSeconds(b.t_end);
+        else
+            os << "null";
+        os << ", \"frames\": " << b.frames << "}";
+        first = false;
+    }
+    os << "]},\n";
+}
+
 }  // namespace
 
 ReplayOutputs::ReplayOutputs(std::string out_dir, TiledMapConfig map)
@@ -105,6 +130,7 @@ Status ReplayOutputs::addSweep(const lio::RegisteredSweep& s,
     sum.index = s.result.sweep_index;
     sum.t_start_s = toSeconds(s.sweep.t_start);
     sum.solved_mask = s.result.pose.solved_dof_mask;
+    sum.visual_solved_mask = s.visual_solved_dof_mask;
     sum.points = s.points_world.size();
     sum.edges = s.result.edges;
     sum.planars = s.result.planars;
@@ -181,6 +207,7 @@ Result<std::string> ReplayOutputs::writeStats(const StatsInputs& in) const {
     os << "  \"recording\": {\"truncated\": " << (in.recording_truncated ? "true" : "false")
        << ", \"dropped_regions\": " << in.recording_dropped_regions << "},\n";
     trackingJson(os, in.pipeline.tracking());
+    if (in.visual != nullptr && in.visual->stats().frames > 0) visualJson(os, *in.visual);
     // Degenerate directions per sweep (section 8): 6 minus the DOFs the matcher solved.
     std::size_t histogram[7] = {0, 0, 0, 0, 0, 0, 0};
     for (const SweepSummary& s : sweeps_)
@@ -194,6 +221,7 @@ Result<std::string> ReplayOutputs::writeStats(const StatsInputs& in) const {
            << ", \"t_start_s\": " << s.t_start_s << ", \"degenerate_directions\": "
            << 6 - std::popcount(static_cast<unsigned>(s.solved_mask & 0x3F))
            << ", \"solved_dof_mask\": " << static_cast<int>(s.solved_mask)
+           << ", \"vio_solved_dof_mask\": " << static_cast<int>(s.visual_solved_mask)
            << ", \"points\": " << s.points << ", \"edges\": " << s.edges
            << ", \"planars\": " << s.planars << ", \"associations\": " << s.associations
            << ", \"rms_m\": " << s.rms_m << ", \"total_ms\": " << s.total_ms << ", \"tracking\": \""

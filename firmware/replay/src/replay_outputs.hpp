@@ -14,13 +14,15 @@
 #include "handscan/lio/laser_inertial_odometry.hpp"
 #include "handscan/replay/replay_engine.hpp"
 #include "handscan/replay/tiled_voxel_map.hpp"
+#include "handscan/worker/visual_stage.hpp"
 
 namespace handscan::replay {
 
 struct SweepSummary {
     std::uint64_t index = 0;
     double t_start_s = 0.0;
-    std::uint8_t solved_mask = 0;
+    std::uint8_t solved_mask = 0;         // the scan matcher's
+    std::uint8_t visual_solved_mask = 0;  // the visual-inertial odometry's over the prior
     std::size_t points = 0;
     std::size_t edges = 0;
     std::size_t planars = 0;
@@ -36,6 +38,7 @@ struct StatsInputs {
     const ReplayReport& report;
     std::map<std::string, CallStats> calls;
     const lio::LaserInertialOdometry& pipeline;
+    const worker::VisualStage* visual = nullptr;  // null: no visual-inertial odometry
     StreamCounters hokuyo, xsens, encoder;
     double peak_rss_mib = 0.0;
     bool recording_truncated = false;

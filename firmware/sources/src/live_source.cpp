@@ -17,6 +17,10 @@ Result<std::optional<TimeNs>> LiveSource::next(std::vector<Sample>& out) {
     drain(queues_.encoder, out);
     drain(queues_.scans, out);
     drain(queues_.colour_images, out);
+    while (auto image = queues_.tracking_images.tryPop()) {
+        const TimeNs t = image->t_host;
+        out.emplace_back(TrackingFrame{t, std::move(*image)});
+    }
     return std::optional<TimeNs>(now);
 }
 

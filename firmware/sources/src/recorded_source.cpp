@@ -2,10 +2,23 @@
 
 #include <algorithm>
 #include <thread>
+#include <type_traits>
 
 #include "handscan/core/log.hpp"
 
 namespace handscan::sources {
+namespace {
+
+// Each stream's index in Sample (the --skip-every-other counters).
+constexpr std::size_t kImuKind = 0, kEncoderKind = 1, kScanKind = 2, kColourKind = 3,
+                      kTrackingKind = 4;
+static_assert(std::is_same_v<std::variant_alternative_t<kImuKind, Sample>, ImuSample>);
+static_assert(std::is_same_v<std::variant_alternative_t<kEncoderKind, Sample>, EncoderSample>);
+static_assert(std::is_same_v<std::variant_alternative_t<kScanKind, Sample>, LaserScan>);
+static_assert(std::is_same_v<std::variant_alternative_t<kColourKind, Sample>, Image>);
+static_assert(std::is_same_v<std::variant_alternative_t<kTrackingKind, Sample>, TrackingFrame>);
+
+}  // namespace
 
 Result<std::unique_ptr<RecordedSource>> RecordedSource::open(const std::string& path,
                                                              const DeviceConfig& device,
@@ -30,12 +43,17 @@ RecordedSource::RecordedSource(std::unique_ptr<recording::McapReader> reader,
     : reader_(std::move(reader)),
       options_(options),
       colour_(options.colour && reader_->findTopic(kColourTopic) != nullptr),
+      tracking_(options.tracking && reader_->findTopic(kTrackingTopic) != nullptr),
       it_(reader_->messages({[&] {
           std::vector<std::string> topics{kXsensTopic};
           if (colour_) topics.push_back(kColourTopic);
+          if (tracking_) topics.push_back(kTrackingTopic);
           if (options.laser) {
               topics.push_back(kHokuyoTopic);
               topics.push_back(kCanTopic);
+          }
+          for (const std::string& t : options.extra_topics) {
+              if (std::find(topics.begin(), topics.end(), t) == topics.end()) topics.push_back(t);
           }
           return topics;
       }()})),
@@ -47,6 +65,10 @@ RecordedSource::RecordedSource(std::unique_ptr<recording::McapReader> reader,
 double RecordedSource::durationHint() const {
     const auto& s = reader_->statistics();
     return s ? toSeconds(s->message_end_time - s->message_start_time) : 0.0;
+}
+
+bool RecordedSource::keep(std::size_t kind) {
+    return !options_.skip_every_other || (decoded_[kind]++ % 2) == 0;
 }
 
 void RecordedSource::pace(TimeNs log_time) {
@@ -70,23 +92,35 @@ Result<std::optional<TimeNs>> RecordedSource::next(std::vector<Sample>& out) {
     }
     t_last_ = msg_.log_time;
     pace(msg_.log_time);
+    if (options_.tap) options_.tap(msg_);
     const std::string& topic = msg_.channel->topic;
     if (topic == kXsensTopic) {
         imu_.clear();
         timed("decode_xsens", [&] { xsens_.feed(msg_.log_time, msg_.data, imu_); });
-        for (ImuSample& s : imu_) out.emplace_back(std::move(s));
+        for (ImuSample& s : imu_)
+            if (keep(kImuKind)) out.emplace_back(std::move(s));
     } else if (topic == kHokuyoTopic) {
         scans_.clear();
         timed("decode_hokuyo", [&] { hokuyo_.feed(msg_.log_time, msg_.data, scans_); });
-        for (LaserScan& s : scans_) out.emplace_back(std::move(s));
+        for (LaserScan& s : scans_)
+            if (keep(kScanKind)) out.emplace_back(std::move(s));
     } else if (topic == kCanTopic) {
         positions_.clear();
         timed("decode_can", [&] { encoder_.feed(msg_.log_time, msg_.data, positions_); });
-        for (EncoderSample& s : positions_) out.emplace_back(s);
-    } else if (topic == kColourTopic) {
+        for (EncoderSample& s : positions_)
+            if (keep(kEncoderKind)) out.emplace_back(s);
+    } else if (topic == kColourTopic && colour_) {  // else read only for the tap
         timed("decode_colour", [&] {
             auto img = colour_decoder_.decode(msg_.log_time, msg_.data);
-            if (img.isOk()) out.emplace_back(std::move(*img));
+            if (img.isOk() && keep(kColourKind)) out.emplace_back(std::move(*img));
+        });
+    } else if (topic == kTrackingTopic && tracking_) {  // else read only for the tap
+        timed("decode_tracking", [&] {
+            auto img = tracking_decoder_.decode(msg_.log_time, msg_.data);
+            if (img.isOk() && keep(kTrackingKind)) {
+                const TimeNs t = img->t_host;
+                out.emplace_back(TrackingFrame{t, std::move(*img)});
+            }
         });
     }
     return std::optional<TimeNs>(msg_.log_time);

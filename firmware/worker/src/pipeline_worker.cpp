@@ -30,6 +30,7 @@ PipelineWorker::PipelineWorker(WorkerConfig config, const Calibration& calibrati
 void PipelineWorker::reset() {
     lio_ = std::make_unique<lio::LaserInertialOdometry>(config_.lio, calibration_,
                                                         config_.motion_override);
+    visual_.reset();  // made at the first tracking-camera frame
 }
 
 Status PipelineWorker::advance(TimeNs source_clock, TimeNs deadline) {
@@ -66,6 +67,17 @@ void PipelineWorker::process(sources::Sample& sample) {
         timed("sweep_assembly_and_matching", [&] { lio_->addEncoder(*position); });
     } else if (const auto* scan = std::get_if<LaserScan>(&sample)) {
         timed("sweep_assembly_and_matching", [&] { lio_->addScan(*scan); });
+    } else if (const auto* frame = std::get_if<sources::TrackingFrame>(&sample)) {
+        if (!visual_ && config_.visual) {
+            try {
+                visual_ = std::make_unique<VisualStage>(calibration_, config_.vio);
+            } catch (const std::exception& e) {
+                log().error("tracking camera: {}; the visual-inertial odometry is off", e.what());
+                config_.visual = false;  // once, not at every frame
+            }
+        }
+        if (visual_)
+            timed("visual_inertial_odometry", [&] { visual_->frame(frame->image, *lio_); });
     } else if (const auto* image = std::get_if<Image>(&sample)) {
         if (!colouriser_) return;
         // The colouriser takes decoded frames (pipeline/ knows no wire format).
@@ -82,6 +94,7 @@ Status PipelineWorker::consume() {
     }
     for (const lio::RegisteredSweep& s : lio_->takeSweeps()) {
         if (timer_ != nullptr) timer_->add("scan_matching", s.result.total_ms * 1e3);
+        if (visual_) visual_->sweep(s);      // laser depth for the camera (5.3)
         if (!sink_.wantsSweeps()) continue;  // between scans the map does not grow
         // A sweep the tracking monitor kept out of the map reaches the sink with no points:
         // the sink counts it, but nothing of it is coloured, journaled or shown.

@@ -4,6 +4,7 @@
 
 #include "handscan/core/log.hpp"
 #include "handscan/lio/motion_compensation.hpp"
+#include "handscan/scan/degeneracy.hpp"
 
 namespace handscan::lio {
 
@@ -79,6 +80,47 @@ void LaserInertialOdometry::addScan(const LaserScan& scan) {
     processSweeps();
 }
 
+void LaserInertialOdometry::addVisualPose(const PoseEstimate& pose, const Matrix6d& solved_world) {
+    if (!predictor_.initialized() || !pose.T_world_body.matrix().allFinite()) return;
+    if (!visual_.empty() && pose.t_host <= visual_.back().t) return;  // out of order
+    integrator_.setVisualPose(pose);
+    visual_.push_back({pose.t_host, solved_world});
+    // Long enough for a sweep matched a couple of sweeps after its start (the integrator's too).
+    while (!visual_.empty() && visual_.front().t < pose.t_host - 5 * kNsPerSec) visual_.pop_front();
+    if (config_.laser_enabled || motion_) return;
+    // Visual-inertial only: the VIO's pose is the measurement (as a match would be, section 7):
+    // it corrects the IMU predictor in the directions it solved and anchors the 200 Hz output.
+    if (pose.t_host - last_visual_feedback_t_ <
+        static_cast<TimeNs>(config_.visual_feedback_interval_s * 1e9))
+        return;
+    last_visual_feedback_t_ = pose.t_host;
+    if (config_.imu_feedback &&
+        !predictor_.correct(pose.t_host, pose.T_world_body, solved_world).isOk())
+        ++stats_.rejected;
+    PoseEstimate anchor = pose;
+    anchor.source = PoseSource::kVisualOdometry;
+    integrator_.setScanPose(anchor);
+}
+
+Matrix6d LaserInertialOdometry::visualSolved(TimeNs t_from, TimeNs t_to) const {
+    const auto gap = static_cast<TimeNs>(config_.visual_max_gap_s * 1e9);
+    if (visual_.empty() || visual_.front().t > t_from + gap || visual_.back().t < t_to - gap)
+        return Matrix6d::Zero();
+    // Every direction any frame left unsolved is unsolved: the complement of the span of their
+    // unsolved subspaces.
+    Matrix6d unsolved = Matrix6d::Zero();
+    TimeNs prev = 0;
+    for (const VisualSolve& v : visual_) {
+        if (v.t < t_from - gap) continue;
+        if (v.t > t_to + gap) break;
+        if (prev != 0 && v.t - prev > gap) return Matrix6d::Zero();
+        prev = v.t;
+        unsolved += Matrix6d::Identity() - v.solved_world;
+    }
+    if (prev == 0) return Matrix6d::Zero();
+    return Matrix6d::Identity() - scan::rangeProjector(unsolved, 0.5);
+}
+
 void LaserInertialOdometry::finish() {
     if (!config_.laser_enabled) return;
     processSweeps();
@@ -101,6 +143,12 @@ void LaserInertialOdometry::matchSweep(scan::Sweep sweep) {
     // Diagnostics (a motion override): the matcher alone, from the override, no feedback.
     const bool reference = static_cast<bool>(motion_);
     std::optional<std::vector<scan::PosePrior>> priors;
+    // The directions the VIO solved since the previous match: its increment carries the prior
+    // there (eq. 17); elsewhere the prior holds the IMU prediction's uncertainty (eq. 22).
+    Matrix6d visual = Matrix6d::Zero();
+    if (!visual_.empty() && integrator_.lastScanPose())
+        visual = visualSolved(integrator_.lastScanPose()->t_host, sweep.t_start);
+    const bool with_visual = !visual.isZero();
     if (reference) {
         priors = motion_->matchPrior(sweep, stats_.sweeps);
     } else if (config_.imu_feedback) {
@@ -115,7 +163,10 @@ void LaserInertialOdometry::matchSweep(scan::Sweep sweep) {
             // counts no correction twice.
             scan::PosePrior prior;
             prior.T_world_body = integrated->T_world_body;
-            prior.information = predictionInformation(prior.T_world_body.linear());
+            prior.information = predictionInformation(
+                prior.T_world_body.linear(),
+                with_visual ? Matrix6d(scan::rangeProjector(last_solved_world_ + visual, 1e-3))
+                            : last_solved_world_);
             priors.emplace({prior});
         } else {
             ++stats_.rejected;
@@ -150,7 +201,7 @@ void LaserInertialOdometry::matchSweep(scan::Sweep sweep) {
         r.solved_projector_world.setZero();
     }
     if (config_.imu_feedback && !reference && !r.first_sweep)
-        feedBack(sweep, r, verdict.fits_map && r.match.enough_matches);
+        feedBack(sweep, r, verdict.fits_map && r.match.enough_matches, visual);
     PoseEstimate scan_pose = r.pose;
     scan_pose.t_host = sweep.t_start;
     scan_pose.source = PoseSource::kScanMatching;
@@ -160,6 +211,7 @@ void LaserInertialOdometry::matchSweep(scan::Sweep sweep) {
     RegisteredSweep reg;
     reg.result = r;
     reg.tracking = verdict;
+    reg.visual_solved_dof_mask = scan::maskFromProjector(visual);
     reg.points_world.reserve(sweep.points.size());
     reg.intensities.reserve(sweep.points.size());
     reg.times.reserve(sweep.points.size());
@@ -174,7 +226,19 @@ void LaserInertialOdometry::matchSweep(scan::Sweep sweep) {
 }
 
 void LaserInertialOdometry::feedBack(const scan::Sweep& sweep, const scan::SweepResult& r,
-                                     bool trusted) {
+                                     bool trusted, const Matrix6d& visual_solved) {
+    // Eqs. (23)-(27) simplified: the camera's and the laser's corrections are not weighed
+    // against each other; the match (which kept the visual-inertial prior where the laser was
+    // degenerate) is the pose, trusted in the directions either module solved.
+    const bool with_visual = !visual_solved.isZero();
+    if (trusted && with_visual) {
+        const Matrix6d solved =
+            scan::rangeProjector(r.solved_projector_world + visual_solved, 1e-3);
+        if (!predictor_.correct(sweep.t_start, r.pose.T_world_body, solved).isOk())
+            ++stats_.rejected;
+        last_solved_world_ = solved;
+        return;
+    }
     if (trusted) {
         // Feedback to the IMU predictor only in the directions the matcher solved (section 8):
         // the eq. (21) subspace itself, in the predictor's world-axis coordinates, not the
@@ -190,9 +254,9 @@ void LaserInertialOdometry::feedBack(const scan::Sweep& sweep, const scan::Sweep
     // the tracking monitor refused) is still feedback: every direction is unsolved, so the pose
     // stays the prediction's and the velocity gets the motion prior instead of running on with
     // the IMU alone.
-    if (!predictor_.correct(sweep.t_start, r.pose.T_world_body, Matrix6d::Zero()).isOk())
+    if (!predictor_.correct(sweep.t_start, r.pose.T_world_body, visual_solved).isOk())
         ++stats_.rejected;
-    last_solved_world_.setZero();
+    last_solved_world_ = visual_solved;
 }
 
 Matrix6d LaserInertialOdometry::priorInformation(
@@ -209,19 +273,20 @@ Matrix6d LaserInertialOdometry::priorInformation(
     return info;
 }
 
-Matrix6d LaserInertialOdometry::predictionInformation(const Eigen::Matrix3d& R_world_body) const {
+Matrix6d LaserInertialOdometry::predictionInformation(const Eigen::Matrix3d& R_world_body,
+                                                      const Matrix6d& solved_world) const {
     const double sr = config_.imu_prior_sigma_rot_rad, st = config_.imu_prior_sigma_trans_m;
     Matrix6d solved = Matrix6d::Zero();
     solved.diagonal().head<3>().setConstant(1.0 / (sr * sr));
     solved.diagonal().tail<3>().setConstant(1.0 / (st * st));
     // Every direction solved last time (the usual case): the prediction holds everywhere.
-    if ((Matrix6d::Identity() - last_solved_world_).norm() < 1e-6) return solved;
+    if ((Matrix6d::Identity() - solved_world).norm() < 1e-6) return solved;
     // Eq. (18) with the prediction's own uncertainty: P I_solved P + (I - P) I_unsolved (I - P),
     // P the last feedback's solved subspace in the body tangent of the prior's error.
     const double su = config_.unsolved_prior_sigma_trans_m;
     Matrix6d unsolved = solved;
     unsolved.diagonal().tail<3>().setConstant(1.0 / (su * su));
-    const Matrix6d P = scan::bodyToWorldAxes(last_solved_world_, R_world_body.transpose());
+    const Matrix6d P = scan::bodyToWorldAxes(solved_world, R_world_body.transpose());
     const Matrix6d Q = Matrix6d::Identity() - P;
     return P * solved * P + Q * unsolved * Q;
 }

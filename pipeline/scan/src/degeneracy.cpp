@@ -27,6 +27,18 @@ DegeneracyAnalysis analyzeDegeneracy(const Matrix6d& JtJ, double eigenvalue_thre
     return a;
 }
 
+Matrix6d rangeProjector(const Matrix6d& M, double min_eigenvalue) {
+    const Eigen::SelfAdjointEigenSolver<Matrix6d> solver(0.5 * (M + M.transpose()));
+    Matrix6d P = Matrix6d::Zero();
+    for (int i = 0; i < 6; ++i) {
+        if (solver.eigenvalues()[i] >= min_eigenvalue) {
+            const Vector6d v = solver.eigenvectors().col(i);
+            P += v * v.transpose();
+        }
+    }
+    return P;
+}
+
 std::uint8_t maskFromProjector(const Matrix6d& P, double axis_fraction) {
     std::uint8_t mask = 0;
     for (int d = 0; d < 6; ++d) {

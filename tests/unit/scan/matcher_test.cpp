@@ -1,5 +1,7 @@
 #include <gtest/gtest.h>
 
+#include <cmath>
+
 #include "handscan/scan/laser_odometry.hpp"
 #include "handscan/scan/scan_matcher.hpp"
 #include "spin_sim.hpp"
@@ -261,6 +263,30 @@ TEST(Degeneracy, ProjectionKeepsOnlyWellConditionedDirections) {
     EXPECT_NEAR(p[4], 0.0, 1e-12);
     EXPECT_NEAR(p[0], 1.0, 1e-12);
     EXPECT_TRUE((a.projection * a.projection).isApprox(a.projection));
+}
+
+// The directions either of two modules solved (the laser's and the camera's, eq. 22 and the
+// feedback of eqs. 23-27): the span of both subspaces, also when they overlap at an angle.
+TEST(Degeneracy, RangeProjectorOfASumIsTheUnionOfTwoSolvedSubspaces) {
+    Matrix6d laser = Matrix6d::Identity();
+    laser(3, 3) = 0.0;  // the tunnel: its axis (tx) unsolved
+    Matrix6d camera = Matrix6d::Zero();
+    Vector6d v = Vector6d::Zero();
+    v[3] = std::sqrt(0.5);
+    v[4] = std::sqrt(0.5);  // the camera solved tx + ty only
+    camera = v * v.transpose();
+    const Matrix6d both = rangeProjector(laser + camera, 1e-3);
+    EXPECT_TRUE(both.isApprox(Matrix6d::Identity(), 1e-9));
+    EXPECT_EQ(maskFromProjector(both), kAllDof);
+    // Neither solved tx: the union keeps it unsolved.
+    Matrix6d camera_y = Matrix6d::Zero();
+    camera_y(4, 4) = 1.0;
+    const Matrix6d no_tx = rangeProjector(laser + camera_y, 1e-3);
+    EXPECT_NEAR(no_tx(3, 3), 0.0, 1e-9);
+    EXPECT_TRUE((no_tx * no_tx).isApprox(no_tx, 1e-9));
+    EXPECT_EQ(maskFromProjector(no_tx), kAllDof & ~kTx);
+    // Nothing at all: nothing solved.
+    EXPECT_TRUE(rangeProjector(Matrix6d::Zero(), 1e-3).isZero());
 }
 
 // A short handheld-like walk through the room: odometry that drifts (as an IMU prediction does)

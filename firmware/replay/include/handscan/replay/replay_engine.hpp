@@ -21,7 +21,11 @@ struct ReplayOptions {
     std::string out_dir;
     bool fast = false;      // as fast as possible instead of recorded pace
     double speed = 1.0;     // pace multiplier without --fast
-    bool use_laser = true;  // --modules imu: IMU prediction only
+    bool use_laser = true;  // --modules imu | imu,vision: no laser
+    // The visual-inertial odometry on /camera/track when recorded (--modules all | imu,vision).
+    bool use_vision = false;
+    bool vision_required = false;   // --modules imu,vision: the recording must have /camera/track
+    bool skip_every_other = false;  // drop every other sample of every stream (2x speed)
     // Scan-matching poses correct the IMU predictor's pose, velocity, biases and gravity
     // direction (section 4.2) in the solved DOFs; the matcher's prior is then the integrated
     // pose. Off (--no-imu-feedback): the IMU runs open loop and its relative motion per sweep
@@ -44,6 +48,9 @@ struct ReplayOptions {
     double map_memory_mib = 256.0;
     std::string map_spill_dir;
     bool write_journal = true;
+    // A second MCAP with standard Foxglove channels (viz::VizSink: map, sweeps, poses, tf,
+    // images, IMU, status, ground truth) for viewers; "" writes none.
+    std::string viz_path;
     bool live = false;     // publish to shared memory
     bool hold = false;     // keep the final state published until interrupted
     std::string shm_name;  // default: the daemon's region
@@ -59,6 +66,7 @@ struct ReplayReport {
     std::uint64_t sweeps = 0;
     std::uint64_t map_points = 0;
     std::string stats_json_path;
+    std::uint64_t viz_bytes = 0;  // --viz file size
 };
 
 Result<ReplayReport> runReplay(const ReplayOptions& options);

@@ -18,6 +18,7 @@ struct SampleQueues {
     SpscQueue<EncoderSample> encoder{8192};  // 40 s at 200 Hz
     SpscQueue<LaserScan> scans{512};         // 12 s at 40 Hz
     SpscQueue<Image> colour_images{8};       // large frames: a few are enough for colouring
+    SpscQueue<Image> tracking_images{32};    // 0.6 s at 50 Hz (the visual-inertial odometry)
     std::atomic<std::uint64_t> dropped{0};
     std::atomic<float> camera_brightness{0};  // mean grey level of the tracking camera
 };

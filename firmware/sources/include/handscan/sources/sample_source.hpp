@@ -15,8 +15,16 @@
 
 namespace handscan::sources {
 
-// One decoded sample of any device the pipeline consumes.
-using Sample = std::variant<ImuSample, EncoderSample, LaserScan, Image>;
+// A frame of the tracking camera (the visual-inertial odometry's, section 5), kept apart from the
+// colour camera's Image: both are V4L2 frames, but they go to different modules.
+struct TrackingFrame {
+    TimeNs t_host = 0;  // mid-exposure, as image.t_host
+    Image image;
+};
+
+// One decoded sample of any device the pipeline consumes. (New kinds go last: the merger breaks
+// ties between kinds by this order.)
+using Sample = std::variant<ImuSample, EncoderSample, LaserScan, Image, TrackingFrame>;
 
 inline TimeNs sampleTime(const Sample& s) {
     return std::visit([](const auto& v) { return v.t_host; }, s);

@@ -22,6 +22,7 @@
 #include "handscan/lio/laser_inertial_odometry.hpp"
 #include "handscan/sources/sample_source.hpp"
 #include "handscan/worker/sample_merger.hpp"
+#include "handscan/worker/visual_stage.hpp"
 
 namespace handscan::worker {
 
@@ -43,6 +44,11 @@ struct WorkerConfig {
     // Diagnostics of a tool (replay --reference-motion), never set on the device.
     std::shared_ptr<const lio::MotionOverride> motion_override;
     bool colourise = true;  // colour the sweeps when colour images come
+    // Run the visual-inertial odometry on the tracking-camera frames that come, as scan
+    // matching's prior. Off by default: on simulated walks it still makes the pipeline worse
+    // (see firmware/cli/cmd_replay.cpp); frames that come are then dropped.
+    bool visual = false;
+    vio::VioConfig vio;
     // Ordering window behind the source's clock (see SampleMerger): longer than any device's
     // delivery delay (a scan's ~30 ms from its first step, a camera frame's exposure).
     TimeNs hold_back = 100 * kNsPerMs;
@@ -73,6 +79,8 @@ public:
     std::size_t pending() const { return merger_.size(); }
     std::uint64_t colourErrors() const { return colour_errors_; }
     bool colourising() const { return colouriser_ != nullptr; }
+    // The visual-inertial odometry (null: not configured or cam0 unusable).
+    const VisualStage* visual() const { return visual_.get(); }
 
 private:
     [[nodiscard]] Status run(TimeNs horizon, TimeNs deadline);
@@ -91,6 +99,7 @@ private:
     SampleMerger merger_;
     std::unique_ptr<lio::LaserInertialOdometry> lio_;
     std::unique_ptr<colour::Colouriser> colouriser_;
+    std::unique_ptr<VisualStage> visual_;
     std::uint64_t colour_errors_ = 0;
 };
 

@@ -5,12 +5,17 @@
 //   each sweep        -> scan matching against the voxel map with the predicted prior (6.1-6.3),
 //                        degenerate directions held from the prediction (section 8),
 //                        feedback to the IMU predictor in the solved DOFs only (4.2)
-// The visual-inertial module (a later issue) slots in between: its poses go to the transform
-// integrator and replace the IMU prior of the matcher (eq. 22).
+//   VIO poses (50 Hz) -> addVisualPose(): the transform integrator carries the last match forward
+//                        with the VIO's increments (section 7), so the matcher's prior is the
+//                        visual-inertial pose (eq. 17); it is trusted in the directions every
+//                        camera frame since the last match solved, and elsewhere it is the IMU
+//                        prediction's (eq. 22); feedback to the IMU in the directions either the
+//                        laser or the camera solved (eqs. 23-27, simplified: see feedBack()).
 #pragma once
 
 #include <Eigen/Geometry>
 #include <algorithm>
+#include <deque>
 #include <memory>
 #include <optional>
 #include <vector>
@@ -57,6 +62,13 @@ struct LioConfig {
     // 3.8 2.7 14.9 4.0 / 7.4 14.8; 10 cm: max 0.21 / 3.6 2.9 14.4 4.4 / 8.5 11.9; 20 cm: max
     // 0.20 / 2.9 4.6 14.1 3.6 / 7.3 10.8; 50 cm: max 0.17 / -.
     double unsolved_prior_sigma_trans_m = 0.2;
+    // Visual-inertial poses (addVisualPose) count as solving a direction for a sweep's prior only
+    // when every camera frame since the previous match solved it and no two consecutive ones are
+    // farther apart than this (a bypassed, dark stretch leaves a gap).
+    double visual_max_gap_s = 0.1;
+    // Without the laser (--modules imu,vision) the VIO's poses correct the IMU predictor and
+    // anchor the 200 Hz output at this interval.
+    double visual_feedback_interval_s = 0.2;
 };
 
 // A registered sweep: its points in the world with their own times, after the match.
@@ -66,6 +78,9 @@ struct RegisteredSweep {
     // The tracking monitor's verdict. !tracking.enters_map: the sweep was kept out of the map,
     // and whoever journals or publishes the map must leave it out too.
     fusion::TrackingVerdict tracking;
+    // The directions the visual-inertial odometry solved over the sweep's prior (every frame
+    // since the previous match; 0 without a camera or while it is bypassed), world axes.
+    std::uint8_t visual_solved_dof_mask = 0;
     std::vector<Eigen::Vector3f> points_world;
     std::vector<float> intensities;
     std::vector<TimeNs> times;
@@ -91,6 +106,10 @@ public:
     void addImu(const ImuSample& sample);
     void addEncoder(const EncoderSample& sample);
     void addScan(const LaserScan& scan);
+    // A visual-inertial odometry pose of the body (the tracking camera) in the VIO's own chain
+    // (only increments are used, section 7) with the directions it solved as a world-axis
+    // projector (section 8). Poses of a bypassed camera are simply not given.
+    void addVisualPose(const PoseEstimate& pose, const Matrix6d& solved_world);
     // End of input: assembles and matches the last partial sweep.
     void finish();
 
@@ -115,10 +134,15 @@ private:
     void matchSweep(scan::Sweep sweep);
     // Feedback to the IMU predictor from one match (section 4.2), `trusted`: the match passed
     // the tracking monitor; else every direction is unsolved.
-    void feedBack(const scan::Sweep& sweep, const scan::SweepResult& r, bool trusted);
+    void feedBack(const scan::Sweep& sweep, const scan::SweepResult& r, bool trusted,
+                  const Matrix6d& visual_solved);
+    // The directions every VIO frame in [t_from, t_to] solved (zero without full coverage).
+    Matrix6d visualSolved(TimeNs t_from, TimeNs t_to) const;
     // Information of the corrected IMU prediction as the matcher's prior (eq. 18), in the body
     // tangent at orientation R_world_body (see unsolved_prior_sigma_trans_m).
-    Matrix6d predictionInformation(const Eigen::Matrix3d& R_world_body) const;
+    // `solved_world`: the directions the prediction is trusted in (world axes).
+    Matrix6d predictionInformation(const Eigen::Matrix3d& R_world_body,
+                                   const Matrix6d& solved_world) const;
     // The information of the prior a match started from (the tracking monitor's yardstick).
     Matrix6d priorInformation(const std::optional<std::vector<scan::PosePrior>>& priors) const;
 
@@ -135,6 +159,12 @@ private:
     // The solved subspace of the last feedback in world axes (rot, trans). Before the first one
     // the prediction comes from the static start (gravity alignment): trusted everywhere.
     Matrix6d last_solved_world_ = Matrix6d::Identity();
+    struct VisualSolve {
+        TimeNs t;
+        Matrix6d solved_world;
+    };
+    std::deque<VisualSolve> visual_;  // the last seconds of VIO frames' solved directions
+    TimeNs last_visual_feedback_t_ = 0;
     LioStats stats_;
 };
 

@@ -40,6 +40,11 @@ std::uint8_t maskFromProjector(const Matrix6d& P, double axis_fraction = 0.5);
 // subspace in its coordinates is D P D^T with D = diag(R, R).
 Matrix6d bodyToWorldAxes(const Matrix6d& M_body, const Eigen::Matrix3d& R_world_body);
 
+// The orthogonal projector onto the eigenvectors of the symmetric `M` whose eigenvalues are at
+// least `min_eigenvalue`. With M = P_a + P_b (two solved subspaces' projectors) and a small
+// threshold it projects onto the union (span) of both: the directions either module solved.
+Matrix6d rangeProjector(const Matrix6d& M, double min_eigenvalue);
+
 // `JtJ` in the tangent order (rot, trans). A DOF axis e_i counts as solved when at least
 // `axis_fraction` of it (squared norm of its projection) lies in the well-conditioned subspace.
 DegeneracyAnalysis analyzeDegeneracy(const Matrix6d& JtJ, double eigenvalue_threshold,
