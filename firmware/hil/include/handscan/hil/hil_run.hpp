@@ -51,7 +51,7 @@ struct HilReport {
     bool recovered_after_kill = false;
     std::uint64_t recovered_points = 0;         // after --kill-at: the recovered scan's journal
     std::uint64_t recovered_export_points = 0;  // and its export
-    std::string summary;  // one line per figure, for the console
+    std::string summary;                        // one line per figure, for the console
 };
 
 [[nodiscard]] Result<HilReport> runHil(const HilOptions& options);
