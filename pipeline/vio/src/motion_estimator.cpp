@@ -82,7 +82,19 @@ MotionResult MotionEstimator::estimate(const std::vector<FeatureConstraint>& con
             const double s = scaleOf(constraints[i], T);
             if (s <= 0.0) continue;
             // A one-row constraint (eq. 8) has r[1] = 0 and a zero second row of J.
-            constraintResiduals(constraints[i], T, r, J);
+            if (constraintResiduals(constraints[i], T, r, J) == 1) {
+                // Eq. (8) is scale free: any t along the epipolar planes' common line fits it,
+                // t = 0 too. It says nothing of how far the camera moved, so its Jacobian loses
+                // the component along t; else its noise, weighted by 1/max(|t|, t_min)^2, pulls
+                // the translation towards zero whenever |t| < t_min (measured: the VIO's speed
+                // collapsed to ~0 over a simulated tunnel walk).
+                const double tn = T.translation().norm();
+                if (tn > 1e-9) {
+                    const Eigen::Vector3d u = T.translation() / tn;
+                    const Eigen::Vector3d jv = J.row(0).tail<3>().transpose();
+                    J.row(0).tail<3>() = (jv - u * u.dot(jv)).transpose();
+                }
+            }
             const double w = weight[i] * s * s * inv_s2;
             ne.cost += w * r.squaredNorm();
             if (!with_jacobian) continue;
