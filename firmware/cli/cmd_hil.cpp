@@ -12,13 +12,14 @@ namespace {
 
 const RegisterCommand kHil{
     "hil",
-    "Hardware-in-the-loop: a recording played by fake devices over TCP, a pty and a CAN log into "
-    "the real handscan-pipeline, driven through its shared-memory commands",
+    "Hardware-in-the-loop: a recording played by fake devices over TCP, a pty, a CAN log and V4L2 "
+    "replay cameras into the real handscan-pipeline, driven through its shared-memory commands",
     [](CLI::App& sub) {
         auto o = std::make_shared<hil::HilOptions>();
         auto no_hokuyo = std::make_shared<bool>(false);
         auto no_xsens = std::make_shared<bool>(false);
         auto no_motor = std::make_shared<bool>(false);
+        auto no_camera = std::make_shared<bool>(false);
         auto disconnect = std::make_shared<double>(-1.0);
         auto kill_at = std::make_shared<double>(-1.0);
         sub.add_option("RECORDING", o->recording, "recording (.mcap)")
@@ -49,10 +50,14 @@ const RegisterCommand kHil{
         sub.add_flag("--no-hokuyo", *no_hokuyo, "no laser (the daemon finds nothing listening)");
         sub.add_flag("--no-xsens", *no_xsens, "no IMU (the daemon finds no tty)");
         sub.add_flag("--no-motor", *no_motor, "no CAN encoder (the daemon finds no CAN log)");
+        sub.add_flag("--no-camera", *no_camera,
+                     "leave the recorded cameras out (by default they play through the V4L2 "
+                     "replay device)");
         return std::function<int()>([=] {
             o->fakes.hokuyo = !*no_hokuyo;
             o->fakes.xsens = !*no_xsens;
             o->fakes.motor = !*no_motor;
+            o->fakes.cameras = !*no_camera;
             if (*disconnect >= 0.0) o->fakes.hokuyo_disconnect_s = *disconnect;
             if (*kill_at >= 0.0) o->kill_at_s = *kill_at;
             std::signal(SIGPIPE, SIG_IGN);  // the daemon's end of a fake may close at any time

@@ -173,4 +173,18 @@ Result<FrameRecordView> decodeFrameRecord(std::span<const std::uint8_t> b, Frame
     return v;
 }
 
+Status shiftFrameRecordTimes(std::span<std::uint8_t> record, TimeNs offset) {
+    auto view = decodeFrameRecord(record, FramePayload::kHeaderOnly);
+    if (!view) return view.status();
+    // Only the two time fields change: the rest of the header (version, sizes, coding) stays.
+    const auto put64 = [&](std::size_t at, TimeNs v) {
+        for (std::size_t i = 0; i < 8; ++i)
+            record[at + i] = static_cast<std::uint8_t>(static_cast<std::uint64_t>(v) >> (8 * i));
+    };
+    put64(48, view->header.t_host_ns + offset);
+    if ((view->header.flags & kV4l2BufFlagTimestampMask) == kV4l2BufFlagTimestampMonotonic)
+        put64(16, view->header.timestamp_ns + offset);
+    return Status::ok();
+}
+
 }  // namespace handscan::camera

@@ -1,8 +1,12 @@
 #include "handscan/camera/replay_v4l2_device.hpp"
 
 #include <algorithm>
+#include <chrono>
 #include <cstdio>
 #include <cstring>
+#include <thread>
+
+#include "handscan/camera/timed_frame_file.hpp"
 
 namespace handscan::camera {
 
@@ -18,9 +22,23 @@ ReplayV4l2Device::ReplayV4l2Device(ReplayDeviceConfig config) : cfg_(std::move(c
     }
 }
 
-void ReplayV4l2Device::addFrame(const FrameRecordHeader& header,
-                                std::vector<std::uint8_t> payload) {
-    frames_.push_back({header, std::move(payload)});
+void ReplayV4l2Device::addFrame(const FrameRecordHeader& header, std::vector<std::uint8_t> payload,
+                                TimeNs due) {
+    frames_.push_back({header, std::move(payload), due});
+}
+
+Result<const ReplayFrame*> ReplayV4l2Device::next() {
+    while (true) {
+        if (frames_.empty() && feed_) {
+            auto f = feed_();
+            if (!f) return f.status();
+            if (*f) frames_.push_back(std::move(**f));
+        }
+        if (frames_.empty()) return static_cast<const ReplayFrame*>(nullptr);
+        // A paced camera exposes only while streaming: earlier frames were never captured.
+        if (!cfg_.clock || frames_.front().due >= stream_on_) return &frames_.front();
+        frames_.pop_front();
+    }
 }
 
 Result<std::size_t> ReplayV4l2Device::addRecords(std::span<const std::uint8_t> records) {
@@ -53,6 +71,7 @@ Status ReplayV4l2Device::violation(const std::string& what) {
 
 Status ReplayV4l2Device::open() {
     calls_.push_back("open");
+    if (!cfg_.open_error.empty()) return {StatusCode::kNotFound, cfg_.open_error};
     if (open_) return violation("open twice");
     open_ = true;
     return Status::ok();
@@ -189,6 +208,7 @@ Status ReplayV4l2Device::streamOn() {
     if (queue_.empty())
         violations_.push_back("STREAMON with no buffer queued (the driver would starve)");
     streaming_ = true;
+    if (cfg_.clock) stream_on_ = cfg_.clock();
     return Status::ok();
 }
 
@@ -201,25 +221,36 @@ Status ReplayV4l2Device::streamOff() {
     return Status::ok();
 }
 
-Result<bool> ReplayV4l2Device::waitReadable(TimeNs /*timeout*/) {
+Result<bool> ReplayV4l2Device::waitReadable(TimeNs timeout) {
     calls_.push_back("poll");
     if (!streaming_) return violation("poll while not streaming");
-    if (frames_.empty() && cfg_.disconnect_at_end)
+    auto f = next();
+    if (!f) return f.status();
+    if (*f == nullptr && cfg_.disconnect_at_end)
         return Status(StatusCode::kDisconnected, describe() + ": device unplugged (POLLERR)");
-    return !frames_.empty() && !queue_.empty();
+    if (cfg_.clock) {
+        // poll() blocks until the next buffer is done or the timeout passes.
+        const TimeNs now = cfg_.clock();
+        const TimeNs until = *f != nullptr ? std::min((*f)->due, now + timeout) : now + timeout;
+        if (until > now) std::this_thread::sleep_for(std::chrono::nanoseconds(until - now));
+    }
+    return *f != nullptr && due(**f) && !queue_.empty();
 }
 
 Result<V4l2Buffer> ReplayV4l2Device::dequeueBuffer() {
     calls_.push_back("DQBUF");
     if (!streaming_) return violation("DQBUF while not streaming (EINVAL)");
-    if (frames_.empty()) {
+    auto next_frame = next();
+    if (!next_frame) return next_frame.status();
+    if (*next_frame == nullptr) {
         if (cfg_.disconnect_at_end)
             return Status(StatusCode::kDisconnected,
                           describe() + ": VIDIOC_DQBUF failed: No such device");
         return Status(StatusCode::kTimeout, "no buffer ready");
     }
+    if (!due(**next_frame)) return Status(StatusCode::kTimeout, "no buffer ready");
     if (queue_.empty()) return Status(StatusCode::kTimeout, "no buffer queued");
-    Frame f = std::move(frames_.front());
+    ReplayFrame f = std::move(frames_.front());
     frames_.pop_front();
     const std::uint32_t index = queue_.front();
     queue_.pop_front();
@@ -265,6 +296,63 @@ Result<std::int32_t> ReplayV4l2Device::getControl(std::uint32_t id) {
     if (!controls_.count(id))
         return Status(StatusCode::kUnsupported, describe() + ": control not supported (EINVAL)");
     return controls_[id];
+}
+
+namespace {
+
+// A frame of the file as the device delivers it (payload decoded, PNG or not).
+Result<ReplayFrame> replayFrame(const TimedFrameRecord& e, const std::string& path) {
+    auto view = decodeFrameRecord(e.record);
+    if (!view) return Status(view.status().code(), path + ": " + view.status().message());
+    return ReplayFrame{
+        view->header, std::vector<std::uint8_t>(view->payload.begin(), view->payload.end()), e.due};
+}
+
+}  // namespace
+
+std::unique_ptr<transport::V4l2Device> openHostClockReplay(const std::string& path,
+                                                           transport::V4l2Fraction interval) {
+    ReplayDeviceConfig c;
+    c.path = path;
+    c.card = "handscan hil camera";
+    c.clock = monotonicNow;
+    if (interval.numerator != 0 && interval.denominator != 0) c.frame_intervals = {interval};
+    auto reader = TimedFrameFileReader::open(path);
+    Result<std::optional<TimedFrameRecord>> first =
+        reader ? reader->next() : Result<std::optional<TimedFrameRecord>>(reader.status());
+    std::optional<ReplayFrame> frame;
+    if (first && *first) {
+        auto f = replayFrame(**first, path);
+        if (f)
+            frame = std::move(*f);
+        else
+            first = f.status();
+    }
+    if (!first) {
+        c.open_error = first.status().message();
+    } else if (!frame) {
+        c.open_error = path + ": no camera frames to play";
+    } else {
+        // The recorded camera's one format, as its driver offered it (MJPEG buffers sized as
+        // UVC sizes them: two bytes a pixel).
+        const FrameRecordHeader& h = frame->header;
+        const std::uint32_t size = h.stride != 0 ? h.stride * h.height : 2 * h.width * h.height;
+        c.formats = {{h.width, h.height, h.fourcc, transport::kV4l2FieldNone, h.stride,
+                      std::max(size, h.bytesused)}};
+    }
+    auto device = std::make_unique<ReplayV4l2Device>(std::move(c));
+    if (!frame) return device;
+    device->addFrame(frame->header, std::move(frame->payload), frame->due);
+    auto shared = std::make_shared<TimedFrameFileReader>(std::move(*reader));
+    device->setFeed([shared]() -> Result<std::optional<ReplayFrame>> {
+        auto e = shared->next();
+        if (!e) return e.status();
+        if (!*e) return std::optional<ReplayFrame>();
+        auto f = replayFrame(**e, shared->path());
+        if (!f) return f.status();
+        return std::optional<ReplayFrame>(std::move(*f));
+    });
+    return device;
 }
 
 }  // namespace handscan::camera

@@ -29,7 +29,8 @@ Status writeTum(const fs::path& path, const std::vector<journal::TrajectoryPose>
 }
 
 // The newest scan directory's journal under DIR/journal.
-Result<fs::path> findScanJournal(const fs::path& root) {
+// The daemon's scans' journals, oldest first (scan-<UTC time>).
+Result<std::vector<fs::path>> findScanJournals(const fs::path& root) {
     std::vector<fs::path> found;
     std::error_code ec;
     for (const auto& e : fs::directory_iterator(root, ec)) {
@@ -38,7 +39,7 @@ Result<fs::path> findScanJournal(const fs::path& root) {
     if (found.empty())
         return Status(StatusCode::kNotFound, root.string() + ": the daemon journaled no scan");
     std::sort(found.begin(), found.end());
-    return found.back();
+    return found;
 }
 
 // The exported point cloud (PLY) under DIR/export, linked (or copied) to DIR/map.ply.
@@ -78,14 +79,32 @@ std::uint64_t droppedSamplesInLog(const fs::path& log) {
 }
 
 Status writeHilOutputs(const OutputsInputs& in, HilReport& report) {
-    auto path = findScanJournal(in.out / "journal");
-    if (!path.isOk()) return path.status();
-    auto j = journal::JournalReader::open(path->string());
+    auto journals = findScanJournals(in.out / "journal");
+    if (!journals.isOk()) return journals.status();
+    const fs::path& path = journals->back();  // the last scan
+    auto j = journal::JournalReader::open(path.string());
     if (!j.isOk()) return j.status();
     const journal::JournalSummary& js = j->summary();
-    report.journal = path->string();
+    report.journal = path.string();
+    std::string recovered_journal;
+    if (in.options.kill_at_s && journals->size() >= 2) {
+        recovered_journal = journals->front().string();
+        auto r = journal::JournalReader::open(recovered_journal);
+        if (!r.isOk()) return r.status();
+        report.recovered_points = r->summary().points;
+    }
     report.poses = js.trajectory.size();
     report.points = js.points;
+    // Points the colour camera saw. The worker writes the others in the laser's grey
+    // (live_output::sweepMapPoints), so a grey point counts as unseen (journal::hasColour's
+    // RGB-0 test counts every point).
+    std::uint64_t coloured = 0;
+    if (Status st = j->forEachPoints([&](std::span<const journal::MapPoint> pts) {
+            for (const journal::MapPoint& p : pts) coloured += p.r != p.g || p.g != p.b ? 1 : 0;
+        });
+        !st.isOk())
+        return st;
+    report.coloured_points = coloured;
     const double shift_s = toSeconds(in.offset);
     if (Status s = writeTum(in.out / "trajectory.tum", js.trajectory, shift_s); !s.isOk()) return s;
     if (Status s = writeTum(in.out / "trajectory.host.tum", js.trajectory, 0.0); !s.isOk())
@@ -108,12 +127,19 @@ Status writeHilOutputs(const OutputsInputs& in, HilReport& report) {
                    {"peak_rss_mib", report.daemon_peak_rss_mib},
                    {"killed_and_restarted", in.options.kill_at_s.has_value()},
                    {"recovered_after_kill", report.recovered_after_kill}};
+    if (in.options.kill_at_s) {
+        s["recovered"] = {{"journal", recovered_journal},
+                          {"points", report.recovered_points},
+                          {"export_points", report.recovered_export_points},
+                          {"note",
+                           "the scan up to the kill, recovered by the restarted daemon and "
+                           "exported to export-recovered/; journal, export and "
+                           "trajectory.tum are the scan started after the restart"}};
+    }
     s["samples_dropped"] = report.samples_dropped;
-    s["journal"] = {{"path", report.journal},
-                    {"poses", report.poses},
-                    {"points", js.points},
-                    {"finished", js.finished},
-                    {"damage", js.damage}};
+    s["journal"] = {{"path", report.journal},  {"poses", report.poses},
+                    {"points", js.points},     {"coloured_points", coloured},
+                    {"finished", js.finished}, {"damage", js.damage}};
     s["export"] = {{"cloud", cloud}, {"points", report.export_points}};
     const RecordingFakes::Counts& c = in.played;
     s["played"] = {{"hokuyo_scans_recorded", c.scans_recorded},
@@ -123,7 +149,9 @@ Status writeHilOutputs(const OutputsInputs& in, HilReport& report) {
                    {"xsens_reads_recorded", c.xsens_chunks_recorded},
                    {"xsens_reads_sent", c.xsens_chunks_sent},
                    {"xsens_reads_lost_in_config_mode", c.xsens_chunks_lost},
-                   {"can_frames", c.can_frames}};
+                   {"can_frames", c.can_frames},
+                   {"tracking_camera_frames", c.track_frames},
+                   {"colour_camera_frames", c.colour_frames}};
     std::ofstream out(in.out / "stats.json", std::ios::trunc);
     out << s.dump(2) << '\n';
     if (!out)
@@ -131,11 +159,13 @@ Status writeHilOutputs(const OutputsInputs& in, HilReport& report) {
 
     char line[512];
     std::snprintf(line, sizeof line,
-                  "hil: %zu poses, %" PRIu64 " journal points, %" PRIu64
+                  "hil: %zu poses, %" PRIu64 " journal points (%.1f %% coloured), %" PRIu64
                   " samples dropped; daemon CPU %.1f s (%.2f s per recording s), peak RSS %.0f "
                   "MiB\n",
-                  report.poses, report.points, report.samples_dropped,
-                  report.daemon_user_cpu_s + report.daemon_system_cpu_s,
+                  report.poses, report.points,
+                  100.0 * static_cast<double>(coloured) /
+                      static_cast<double>(std::max<std::uint64_t>(1, report.points)),
+                  report.samples_dropped, report.daemon_user_cpu_s + report.daemon_system_cpu_s,
                   (report.daemon_user_cpu_s + report.daemon_system_cpu_s) /
                       std::max(1e-9, report.recording_s),
                   report.daemon_peak_rss_mib);

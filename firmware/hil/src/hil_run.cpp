@@ -22,6 +22,10 @@ namespace {
 
 namespace fs = std::filesystem;
 
+// After a kill -9: when the restarted daemon's encoder start-up is answered (it opens the bus
+// within about a second; its boot-up wait lasts 2 s).
+constexpr TimeNs kRestartCanStartup = 1500 * kNsPerMs;
+
 // handscan-pipeline next to this program (installed: bin/), or in the build tree's
 // firmware/pipeline_daemon/ beside firmware/cli/.
 std::string defaultDaemon() {
@@ -57,9 +61,13 @@ Result<std::string> hilDeviceYaml(const std::string& source, const RecordingFake
     v["motor.can_interface"] = fakes.candumpPath().empty()
                                    ? "candump:" + (out / "no-can-log").string()
                                    : "candump-host-clock:" + fakes.candumpPath().string();
-    // No camera records are played yet (see the README): the cameras are left out.
-    v["tracking_camera.enabled"] = "false";
-    v["colour_camera.enabled"] = "false";
+    // A camera not recorded (or left out) is not there.
+    const auto camera = [&](const std::string& section, const std::string& frames) {
+        v[section + ".enabled"] = frames.empty() ? "false" : "true";
+        if (!frames.empty()) v[section + ".device"] = "v4l2-replay-host-clock:" + frames;
+    };
+    camera("tracking_camera", fakes.trackFramesPath());
+    camera("colour_camera", fakes.colourFramesPath());
     v["gpio.chip"] = "handscan-hil-no-gpio-chip";
     v["storage.journal_dir"] = (out / "journal").string();
     v["storage.recording_dir"] = (out / "recordings").string();
@@ -102,15 +110,19 @@ struct DaemonRuns {
 }  // namespace
 
 Result<HilReport> runHil(const HilOptions& o) {
-    auto rec = loadRecordedStreams(o.recording);
-    if (!rec.isOk()) return rec.status();
     const fs::path out = o.out_dir;
     std::error_code ec;
     fs::remove_all(out / "journal", ec);
     fs::remove_all(out / "export", ec);
+    fs::remove_all(out / "export-recovered", ec);
+    fs::remove_all(out / "cameras", ec);
     fs::create_directories(out / "journal", ec);
     fs::create_directories(out / "export", ec);
+    if (o.kill_at_s) fs::create_directories(out / "export-recovered", ec);
+    if (o.fakes.cameras) fs::create_directories(out / "cameras", ec);
     if (ec) return Status(StatusCode::kIoError, out.string() + ": cannot create: " + ec.message());
+    auto rec = loadRecordedStreams(o.recording, o.fakes.cameras ? (out / "cameras").string() : "");
+    if (!rec.isOk()) return rec.status();
     const std::string config_dir = defaultConfigDir();
     auto device_text =
         readText(o.device_config.empty() ? config_dir + "/device.yaml" : o.device_config);
@@ -185,10 +197,28 @@ Result<HilReport> runHil(const HilOptions& o) {
     HilReport report;
     report.recording_s = toSeconds(rec->end - rec->start);
     const TimeNs play_end = rec->end + offset;
+    // "exported N points to DIR"; N of the export done, or the failure.
+    const auto exportScan = [&](const fs::path& to) -> Result<std::uint64_t> {
+        const shm::CommandAck exported =
+            sendCommand(ui, shm::CommandType::kExport, to.string(), 300.0);
+        const std::string message(shm::getText(exported.message));
+        if (exported.state != static_cast<std::uint32_t>(shm::CommandState::kDone))
+            return fail("export to " + to.string() + ": " + message);
+        const auto at = message.find("exported ");
+        return at == std::string::npos ? 0 : std::strtoull(message.c_str() + at + 9, nullptr, 10);
+    };
     if (o.kill_at_s) {
         sleepUntil(play_at + fromSeconds(*o.kill_at_s));
         daemon.process.signal(SIGKILL);
         if (Status s = daemon.reap(5 * kNsPerSec, log); !s.isOk()) return s;
+        // The new daemon's encoder start-up is answered as the first one's: a CAN log whose
+        // exchange begins once the daemon had time to open the bus (its boot-up wait is 2 s).
+        if (!fakes->candumpPath().empty()) {
+            (void)fakes->restartCandump(monotonicNow() + kRestartCanStartup);
+            auto again = hilDeviceYaml(*device_text, *fakes, out);
+            if (!again.isOk()) return again.status();
+            std::ofstream(device_yaml, std::ios::trunc) << *again;
+        }
         if (Status s = daemon.process.start(argv, log); !s.isOk()) return s;
         auto back = waitForStatus(
             ui,
@@ -199,23 +229,26 @@ Result<HilReport> runHil(const HilOptions& o) {
         if (!back) return fail("after kill -9 the restarted daemon did not take the scan back");
         report.recovered_after_kill =
             std::string(shm::getText(back->message)).find("recovered") != std::string::npos;
+        // As an operator would: export the recovered scan, then scan on (a new scan: the new
+        // daemon's map frame is not the recovered one's).
+        auto recovered = exportScan(out / "export-recovered");
+        if (!recovered.isOk()) return recovered.status();
+        report.recovered_export_points = *recovered;
+        const shm::CommandAck restarted = sendCommand(ui, shm::CommandType::kStartScan);
+        if (restarted.state != static_cast<std::uint32_t>(shm::CommandState::kDone)) {
+            return fail(std::string("start scan after the restart: ") +
+                        std::string(shm::getText(restarted.message)));
+        }
     }
     sleepUntil(play_end + fromSeconds(1.0));  // + the pipeline's ordering window and a sweep
 
     // 5. Stop, export, shut down.
-    if (!o.kill_at_s) {
-        const shm::CommandAck stopped = sendCommand(ui, shm::CommandType::kStopScan);
-        if (stopped.state != static_cast<std::uint32_t>(shm::CommandState::kDone))
-            return fail(std::string("stop scan: ") + std::string(shm::getText(stopped.message)));
-    }
-    const shm::CommandAck exported =
-        sendCommand(ui, shm::CommandType::kExport, (out / "export").string(), 300.0);
-    if (exported.state != static_cast<std::uint32_t>(shm::CommandState::kDone))
-        return fail(std::string("export: ") + std::string(shm::getText(exported.message)));
-    // "exported N points to DIR"
-    const std::string export_message(shm::getText(exported.message));
-    if (const auto at = export_message.find("exported "); at != std::string::npos)
-        report.export_points = std::strtoull(export_message.c_str() + at + 9, nullptr, 10);
+    const shm::CommandAck stopped = sendCommand(ui, shm::CommandType::kStopScan);
+    if (stopped.state != static_cast<std::uint32_t>(shm::CommandState::kDone))
+        return fail(std::string("stop scan: ") + std::string(shm::getText(stopped.message)));
+    auto exported = exportScan(out / "export");
+    if (!exported.isOk()) return exported.status();
+    report.export_points = *exported;
     daemon.process.signal(SIGTERM);
     if (Status s = daemon.reap(20 * kNsPerSec, log); !s.isOk()) return s;
     const ProcessEnd& last = daemon.ends.back();
@@ -232,6 +265,8 @@ Result<HilReport> runHil(const HilOptions& o) {
     // 6. What replay writes, from the daemon's journal and export.
     OutputsInputs in{*rec, offset, fakes->counts(), o, log, out};
     if (Status s = writeHilOutputs(in, report); !s.isOk()) return s;
+    fakes.reset();
+    fs::remove_all(out / "cameras", ec);  // the played frames: the recording's, large
     return report;
 }
 

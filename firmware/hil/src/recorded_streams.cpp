@@ -2,7 +2,9 @@
 
 #include <algorithm>
 #include <array>
+#include <optional>
 
+#include "handscan/camera/timed_frame_file.hpp"
 #include "handscan/hokuyo/scip_stream_parser.hpp"
 #include "handscan/recording/channels.hpp"
 #include "handscan/recording/mcap_reader.hpp"
@@ -84,7 +86,49 @@ std::vector<xsens::RecordedChunk> measurementBytes(const std::vector<xsens::Reco
     return out;
 }
 
-Result<RecordedStreams> loadRecordedStreams(const std::string& path) {
+namespace {
+
+// One camera's records into a timed frame file, created at the first record.
+class CameraFile {
+public:
+    CameraFile(std::string path, std::string& out_path, std::size_t& count)
+        : path_(std::move(path)), out_path_(out_path), count_(count) {}
+    void add(TimeNs t_rx, std::span<const std::uint8_t> record) {
+        if (!error_.isOk()) return;
+        if (!writer_) {
+            auto w = camera::TimedFrameFileWriter::create(path_);
+            if (!w) {
+                error_ = w.status();
+                return;
+            }
+            writer_.emplace(std::move(*w));
+            out_path_ = path_;
+        }
+        // A record that does not decode is the recording's: the camera driver skips it live, so
+        // it is left out here and counted by nobody (replay counts it as a decode error).
+        if (Status s = writer_->append(t_rx, record); s.isOk()) {
+            ++count_;
+        } else if (s.code() == StatusCode::kIoError) {
+            error_ = s;
+        }
+    }
+    Status close() {
+        if (writer_ && error_.isOk()) error_ = writer_->close();
+        return error_;
+    }
+
+private:
+    std::string path_;
+    std::string& out_path_;
+    std::size_t& count_;
+    std::optional<camera::TimedFrameFileWriter> writer_;
+    Status error_ = Status::ok();
+};
+
+}  // namespace
+
+Result<RecordedStreams> loadRecordedStreams(const std::string& path,
+                                            const std::string& camera_dir) {
     auto reader = recording::McapReader::open(path);
     if (!reader.isOk()) return reader.status();
     RecordedStreams out;
@@ -94,9 +138,17 @@ Result<RecordedStreams> loadRecordedStreams(const std::string& path) {
     recording::ReadOptions options;
     options.topics = {std::string(ch::kHokuyoRaw.topic), std::string(ch::kXsensRaw.topic),
                       std::string(ch::kMotorCan.topic)};
+    if (!camera_dir.empty()) {
+        options.topics.emplace_back(ch::kCameraTrack.topic);
+        options.topics.emplace_back(ch::kCameraColour.topic);
+    }
+    CameraFile track(camera_dir + "/track.frames", out.track_frames, out.track_frame_count);
+    CameraFile colour(camera_dir + "/colour.frames", out.colour_frames, out.colour_frame_count);
     std::vector<xsens::RecordedChunk> hokuyo_reads, xsens_reads;
     Status s = (*reader)->forEachMessage(options, [&](const recording::RecordedMessage& m) {
         const std::string_view topic = m.channel->topic;
+        if (topic == ch::kCameraTrack.topic) return track.add(m.log_time, m.data);
+        if (topic == ch::kCameraColour.topic) return colour.add(m.log_time, m.data);
         std::vector<std::uint8_t> bytes(m.data.begin(), m.data.end());
         if (topic == ch::kHokuyoRaw.topic) {
             hokuyo_reads.push_back({m.log_time, std::move(bytes)});
@@ -107,6 +159,8 @@ Result<RecordedStreams> loadRecordedStreams(const std::string& path) {
         }
     });
     if (!s.isOk()) return s;
+    if (Status t = track.close(); !t.isOk()) return t;
+    if (Status c = colour.close(); !c.isOk()) return c;
     if (hokuyo_reads.empty() && xsens_reads.empty() && out.can.empty()) {
         return Status(StatusCode::kInvalidArgument,
                       path +

@@ -6,6 +6,7 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "handscan/camera/timed_frame_file.hpp"
 #include "handscan/motor/candump_format.hpp"
 #include "handscan/motor/motor_setup.hpp"
 
@@ -44,12 +45,14 @@ bool isStartupFrame(const transport::CanFrame& f) {
     return f.id == 0 || fn == 0x580u || fn == 0x600u || boot_up;
 }
 
-// The CAN log the daemon plays (candump -l lines on the host clock): the start-up exchange just
-// before the recording's stream, then the recorded frames (PDOs, heartbeats, emergencies) at
-// their times. Lines that do not parse are kept as they are (the daemon's log bus counts and
-// skips them, as it would in the recording).
+// The CAN log the daemon plays (candump -l lines on the host clock): the start-up exchange, then
+// the recorded frames (PDOs, heartbeats, emergencies) due after it at their times. The exchange
+// begins at `startup_at` (host time), or by default ends just before the recording's stream.
+// Lines that do not parse are kept as they are (the daemon's log bus counts and skips them, as it
+// would in the recording).
 std::size_t writeHostClockCandump(const RecordedStreams& rec, const MotorConfig& motor,
-                                  TimeNs offset, const std::filesystem::path& path) {
+                                  TimeNs offset, const std::filesystem::path& path,
+                                  std::optional<TimeNs> startup_at = std::nullopt) {
     std::vector<std::pair<std::optional<motor::CandumpRecord>, const RecordedCanFrame*>> stream;
     for (const RecordedCanFrame& f : rec.can) {
         auto record = motor::parseCandumpAnyLine(f.line);
@@ -64,15 +67,19 @@ std::size_t writeHostClockCandump(const RecordedStreams& rec, const MotorConfig&
     if (!out) throw std::runtime_error(path.string() + ": cannot write the CAN log for the daemon");
     const TimeNs first = rec.can.empty() ? rec.start : rec.can.front().t;
     std::vector<motor::CandumpRecord> startup = startupExchange(motor);
+    TimeNs startup_end = startup_at.value_or(first + offset - kNsPerMs);
     if (!startup.empty()) {
-        const TimeNs shift = first + offset - kNsPerMs - startup.back().timeNs();
+        const TimeNs shift = startup_at ? *startup_at - startup.front().timeNs()
+                                        : first + offset - kNsPerMs - startup.back().timeNs();
         for (motor::CandumpRecord& r : startup) {
             r.setTimeNs(r.timeNs() + shift);
             out << motor::formatCandumpLogLine(r) << '\n';
         }
+        startup_end = startup.back().timeNs();
     }
     std::size_t n = 0;
     for (const auto& [record, frame] : stream) {
+        if (frame->t + offset <= startup_end) continue;  // sent while the node was starting
         if (record) {
             out << motor::formatCandumpLogLine(*record) << '\n';
             ++n;
@@ -108,7 +115,12 @@ std::vector<hokuyo::SourceScanFrame> prerollScans(const RecordedStreams& rec, do
 
 RecordingFakes::RecordingFakes(const RecordedStreams& rec, const MotorConfig& motor, TimeNs offset,
                                const std::filesystem::path& dir, FakesOptions options)
-    : scans_(rec.scans.size()), xsens_chunks_(rec.xsens_measurement.size()) {
+    : rec_(rec),
+      motor_(motor),
+      offset_(offset),
+      dir_(dir),
+      scans_(rec.scans.size()),
+      xsens_chunks_(rec.xsens_measurement.size()) {
     if (options.hokuyo && !rec.scans.empty()) {
         hokuyo::FakeServerOptions o;
         std::vector<hokuyo::SourceScanFrame> source = prerollScans(rec, options.hokuyo_preroll_s);
@@ -150,6 +162,25 @@ RecordingFakes::RecordingFakes(const RecordedStreams& rec, const MotorConfig& mo
         candump_ = dir / "motor-host-clock.candump";
         can_frames_ = writeHostClockCandump(rec, motor, offset, candump_);
     }
+    if (options.cameras) {
+        const auto play = [offset](const std::string& file, std::size_t count, std::string& path,
+                                   std::size_t& played) {
+            if (file.empty() || count == 0) return;
+            if (Status s = camera::TimedFrameFileWriter::setClockOffset(file, offset); !s.isOk())
+                throw std::runtime_error("camera frames: " + s.message());
+            path = file;
+            played = count;
+        };
+        play(rec.track_frames, rec.track_frame_count, track_frames_, track_frame_count_);
+        play(rec.colour_frames, rec.colour_frame_count, colour_frames_, colour_frame_count_);
+    }
+}
+
+std::filesystem::path RecordingFakes::restartCandump(TimeNs startup_at) {
+    if (candump_.empty()) return candump_;
+    candump_ = dir_ / ("motor-host-clock-restart-" + std::to_string(++restarts_) + ".candump");
+    (void)writeHostClockCandump(rec_, motor_, offset_, candump_, startup_at);
+    return candump_;
 }
 
 RecordingFakes::~RecordingFakes() {
@@ -172,6 +203,8 @@ RecordingFakes::Counts RecordingFakes::counts() const {
         c.xsens_chunks_lost = pty_->recordedChunksLost();
     }
     c.can_frames = can_frames_;
+    c.track_frames = track_frame_count_;
+    c.colour_frames = colour_frame_count_;
     return c;
 }
 

@@ -1,7 +1,9 @@
 #include "handscan/pipeline_daemon/device_links.hpp"
 
+#include <cmath>
 #include <string_view>
 
+#include "handscan/camera/replay_v4l2_device.hpp"
 #include "handscan/motor/motor_setup.hpp"
 #include "handscan/motor/paced_can_bus.hpp"
 #include "handscan/motor/virtual_can_buses.hpp"
@@ -13,6 +15,9 @@ namespace {
 
 constexpr std::string_view kCandumpPrefix = "candump:";
 constexpr std::string_view kCandumpHostClockPrefix = "candump-host-clock:";
+// Recorded camera frames on the host clock (camera/timed_frame_file.hpp), as `handscan hil`
+// plays them: the camera's real start-up and buffer handling over a V4L2 device without a kernel.
+constexpr std::string_view kV4l2ReplayHostClockPrefix = "v4l2-replay-host-clock:";
 
 // A candump log played at its pace: from its first frame on (`host_clock` false) or at the host
 // CLOCK_MONOTONIC times its lines carry (`host_clock` true).
@@ -72,6 +77,13 @@ public:
         return CanLink{std::make_shared<transport::SocketCanBus>(c.can_interface), monotonicNow};
     }
     std::unique_ptr<transport::V4l2Device> camera(const CameraConfig& c) override {
+        const std::string_view name = c.device;
+        if (name.starts_with(kV4l2ReplayHostClockPrefix)) {
+            const transport::V4l2Fraction interval{
+                1000, static_cast<std::uint32_t>(std::lround(c.fps * 1000.0))};
+            return camera::openHostClockReplay(
+                std::string(name.substr(kV4l2ReplayHostClockPrefix.size())), interval);
+        }
         return transport::makeLinuxV4l2Device(c.device);
     }
     Result<std::unique_ptr<gpio::GpioChip>> gpioChip(const GpioConfig& c) override {

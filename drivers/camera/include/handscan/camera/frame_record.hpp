@@ -96,4 +96,10 @@ std::vector<std::uint8_t> encodeFrameRecord(const FrameRecordHeader& header,
 Result<FrameRecordView> decodeFrameRecord(std::span<const std::uint8_t> bytes,
                                           FramePayload payload = FramePayload::kDecoded);
 
+// The record with its clock moved by `offset` (another host's CLOCK_MONOTONIC onto this one's, as
+// `handscan hil` plays a recording): t_host_ns, and timestamp_ns when the flags say it is on
+// CLOCK_MONOTONIC. The stored payload is kept as it is (no PNG re-coding). kProtocolError when
+// `record` does not start with a valid record header.
+[[nodiscard]] Status shiftFrameRecordTimes(std::span<std::uint8_t> record, TimeNs offset);
+
 }  // namespace handscan::camera

@@ -32,7 +32,8 @@ struct HilOptions {
     std::string calibration;    // default: the config dir's calibration.yaml
     FakesOptions fakes;
     // kill -9 the daemon this many seconds into the recording, start it again: the journal must
-    // be recovered and the export must contain the scan up to the kill.
+    // be recovered and its export (DIR/export-recovered) must contain the scan up to the kill;
+    // then a new scan records the rest of the recording (DIR/export, trajectory.tum).
     std::optional<double> kill_at_s;
     // Seconds the daemon gets to open its devices and start the scan before the recording plays.
     double startup_s = 4.0;
@@ -41,13 +42,16 @@ struct HilOptions {
 struct HilReport {
     std::string journal;  // the scan's journal
     std::size_t poses = 0;
-    std::uint64_t points = 0;         // in the journal
-    std::uint64_t export_points = 0;  // in the export
+    std::uint64_t points = 0;           // in the journal
+    std::uint64_t coloured_points = 0;  // in the journal, seen by the colour camera
+    std::uint64_t export_points = 0;    // in the export
     std::uint64_t samples_dropped = 0;
     double daemon_user_cpu_s = 0.0, daemon_system_cpu_s = 0.0, daemon_peak_rss_mib = 0.0;
     double recording_s = 0.0;
     bool recovered_after_kill = false;
-    std::string summary;  // one line per figure, for the console
+    std::uint64_t recovered_points = 0;         // after --kill-at: the recovered scan's journal
+    std::uint64_t recovered_export_points = 0;  // and its export
+    std::string summary;                        // one line per figure, for the console
 };
 
 [[nodiscard]] Result<HilReport> runHil(const HilOptions& options);

@@ -2,7 +2,9 @@
 // scan frames with the receive time of each frame's last byte, the Xbus bytes the MTi sent after
 // acknowledging GoToMeasurement, the candump lines of the CAN bus, each on the recording's clock
 // (MCAP log time: the recording host's CLOCK_MONOTONIC). The start-up replies in the recording
-// are not played back: the fakes answer the daemon's own handshakes.
+// are not played back: the fakes answer the daemon's own handshakes. Camera frames, too large to
+// hold, go straight into timed frame files (camera/timed_frame_file.hpp), due at their recorded
+// dequeue times; the fakes set those files' clock offset.
 #pragma once
 
 #include <cstdint>
@@ -31,9 +33,14 @@ struct RecordedStreams {
     std::uint32_t xsens_device_id = 0;  // from the recorded DeviceID reply (0: none)
     std::string xsens_product_code;
     std::vector<RecordedCanFrame> can;
+    // /camera/track and /camera/colour as timed frame files (empty: none recorded or not asked).
+    std::string track_frames, colour_frames;
+    std::size_t track_frame_count = 0, colour_frame_count = 0;
 };
 
-[[nodiscard]] Result<RecordedStreams> loadRecordedStreams(const std::string& path);
+// With `camera_dir` set, the cameras' records are written there (track.frames, colour.frames).
+[[nodiscard]] Result<RecordedStreams> loadRecordedStreams(const std::string& path,
+                                                          const std::string& camera_dir = {});
 
 // The scan frames of recorded TCP reads, each with the receive time of the read that completed
 // it.
