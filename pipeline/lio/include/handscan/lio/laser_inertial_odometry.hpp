@@ -162,7 +162,12 @@ private:
     struct VisualSolve {
         TimeNs t;
         Matrix6d solved_world;
+        Eigen::Isometry3d T_chain;  // the VIO's pose in its own chain
     };
+    // The VIO's chain pose at t, interpolated (nullopt outside the kept frames).
+    std::optional<Eigen::Isometry3d> visualPoseAt(TimeNs t) const;
+    // The laser's own solved subspace of the last match (world axes), apart from the camera's.
+    Matrix6d last_laser_solved_world_ = Matrix6d::Identity();
     std::deque<VisualSolve> visual_;  // the last seconds of VIO frames' solved directions
     TimeNs last_visual_feedback_t_ = 0;
     LioStats stats_;
