@@ -46,7 +46,8 @@ TEST_F(ExportTest, PlyHeaderAndRecords) {
 }
 
 TEST_F(ExportTest, CountsThePointsTheCameraColoured) {
-    // Colours (i, 2i, 3i) mod 256: points 0, 256 and 512 are black, i.e. never seen by the camera.
+    // Points 0, 256 and 512 carry their laser grey (never seen by the camera), the rest colours
+    // (i, 2i, 3i) mod 256.
     const std::string journal = makeJournal(600);
     auto r = exportScan(journal, dir_.string(), {{"ply"}, 0.0, "out", {}, {}});
     ASSERT_TRUE(r.isOk()) << r.status().message();
