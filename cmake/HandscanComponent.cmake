@@ -80,7 +80,7 @@ function(handscan_benchmark name)
 endfunction()
 
 # handscan_fuzz_target(fuzz_<name> SOURCES ... LIBS ...): a libFuzzer executable, built only with
-# HANDSCAN_FUZZ=ON (clang). tools/fuzz finds it through build/fuzz/fuzz_targets/<name>.path and
+# HANDSCAN_FUZZ=ON (clang). tools/fuzz finds it through build/asan/fuzz_targets/<name>.path and
 # seeds it from tests/data/fuzz/<name>/.
 function(handscan_fuzz_target name)
   cmake_parse_arguments(ARG "" "" "SOURCES;LIBS" ${ARGN})

@@ -9,6 +9,7 @@
 
 #include "command_registry.hpp"
 #include "decoder_registry.hpp"
+#include "handscan/core/json.hpp"
 #include "handscan/core/log.hpp"
 #include "handscan/recording/mcap_format.hpp"
 #include "handscan/recording/mcap_reader.hpp"
@@ -23,9 +24,12 @@ std::vector<DecoderEntry>& decoderRegistry() {
 namespace {
 
 void printSummary(const std::string& device, const DecodeSummary& s) {
-    std::cout << "{\"summary\":{\"device\":\"" << device << "\",\"messages\":" << s.messages
-              << ",\"checksum_failures\":" << s.checksum_failures << ",\"resyncs\":" << s.resyncs
-              << ",\"gaps\":" << s.gaps << "}}\n";
+    const Json summary = {{"device", device},
+                          {"messages", s.messages},
+                          {"checksum_failures", s.checksum_failures},
+                          {"resyncs", s.resyncs},
+                          {"gaps", s.gaps}};
+    std::cout << jsonText({{"summary", summary}}) << "\n";
 }
 
 // An MCAP recording starts with the MCAP magic; anything else is a raw capture.

@@ -13,8 +13,8 @@
 #include "handscan/camera/frame_record.hpp"
 #include "handscan/camera/frame_timing.hpp"
 #include "handscan/camera/image_convert.hpp"
+#include "handscan/core/json.hpp"
 #include "handscan/transport/v4l2_device.hpp"
-#include "json_text.hpp"
 
 namespace handscan::cli {
 namespace {

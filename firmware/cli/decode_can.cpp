@@ -8,9 +8,9 @@
 #include <sstream>
 
 #include "decoder_registry.hpp"
+#include "handscan/core/json.hpp"
 #include "handscan/motor/candump_format.hpp"
 #include "handscan/motor/canopen.hpp"
-#include "json_text.hpp"
 
 namespace handscan::cli {
 namespace {

@@ -12,9 +12,9 @@
 #include <ostream>
 
 #include "decoder_registry.hpp"
+#include "handscan/core/json.hpp"
 #include "handscan/hokuyo/scip_stream_parser.hpp"
 #include "handscan/hokuyo/sensor_parameters.hpp"
-#include "json_text.hpp"
 
 namespace handscan::cli {
 namespace {

@@ -1,74 +1,48 @@
 #include "status_json.hpp"
 
-#include <cstdio>
 #include <fstream>
-#include <sstream>
+
+#include "handscan/core/json.hpp"
 
 namespace handscan::ui {
 namespace {
 
-std::string quote(const std::string& s) {
-    std::string out = "\"";
-    for (const char c : s) {
-        switch (c) {
-            case '"':
-                out += "\\\"";
-                break;
-            case '\\':
-                out += "\\\\";
-                break;
-            case '\n':
-                out += "\\n";
-                break;
-            case '\t':
-                out += "\\t";
-                break;
-            default:
-                if (static_cast<unsigned char>(c) < 0x20) {
-                    char buf[8];
-                    std::snprintf(buf, sizeof buf, "\\u%04x", c);
-                    out += buf;
-                } else {
-                    out += c;
-                }
-        }
-    }
-    return out + "\"";
-}
+Json line(const Line& l) { return {{"text", l.text}, {"health", toString(l.health)}}; }
 
-std::string line(const Line& l) {
-    return "{\"text\": " + quote(l.text) + ", \"health\": " + quote(toString(l.health)) + "}";
-}
-
-std::string lines(const std::vector<Line>& ls) {
-    std::string out = "[";
-    for (std::size_t i = 0; i < ls.size(); ++i) out += (i ? ", " : "") + line(ls[i]);
-    return out + "]";
+Json lines(const std::vector<Line>& ls) {
+    Json out = Json::array();
+    for (const Line& l : ls) out.push_back(line(l));
+    return out;
 }
 
 }  // namespace
 
 std::string statusJson(const StatusTexts& t, const FrameFacts& f) {
-    std::ostringstream o;
-    o << "{\n  \"connection\": " << line(t.connection)
-      << ",\n  \"scan_state\": " << quote(t.scan_state) << ",\n  \"elapsed\": " << quote(t.elapsed)
-      << ",\n  \"distance\": " << quote(t.distance) << ",\n  \"points\": " << quote(t.points)
-      << ",\n  \"storage\": " << line(t.storage) << ",\n  \"sensors\": " << lines(t.sensors)
-      << ",\n  \"modules\": " << lines(t.modules) << ",\n  \"warnings\": " << lines(t.warnings)
-      << ",\n  \"export\": " << line(t.export_line) << ",\n  \"message\": " << quote(t.message)
-      << ",\n  \"dof\": [";
-    for (int i = 0; t.dof_valid && i < shm::kDofCount; ++i)
-        o << (i ? ", " : "") << quote(toString(t.dof[i]));
-    o << "],\n  \"view\": {\"camera\": " << quote(toString(f.camera))
-      << ", \"colour\": " << quote(toString(f.colour))
-      << ", \"coverage\": " << (f.coverage ? "true" : "false") << ", \"framebuffer\": ["
-      << f.framebuffer_w << ", " << f.framebuffer_h << "], \"viewport\": [" << f.view_px.x << ", "
-      << f.view_px.y << ", " << f.view_px.w << ", " << f.view_px.h
-      << "], \"view_proj_col_major\": [";
-    for (int i = 0; i < 16; ++i) o << (i ? ", " : "") << f.view_proj.data()[i];
-    o << "]},\n  \"map\": {\"points_drawn\": " << f.points_drawn
-      << ", \"track_points\": " << f.track_points << ", \"epoch\": " << f.epoch << "}\n}\n";
-    return o.str();
+    Json j;
+    j["connection"] = line(t.connection);
+    j["scan_state"] = t.scan_state;
+    j["elapsed"] = t.elapsed;
+    j["distance"] = t.distance;
+    j["points"] = t.points;
+    j["storage"] = line(t.storage);
+    j["sensors"] = lines(t.sensors);
+    j["modules"] = lines(t.modules);
+    j["warnings"] = lines(t.warnings);
+    j["export"] = line(t.export_line);
+    j["message"] = t.message;
+    j["dof"] = Json::array();
+    for (int i = 0; t.dof_valid && i < shm::kDofCount; ++i) j["dof"].push_back(toString(t.dof[i]));
+    Json view_proj = Json::array();
+    for (int i = 0; i < 16; ++i) view_proj.push_back(f.view_proj.data()[i]);
+    j["view"] = {{"camera", toString(f.camera)},
+                 {"colour", toString(f.colour)},
+                 {"coverage", f.coverage},
+                 {"framebuffer", {f.framebuffer_w, f.framebuffer_h}},
+                 {"viewport", {f.view_px.x, f.view_px.y, f.view_px.w, f.view_px.h}},
+                 {"view_proj_col_major", view_proj}};
+    j["map"] = {
+        {"points_drawn", f.points_drawn}, {"track_points", f.track_points}, {"epoch", f.epoch}};
+    return jsonText(j, 2) + "\n";
 }
 
 Status writeTextFile(const std::string& path, const std::string& text) {

@@ -48,7 +48,7 @@ void FakeGpioChip::injectBouncyPress(unsigned line, TimeNs t, int bounces, TimeN
     const GpioEdgeType to = press ? GpioEdgeType::kRising : GpioEdgeType::kFalling;
     const GpioEdgeType back = press ? GpioEdgeType::kFalling : GpioEdgeType::kRising;
     inject(line, t, to);
-    for (int i = 1; i <= bounces; ++i) {
+    for (TimeNs i = 1; i <= bounces; ++i) {
         inject(line, t + (2 * i - 1) * period, back);
         inject(line, t + 2 * i * period, to);
     }

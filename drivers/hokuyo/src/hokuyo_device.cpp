@@ -173,7 +173,7 @@ Status HokuyoDevice::connect() {
     if (s) s = handshake();
     if (!s) {
         ++stats_.connect_failures;
-        const Status reported = fault(s);
+        Status reported = fault(s);
         dropLink(reported);
         return reported;
     }
@@ -221,13 +221,13 @@ Status HokuyoDevice::poll(std::vector<LaserScan>& out) {
     }
     auto n = readChunk(cfg_.read_slice_ns);
     if (!n) {
-        const Status reported = fault(n.status());
+        Status reported = fault(n.status());
         dropLink(reported);
         return reported;
     }
     Status s = handleEvents(out);
     if (state_ == State::kStreaming && now_() - last_scan_rx_ > cfg_.stream_timeout_ns) {
-        const Status reported = fault(Status(
+        Status reported = fault(Status(
             StatusCode::kTimeout, "hokuyo " + link_.describe() + ": no valid scan for " +
                                       std::to_string(toSeconds(now_() - last_scan_rx_)) + " s"));
         dropLink(reported);

@@ -1,5 +1,6 @@
 #include "handscan/hokuyo/scan_stream_decoder.hpp"
 
+#include <cmath>
 #include <variant>
 
 namespace handscan::hokuyo {
@@ -79,7 +80,7 @@ void ScanStreamDecoder::decodeScan(const ScipFrame& frame, TimeNs t_rx,
             static_cast<double>(params_->scanPeriodNs()) * 1e-6 * (req.interval + 1);
         if (scan_ms > 0 && dt < 0x800000u && dt > 1.5 * scan_ms) {
             stats_.missed_scans +=
-                static_cast<std::uint64_t>(static_cast<double>(dt) / scan_ms + 0.5) - 1;
+                static_cast<std::uint64_t>(std::lround(static_cast<double>(dt) / scan_ms)) - 1;
         }
     }
     last_t_device_ = scan.timestamp_ms;

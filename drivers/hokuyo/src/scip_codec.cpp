@@ -245,7 +245,9 @@ std::string encodeKeyValueReply(std::string_view echo, std::string_view status,
     std::string out;
     appendHeader(out, echo, status);
     for (const auto& [key, value] : items) {
-        const std::string kv = key + ":" + value;
+        std::string kv = key;
+        kv += ':';
+        kv += value;
         out += kv;
         out += ';';
         out += scipChecksum(kv);

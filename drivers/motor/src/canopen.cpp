@@ -411,8 +411,7 @@ std::optional<std::uint16_t> controlwordTowardsOperationEnabled(Cia402State s) {
             return controlword::kEnableOperation;
         case Cia402State::kQuickStopActive:
             return controlword::kDisableVoltage;
-        case Cia402State::kOperationEnabled:
-            return std::nullopt;
+        case Cia402State::kOperationEnabled:  // already there; in the two below
         case Cia402State::kNotReadyToSwitchOn:
         case Cia402State::kFaultReactionActive:
             return std::nullopt;  // the drive moves on by itself

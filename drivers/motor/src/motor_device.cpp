@@ -317,7 +317,7 @@ Status MotorDevice::start() {
     if (cfg_.drive) addNodeFilters(filters, cfg_.drive->node);
     if (Status s = master_.bus().setFilters(filters); !s) return s;
 
-    const auto failed = [&](Status s) {
+    const auto failed = [&](const Status& s) {
         if (state_ != MotorState::kFault) {
             state_ = MotorState::kFault;
             fault_ = s;

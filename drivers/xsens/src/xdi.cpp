@@ -24,7 +24,6 @@ constexpr std::array<IntFieldInfo, 1> kU8Value{{{"value", IntType::kU8}}};
 constexpr std::array<IntFieldInfo, 1> kI8Value{{{"value", IntType::kI8}}};
 constexpr std::array<IntFieldInfo, 1> kU16Value{{{"value", IntType::kU16}}};
 constexpr std::array<IntFieldInfo, 1> kU32Value{{{"value", IntType::kU32}}};
-constexpr std::array<IntFieldInfo, 1> kU64Value{{{"value", IntType::kU64}}};
 constexpr std::array<IntFieldInfo, 1> kSampleTimeFine{{{"value", IntType::kU32, 1e-4, "s"}}};
 constexpr std::array<IntFieldInfo, 1> kSampleTimeCoarse{{{"value", IntType::kU32, 1.0, "s"}}};
 constexpr std::array<IntFieldInfo, 1> kSampleTime64{{{"value", IntType::kU64, 1e-4, "s"}}};

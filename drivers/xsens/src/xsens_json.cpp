@@ -5,6 +5,7 @@
 #include <cstdlib>
 #include <string>
 
+#include "handscan/core/json.hpp"
 #include "handscan/xsens/xbus_messages.hpp"
 
 namespace handscan::xsens {
@@ -35,14 +36,7 @@ void hex(std::ostream& out, std::span<const std::uint8_t> bytes) {
     out << '"';
 }
 
-void quoted(std::ostream& out, std::string_view s) {
-    out << '"';
-    for (char c : s) {
-        if (c == '"' || c == '\\') out << '\\';
-        out << c;
-    }
-    out << '"';
-}
+void quoted(std::ostream& out, std::string_view s) { out << jsonString(s); }
 
 // Integer fields: the SI value, the key carrying its unit when it has one ("height_m").
 void intFields(std::ostream& out, const std::vector<XdiField>& fields, int element, bool& first) {

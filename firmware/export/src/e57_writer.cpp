@@ -140,7 +140,7 @@ private:
             s[4][i] = p.r;
             s[5][i] = p.g;
             s[6][i] = p.b;
-            // The colouriser leaves (0, 0, 0) where no camera frame saw the point.
+            // A point no camera frame saw carries its laser grey: its colour is invalid.
             const bool invalid = !journal::hasColour(p);
             s[7][i / 8] = static_cast<std::uint8_t>(s[7][i / 8] | (invalid << (i % 8)));
             column<double>(s[8], i, p.t_s);

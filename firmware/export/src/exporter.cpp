@@ -12,10 +12,10 @@
 #include <fstream>
 #include <iterator>
 #include <memory>
-#include <nlohmann/json.hpp>
 #include <sstream>
 
 #include "export_report.hpp"
+#include "handscan/core/json.hpp"
 #include "handscan/export/e57_reader.hpp"
 #include "handscan/export/voxel_filter.hpp"
 #include "handscan/journal/journal_reader.hpp"
@@ -68,41 +68,28 @@ std::string trajectoryCsv(const std::vector<journal::TrajectoryPose>& poses) {
     return os.str();
 }
 
-std::string jsonEscape(const std::string& s) {
-    std::string o;
-    for (char c : s) {
-        if (c == '"' || c == '\\') o += '\\';
-        if (static_cast<unsigned char>(c) < 0x20) {
-            char buf[8];
-            std::snprintf(buf, sizeof buf, "\\u%04x", c);
-            o += buf;
-            continue;
-        }
-        o += c;
-    }
-    return o;
-}
-
 std::string metadataJson(const journal::JournalSummary& js, const ExportReport& r,
                          const ExportOptions& o, const std::vector<std::string>& formats) {
-    std::ostringstream os;
-    os.precision(6);
-    os << std::fixed;
-    os << "{\n  \"software\": \"handscan " << HANDSCAN_VERSION << "\",\n";
-    os << "  \"scan\": " << (js.metadata_json.empty() ? "{}" : js.metadata_json) << ",\n";
-    os << "  \"journal\": {\"path\": \"" << jsonEscape(js.path) << "\", \"points\": " << js.points
-       << ", \"finished\": " << (js.finished ? "true" : "false") << ", \"damage\": \""
-       << jsonEscape(js.damage) << "\"},\n";
-    os << "  \"export\": {\"points\": " << r.points
-       << ", \"coloured_points\": " << r.coloured_points << ", \"voxel_m\": " << o.voxel_m
-       << ", \"formats\": [";
-    for (std::size_t i = 0; i < formats.size(); ++i)
-        os << (i ? ", " : "") << '"' << formats[i] << '"';
-    os << "],\n    \"bounds_min\": [" << r.bounds.min[0] << ", " << r.bounds.min[1] << ", "
-       << r.bounds.min[2] << "], \"bounds_max\": [" << r.bounds.max[0] << ", " << r.bounds.max[1]
-       << ", " << r.bounds.max[2] << "],\n";
-    os << "    \"trajectory_poses\": " << js.trajectory.size() << "}\n}\n";
-    return os.str();
+    Json j;
+    j["software"] = std::string("handscan ") + HANDSCAN_VERSION;
+    // The scan's own metadata as the journal holds it; text that is not JSON (an old or damaged
+    // journal) is kept as a string rather than dropped.
+    Json scan = Json::object();
+    if (!js.metadata_json.empty()) {
+        scan = Json::parse(js.metadata_json, nullptr, false);
+        if (scan.is_discarded()) scan = js.metadata_json;
+    }
+    j["scan"] = scan;
+    j["journal"] = {
+        {"path", js.path}, {"points", js.points}, {"finished", js.finished}, {"damage", js.damage}};
+    j["export"] = {{"points", r.points},
+                   {"coloured_points", r.coloured_points},
+                   {"voxel_m", o.voxel_m},
+                   {"formats", formats},
+                   {"bounds_min", {r.bounds.min[0], r.bounds.min[1], r.bounds.min[2]}},
+                   {"bounds_max", {r.bounds.max[0], r.bounds.max[1], r.bounds.max[2]}},
+                   {"trajectory_poses", js.trajectory.size()}};
+    return jsonText(j, 2) + "\n";
 }
 
 // The points to export: straight from the journal (streamed) or voxel-filtered.
@@ -162,7 +149,7 @@ E57Options e57Options(const journal::JournalSummary& js, const std::string& scan
     o.scan_name = scan_name;
     o.software_version = HANDSCAN_VERSION;
     o.trajectory = js.trajectory;
-    const auto meta = nlohmann::json::parse(js.metadata_json, nullptr, false);
+    const auto meta = Json::parse(js.metadata_json, nullptr, false);
     if (meta.is_object() && meta.contains("serial") && meta["serial"].is_string())
         o.sensor_serial = meta["serial"].get<std::string>();
     return o;

@@ -1,3 +1,4 @@
+#include <algorithm>
 #include <cstring>
 #include <vector>
 
@@ -7,13 +8,12 @@
 namespace handscan::exporter {
 namespace {
 
-constexpr std::size_t kPlyRecordBytes = 3 * 4 + 3 + 2 + 8;  // 25
+constexpr std::size_t kPlyRecordBytes = kPlyPointRecordBytes;
 
-std::string plyHeader(std::uint64_t count) {
-    return "ply\nformat binary_little_endian 1.0\ncomment handscan colourised point cloud, metres, "
-           "world frame\n"
-           "element vertex " +
-           std::to_string(count) +
+std::string plyHeader(std::uint64_t count, const std::vector<std::string>& comment) {
+    std::string h = "ply\nformat binary_little_endian 1.0\n";
+    for (const std::string& c : comment) h += "comment " + c + "\n";
+    return h + "element vertex " + std::to_string(count) +
            "\nproperty float x\nproperty float y\nproperty float z\n"
            "property uchar red\nproperty uchar green\nproperty uchar blue\n"
            "property ushort intensity\nproperty double time\nend_header\n";
@@ -21,10 +21,11 @@ std::string plyHeader(std::uint64_t count) {
 
 class PlyWriter final : public PointFileWriter {
 public:
-    explicit PlyWriter(SafeFileWriter& file) : file_(file) {}
+    PlyWriter(SafeFileWriter& file, std::vector<std::string> comment)
+        : file_(file), comment_(std::move(comment)) {}
     Status begin(std::uint64_t count) override {
         expected_ = count;
-        const std::string h = plyHeader(count);
+        const std::string h = plyHeader(count, comment_);
         return file_.write(std::span(reinterpret_cast<const std::uint8_t*>(h.data()), h.size()));
     }
     Status write(std::span<const journal::MapPoint> points) override {
@@ -57,6 +58,7 @@ public:
 
 private:
     SafeFileWriter& file_;
+    std::vector<std::string> comment_;
     std::vector<std::uint8_t> buf_;
     std::uint64_t expected_ = 0;
     std::uint64_t written_ = 0;
@@ -64,12 +66,14 @@ private:
 
 }  // namespace
 
-std::unique_ptr<PointFileWriter> makePlyWriter(SafeFileWriter& file) {
-    return std::make_unique<PlyWriter>(file);
+std::unique_ptr<PointFileWriter> makePlyWriter(SafeFileWriter& file,
+                                               std::vector<std::string> comment) {
+    for (std::string& c : comment) std::replace(c.begin(), c.end(), '\n', ' ');  // one line each
+    return std::make_unique<PlyWriter>(file, std::move(comment));
 }
 
 std::uint64_t plyBytes(std::uint64_t points) {
-    return plyHeader(points).size() + points * kPlyRecordBytes;
+    return plyHeader(points, kPlyWorldComment).size() + points * kPlyRecordBytes;
 }
 
 }  // namespace handscan::exporter

@@ -95,12 +95,10 @@ Status writeHilOutputs(const OutputsInputs& in, HilReport& report) {
     }
     report.poses = js.trajectory.size();
     report.points = js.points;
-    // Points the colour camera saw. The worker writes the others in the laser's grey
-    // (live_output::sweepMapPoints), so a grey point counts as unseen (journal::hasColour's
-    // RGB-0 test counts every point).
+    // Points the colour camera saw (the others carry their laser grey).
     std::uint64_t coloured = 0;
     if (Status st = j->forEachPoints([&](std::span<const journal::MapPoint> pts) {
-            for (const journal::MapPoint& p : pts) coloured += p.r != p.g || p.g != p.b ? 1 : 0;
+            for (const journal::MapPoint& p : pts) coloured += journal::hasColour(p) ? 1 : 0;
         });
         !st.isOk())
         return st;

@@ -10,15 +10,11 @@ std::vector<journal::MapPoint> sweepMapPoints(const lio::RegisteredSweep& s,
     pts.reserve(s.points_world.size());
     for (std::size_t i = 0; i < s.points_world.size(); ++i) {
         const auto& p = s.points_world[i];
-        const auto grey = static_cast<std::uint8_t>(std::min(255.0f, s.intensities[i] / 16.0f));
-        journal::MapPoint m{toSeconds(s.times[i]),
-                            p.x(),
-                            p.y(),
-                            p.z(),
-                            grey,
-                            grey,
-                            grey,
-                            static_cast<std::uint16_t>(std::min(65535.0f, s.intensities[i]))};
+        const auto intensity =
+            static_cast<std::uint16_t>(std::clamp(s.intensities[i], 0.0f, 65535.0f));
+        const std::uint8_t grey = journal::laserGrey(intensity);
+        journal::MapPoint m{
+            toSeconds(s.times[i]), p.x(), p.y(), p.z(), grey, grey, grey, intensity};
         if (colours && colours->valid(i)) {
             m.r = colours->rgb[i][0];
             m.g = colours->rgb[i][1];

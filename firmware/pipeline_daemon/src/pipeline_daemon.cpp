@@ -4,6 +4,7 @@
 #include <filesystem>
 #include <thread>
 
+#include "handscan/core/json.hpp"
 #include "handscan/core/log.hpp"
 #include "handscan/core/realtime.hpp"
 #include "handscan/live_output/live_publisher.hpp"
@@ -66,7 +67,7 @@ Status PipelineDaemon::open() {
 
     parts_ = std::make_unique<Parts>(options_.usb_paths, options_.usb_eject_request);
     const std::string metadata =
-        "{\"source\": \"handscan-pipeline\", \"device_config\": \"" + device_.source_file + "\"}";
+        jsonText({{"source", "handscan-pipeline"}, {"device_config", device_.source_file}});
     auto session = std::make_unique<ScanSession>(journal_dir, options_.journal, metadata);
     // A scan cut short by a crash or power cut is taken back, so the UI can still export it.
     if (auto recovered = session->recoverUnfinished(); !recovered.isOk())

@@ -5,6 +5,8 @@
 #include <cstdio>
 #include <map>
 
+#include "handscan/core/json.hpp"
+
 namespace handscan::recording {
 namespace {
 
@@ -17,24 +19,6 @@ void finishChannel(ChannelSummary& c, std::vector<TimeNs>& periods) {
     for (TimeNs p : periods) {
         if (p > ChannelSummary::kGapFactor * c.median_period_ns) ++c.gaps;
     }
-}
-
-std::string jsonString(const std::string& s) {
-    std::string out = "\"";
-    for (char ch : s) {
-        const auto u = static_cast<unsigned char>(ch);
-        if (ch == '"' || ch == '\\') {
-            out += '\\';
-            out += ch;
-        } else if (u < 0x20) {
-            char buf[8];
-            std::snprintf(buf, sizeof buf, "\\u%04x", u);
-            out += buf;
-        } else {
-            out += ch;
-        }
-    }
-    return out + "\"";
 }
 
 std::string fmt(const char* format, double v) {
@@ -159,48 +143,56 @@ void printSummaryText(const RecordingSummary& s, std::ostream& out) {
 }
 
 void printSummaryJson(const RecordingSummary& s, std::ostream& out) {
-    out << "{\"file\":" << jsonString(s.name) << ",\"file_size\":" << s.file_size
-        << ",\"library\":" << jsonString(s.library) << ",\"profile\":" << jsonString(s.profile)
-        << ",\"messages\":" << s.messages << ",\"chunks\":" << s.chunks
-        << ",\"start_ns\":" << s.start << ",\"end_ns\":" << s.end
-        << ",\"duration_s\":" << fmt("%.9f", toSeconds(s.duration()))
-        << ",\"indexed\":" << (s.indexed ? "true" : "false")
-        << ",\"truncated\":" << (s.truncated ? "true" : "false")
-        << ",\"recovered\":" << (s.truncated || !s.dropped.empty() ? "true" : "false")
-        << ",\"dropped\":[";
-    for (std::size_t i = 0; i < s.dropped.size(); ++i) {
-        const auto& d = s.dropped[i];
-        out << (i ? "," : "") << "{\"offset\":" << d.offset << ",\"length\":" << d.length
-            << ",\"reason\":" << jsonString(d.reason) << "}";
-    }
-    out << "]";
+    Json j;
+    j["file"] = s.name;
+    j["file_size"] = s.file_size;
+    j["library"] = s.library;
+    j["profile"] = s.profile;
+    j["messages"] = s.messages;
+    j["chunks"] = s.chunks;
+    j["start_ns"] = s.start;
+    j["end_ns"] = s.end;
+    j["duration_s"] = toSeconds(s.duration());
+    j["indexed"] = s.indexed;
+    j["truncated"] = s.truncated;
+    j["recovered"] = s.truncated || !s.dropped.empty();
+    j["dropped"] = Json::array();
+    for (const auto& d : s.dropped)
+        j["dropped"].push_back({{"offset", d.offset}, {"length", d.length}, {"reason", d.reason}});
     if (s.crc_checked) {
-        out << ",\"crc_ok\":" << (s.crc_problems.empty() ? "true" : "false")
-            << ",\"crc_problems\":" << jsonString(s.crc_problems);
+        j["crc_ok"] = s.crc_problems.empty();
+        j["crc_problems"] = s.crc_problems;
     }
-    out << ",\"channels\":[";
-    for (std::size_t i = 0; i < s.channels.size(); ++i) {
-        const auto& c = s.channels[i];
-        out << (i ? "," : "") << "{\"id\":" << c.id << ",\"topic\":" << jsonString(c.topic)
-            << ",\"message_encoding\":" << jsonString(c.message_encoding)
-            << ",\"messages\":" << c.messages << ",\"bytes\":" << c.bytes
-            << ",\"rate_hz\":" << fmt("%.6f", c.rate_hz) << ",\"first_ns\":" << c.first
-            << ",\"last_ns\":" << c.last
-            << ",\"duration_s\":" << fmt("%.9f", toSeconds(c.duration()))
-            << ",\"median_period_ns\":" << c.median_period_ns
-            << ",\"largest_gap_ns\":" << c.largest_gap_ns
-            << ",\"largest_gap_after_ns\":" << c.largest_gap_after << ",\"gaps\":" << c.gaps << "}";
+    j["channels"] = Json::array();
+    for (const auto& c : s.channels) {
+        j["channels"].push_back({{"id", c.id},
+                                 {"topic", c.topic},
+                                 {"message_encoding", c.message_encoding},
+                                 {"messages", c.messages},
+                                 {"bytes", c.bytes},
+                                 {"rate_hz", c.rate_hz},
+                                 {"first_ns", c.first},
+                                 {"last_ns", c.last},
+                                 {"duration_s", toSeconds(c.duration())},
+                                 {"median_period_ns", c.median_period_ns},
+                                 {"largest_gap_ns", c.largest_gap_ns},
+                                 {"largest_gap_after_ns", c.largest_gap_after},
+                                 {"gaps", c.gaps}});
     }
-    out << "],\"devices\":[";
-    for (std::size_t i = 0; i < s.devices.size(); ++i) {
-        const auto& d = s.devices[i];
-        out << (i ? "," : "") << "{\"device\":" << jsonString(d.device)
-            << ",\"topic\":" << jsonString(d.topic) << ",\"unit\":" << jsonString(d.unit)
-            << ",\"samples\":" << d.samples << ",\"rate_hz\":" << fmt("%.6f", d.rate_hz)
-            << ",\"first_ns\":" << d.first << ",\"last_ns\":" << d.last << ",\"lost\":" << d.lost
-            << ",\"errors\":" << d.errors << ",\"last_error\":" << jsonString(d.last_error) << "}";
+    j["devices"] = Json::array();
+    for (const auto& d : s.devices) {
+        j["devices"].push_back({{"device", d.device},
+                                {"topic", d.topic},
+                                {"unit", d.unit},
+                                {"samples", d.samples},
+                                {"rate_hz", d.rate_hz},
+                                {"first_ns", d.first},
+                                {"last_ns", d.last},
+                                {"lost", d.lost},
+                                {"errors", d.errors},
+                                {"last_error", d.last_error}});
     }
-    out << "]}\n";
+    out << jsonText(j) << "\n";
 }
 
 }  // namespace handscan::recording

@@ -11,13 +11,14 @@
 
 #include "handscan/core/call_timer.hpp"
 #include "handscan/core/config.hpp"
+#include "handscan/core/json.hpp"
 #include "handscan/core/log.hpp"
 #include "handscan/journal/journal_writer.hpp"
 #include "handscan/lio/laser_inertial_odometry.hpp"
 #include "handscan/live_output/live_publisher.hpp"
 #include "handscan/live_output/sweep_points.hpp"
 #include "handscan/replay/reference_motion.hpp"
-#include "handscan/scan/ply_writer.hpp"
+#include "handscan/replay/sweep_ply.hpp"
 #include "handscan/sources/recorded_source.hpp"
 #include "handscan/viz/viz_sink.hpp"
 #include "handscan/worker/pipeline_worker.hpp"
@@ -80,8 +81,8 @@ public:
         if (!o_.dump_sweeps_dir.empty()) {
             std::ostringstream name;
             name << "sweep_" << std::setw(6) << std::setfill('0') << s.sweep.index << ".ply";
-            if (Status st = scan::writeSweepPly(
-                    (fs::path(o_.dump_sweeps_dir) / name.str()).string(), s.sweep);
+            if (Status st =
+                    writeSweepPly((fs::path(o_.dump_sweeps_dir) / name.str()).string(), s.sweep);
                 !st.isOk()) {
                 return st;
             }
@@ -174,7 +175,7 @@ Result<ReplayReport> runReplay(const ReplayOptions& o) {
         const std::string path = (fs::path(o.out_dir) / "journal.hsj").string();
         fs::remove(path, ec);
         auto j = journal::JournalWriter::create(
-            path, "{\"source\": \"replay\", \"recording\": \"" + o.recording + "\"}");
+            path, jsonText({{"source", "replay"}, {"recording", o.recording}}));
         if (!j.isOk()) return j.status();
         journal = std::move(*j);
     }

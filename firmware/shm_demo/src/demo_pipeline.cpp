@@ -3,9 +3,9 @@
 #include <cmath>
 #include <cstring>
 #include <filesystem>
-#include <fstream>
 
 #include "handscan/core/log.hpp"
+#include "handscan/export/point_formats.hpp"
 #include "handscan/shm/text_field.hpp"
 
 namespace handscan::shm_demo {
@@ -145,33 +145,40 @@ void DemoPipeline::exportMap(const shm::Command& cmd) {
     export_ = {};
     export_.state = static_cast<std::uint8_t>(shm::ExportState::kRunning);
     shm::setText(export_.target, file.string());
-    std::ofstream out(file, std::ios::binary | std::ios::trunc);
-    if (!out) return fail(file.string() + ": cannot open for writing");
-    out << "ply\nformat binary_little_endian 1.0\ncomment handscan live-map export (display "
-           "resolution)\n"
-        << "element vertex " << map_.size()
-        << "\nproperty float x\nproperty float y\nproperty float z\n"
-        << "property uchar red\nproperty uchar green\nproperty uchar blue\nproperty uchar "
-           "intensity\nend_header\n";
+    // The export's PLY writer: a temporary file, verified after writing, then renamed.
+    exporter::SafeFileWriter out(file.string());
+    auto ply = exporter::makePlyWriter(out, {"handscan live-map export (display resolution)",
+                                             "metres, world frame; intensity scaled to 0..255"});
+    if (Status st = out.open(); !st.isOk()) return fail(st.message());
+    if (Status st = ply->begin(map_.size()); !st.isOk()) return fail(st.message());
     // Write in slices and report progress after each, as a real export to a slow stick does.
     const std::size_t slice = std::max<std::size_t>(1, map_.size() / 20);
+    std::vector<journal::MapPoint> points;
     for (std::size_t i = 0; i < map_.size(); i += slice) {
         const std::size_t n = std::min(slice, map_.size() - i);
-        out.write(reinterpret_cast<const char*>(map_.data() + i),
-                  static_cast<std::streamsize>(n * sizeof(shm::DisplayPoint)));
+        points.clear();
+        for (std::size_t k = i; k < i + n; ++k) {
+            const shm::DisplayPoint& d = map_[k];
+            journal::MapPoint p;
+            p.x = d.x_m;
+            p.y = d.y_m;
+            p.z = d.z_m;
+            p.r = d.r;
+            p.g = d.g;
+            p.b = d.b;
+            p.intensity = d.intensity;
+            points.push_back(p);
+        }
+        if (Status st = ply->write(points); !st.isOk()) return fail(st.message());
         const float progress = static_cast<float>(i + n) / static_cast<float>(map_.size()) * 0.9f;
         export_.progress = progress;
-        export_.bytes_written = static_cast<std::uint64_t>(out.tellp());
+        export_.bytes_written = out.bytesWritten();
         shm::setText(export_.message, "writing " + file.filename().string());
         writer_.ack(cmd.seq, CommandState::kInProgress, "writing " + file.string(), progress);
         publishStatus(monotonicNow());
     }
-    out.close();
-    if (!out) return fail(file.string() + ": write failed (stick full or removed?)");
-    // Verify: the file must have exactly the header plus every point.
+    if (Status st = ply->end(); !st.isOk()) return fail(st.message() + " (stick full or removed?)");
     const auto size = fs::file_size(file, ec);
-    if (ec || size < map_.size() * sizeof(shm::DisplayPoint))
-        return fail(file.string() + ": verification failed");
     export_.state = static_cast<std::uint8_t>(shm::ExportState::kDone);
     export_.progress = 1.0f;
     export_.safe_to_remove = 1;

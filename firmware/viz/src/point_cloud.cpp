@@ -6,11 +6,8 @@
 namespace handscan::viz {
 
 void appendPointRecord(const journal::MapPoint& p, std::string& out) {
-    std::uint8_t r = p.r, g = p.g, b = p.b;
-    if (!journal::hasColour(p)) {
-        // The touch screen's grey for an uncoloured point (live_output::LivePublisher).
-        r = g = b = static_cast<std::uint8_t>(std::min(255, p.intensity / 16));
-    }
+    // An uncoloured point already carries its laser grey (journal::laserGrey).
+    const std::uint8_t r = p.r, g = p.g, b = p.b;
     const float xyzi[4] = {p.x, p.y, p.z, static_cast<float>(p.intensity)};
     const std::uint32_t rgb = (std::uint32_t{r} << 16) | (std::uint32_t{g} << 8) | b;
     char record[kPointStride];

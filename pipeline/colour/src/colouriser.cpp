@@ -84,7 +84,8 @@ std::array<std::uint8_t, 3> sampleRgb(const Image& bgr, float u, float v) {
     const float w00 = (1 - fx) * (1 - fy), w10 = fx * (1 - fy), w01 = (1 - fx) * fy, w11 = fx * fy;
     std::array<std::uint8_t, 3> rgb{};
     for (int c = 0; c < 3; ++c) {
-        const float s = w00 * p00[c] + w10 * p10[c] + w01 * p01[c] + w11 * p11[c];
+        const float s = w00 * static_cast<float>(p00[c]) + w10 * static_cast<float>(p10[c]) +
+                        w01 * static_cast<float>(p01[c]) + w11 * static_cast<float>(p11[c]);
         rgb[static_cast<std::size_t>(2 - c)] =
             static_cast<std::uint8_t>(std::clamp(s + 0.5f, 0.0f, 255.0f));
     }

@@ -9,6 +9,12 @@
 #include "handscan/imu/dof_projector.hpp"
 
 namespace handscan::imu {
+namespace {
+
+// The first of the three unknowns of velocity i in the least-squares state (v_0 .. v_n first).
+Eigen::Index velocityIndex(int i) { return Eigen::Index{3} * i; }
+
+}  // namespace
 
 Result<BiasUpdate> BiasEstimator::add(const FeedbackPose& f, const ImuHistory& history,
                                       const ImuBiases& current, const Eigen::Vector3d& gravity) {
@@ -106,7 +112,7 @@ Result<BiasUpdate> BiasEstimator::add(const FeedbackPose& f, const ImuHistory& h
             a.solved.bottomRightCorner<3, 3>() * b.solved.bottomRightCorner<3, 3>();
         // Position: p_j - p_i - g dt^2/2 - R_i dp(b1) = v_i dt + R_i dp_dba dba
         Ap[i] = Eigen::MatrixXd::Zero(3, nx);
-        Ap[i].block<3, 3>(0, 3 * i) = Q * dt / sp;
+        Ap[i].block<3, 3>(0, velocityIndex(i)) = Q * dt / sp;
         if (solve_ba) {
             Ap[i].block<3, 3>(0, nv) = Q * a.R_world_imu * pre[i].dp_dba / sp;
             Ap[i].block<3, 2>(0, ng) = Q * E * (0.5 * dt * dt / sp);
@@ -118,8 +124,8 @@ Result<BiasUpdate> BiasEstimator::add(const FeedbackPose& f, const ImuHistory& h
         // Velocity continuity: v_j - v_i - R_i dv_dba dba = g dt + R_i dv(b1)
         const double sv = config_.velocity_sigma_mps + config_.velocity_sigma_mps2 * dt;
         Av[i] = Eigen::MatrixXd::Zero(3, nx);
-        Av[i].block<3, 3>(0, 3 * (i + 1)) = Eigen::Matrix3d::Identity() / sv;
-        Av[i].block<3, 3>(0, 3 * i) = -Eigen::Matrix3d::Identity() / sv;
+        Av[i].block<3, 3>(0, velocityIndex(i + 1)) = Eigen::Matrix3d::Identity() / sv;
+        Av[i].block<3, 3>(0, velocityIndex(i)) = -Eigen::Matrix3d::Identity() / sv;
         if (solve_ba) {
             Av[i].block<3, 3>(0, nv) = -a.R_world_imu * pre[i].dv_dba / sv;
             Av[i].block<3, 2>(0, ng) = -E * (dt / sv);
@@ -130,8 +136,8 @@ Result<BiasUpdate> BiasEstimator::add(const FeedbackPose& f, const ImuHistory& h
     Eigen::VectorXd g0 = Eigen::VectorXd::Zero(nx);
     const double wv = 1.0 / config_.velocity_prior_sigma_mps;
     for (int i = 0; i <= n; ++i) {  // velocity priors
-        H0.block<3, 3>(3 * i, 3 * i) += wv * wv * Eigen::Matrix3d::Identity();
-        g0.segment<3>(3 * i) += wv * wv * window_[i].v_predicted;
+        H0.block<3, 3>(velocityIndex(i), velocityIndex(i)) += wv * wv * Eigen::Matrix3d::Identity();
+        g0.segment<3>(velocityIndex(i)) += wv * wv * window_[i].v_predicted;
     }
     if (solve_ba) {
         const double wa = 1.0 / config_.accel_bias_step_sigma_mps2;
@@ -187,7 +193,7 @@ Result<BiasUpdate> BiasEstimator::add(const FeedbackPose& f, const ImuHistory& h
     out.gravity_world = g2;
     // Velocity at the newest pose only in the solved translation DOFs (eq. (26)).
     const Eigen::Matrix3d Qn = window_.back().solved.bottomRightCorner<3, 3>();
-    out.v_world_imu_latest = f.v_predicted + Qn * (x.segment<3>(3 * n) - f.v_predicted);
+    out.v_world_imu_latest = f.v_predicted + Qn * (x.segment<3>(velocityIndex(n)) - f.v_predicted);
     return out;
 }
 

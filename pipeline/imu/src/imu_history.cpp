@@ -67,7 +67,7 @@ Result<NavState> ImuHistory::stateAt(TimeNs t, TimeNs max_extrapolation,
 
 ImuReading ImuHistory::readingAt(TimeNs t, const ImuBiases& b) const {
     const std::size_t k = indexAtOrBefore(t);
-    const ImuReading r0 = correctBiases(entries_[k].sample, b);
+    ImuReading r0 = correctBiases(entries_[k].sample, b);
     if (k + 1 >= entries_.size() || entries_[k].sample.t_host >= t) return r0;
     const ImuReading r1 = correctBiases(entries_[k + 1].sample, b);
     const double s = static_cast<double>(t - entries_[k].sample.t_host) /

@@ -219,7 +219,8 @@ void LaserInertialOdometry::matchSweep(scan::Sweep sweep) {
         e.founds_map = m.first_sweep;
         e.enough_matches = m.match.enough_matches;
         e.features = m.edges + m.planars;
-        e.matches = static_cast<std::size_t>(m.match.edge_matches + m.match.plane_matches);
+        e.matches = static_cast<std::size_t>(m.match.edge_matches) +
+                    static_cast<std::size_t>(m.match.plane_matches);
         e.rms_m = m.match.rms_m;
         verdict = monitor_.assess(e);
         return verdict.enters_map;

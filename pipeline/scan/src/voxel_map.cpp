@@ -29,9 +29,10 @@ bool VoxelMap::inside(const VoxelKey& coarse) const {
 
 std::size_t VoxelMap::slotOf(const VoxelKey& c) const {
     const Eigen::Vector3i& n = config_.window_voxels;
-    return static_cast<std::size_t>(
-        positiveMod(c.x(), n.x()) +
-        n.x() * (positiveMod(c.y(), n.y()) + n.y() * positiveMod(c.z(), n.z())));
+    // Every term is non-negative and below the window's voxel count, which fits an int.
+    const int slot = positiveMod(c.x(), n.x()) +
+                     n.x() * (positiveMod(c.y(), n.y()) + n.y() * positiveMod(c.z(), n.z()));
+    return static_cast<std::size_t>(slot);
 }
 
 std::size_t VoxelMap::clearSlot(CoarseVoxel& v) {
@@ -109,7 +110,8 @@ std::size_t VoxelMap::insert(FeatureKind kind, const std::vector<Eigen::Vector3d
         }
         const Eigen::Vector3d rel = p - fine.cast<double>() * fine_size_m_;
         const auto q = [&](double x) { return std::clamp(static_cast<int>(x / leaf), 0, L - 1); };
-        const auto bit = static_cast<std::size_t>(q(rel.x()) + L * (q(rel.y()) + L * q(rel.z())));
+        const int leaf_index = q(rel.x()) + L * (q(rel.y()) + L * q(rel.z()));  // < L^3
+        const auto bit = static_cast<std::size_t>(leaf_index);
         std::uint64_t& word = cell.leaves[k][bit / 64];
         const std::uint64_t mask = 1ULL << (bit % 64);
         if (word & mask) {

@@ -22,9 +22,11 @@ void FeatureTracker::reset() {
 }
 
 int FeatureTracker::cellOf(const cv::Point2f& px) const {
-    const int c = std::clamp(static_cast<int>(px.x * config_.grid_cols / size_.width), 0,
+    const auto cols = static_cast<float>(config_.grid_cols);
+    const auto rows = static_cast<float>(config_.grid_rows);
+    const int c = std::clamp(static_cast<int>(px.x * cols / static_cast<float>(size_.width)), 0,
                              config_.grid_cols - 1);
-    const int r = std::clamp(static_cast<int>(px.y * config_.grid_rows / size_.height), 0,
+    const int r = std::clamp(static_cast<int>(px.y * rows / static_cast<float>(size_.height)), 0,
                              config_.grid_rows - 1);
     return r * config_.grid_cols + c;
 }

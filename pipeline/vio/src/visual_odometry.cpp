@@ -93,7 +93,7 @@ Result<VioFrameResult> VisualInertialOdometry::processFrame(
         std::optional<ImuMotionPrior> prior;
         if (imu_prev_cur) {
             // eq. (11): Sigma from the time since the key-frame (at least one frame's worth).
-            const double dt = std::max(1e-2, (t - keyframe_t_) * 1e-9);
+            const double dt = std::max(1e-2, toSeconds(t - keyframe_t_));
             ImuMotionPrior p;
             p.T_l_c = T_init;
             const double sr = config_.imu_sigma_rot_rad_per_s * dt;
@@ -146,7 +146,8 @@ Result<VioFrameResult> VisualInertialOdometry::processFrame(
                 shift.push_back(std::sqrt(d.dot(d)));
             }
             if (!shift.empty()) {
-                std::nth_element(shift.begin(), shift.begin() + shift.size() / 2, shift.end());
+                const auto mid = shift.begin() + static_cast<std::ptrdiff_t>(shift.size() / 2);
+                std::nth_element(shift.begin(), mid, shift.end());
                 new_keyframe = shift[shift.size() / 2] >
                                (1.0 - config_.keyframe_min_overlap) * camera_.width();
             }

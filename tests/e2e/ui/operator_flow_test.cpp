@@ -11,6 +11,8 @@
 #include <thread>
 
 #include "child_process.hpp"
+#include "handscan/core/json.hpp"
+#include "handscan/export/point_formats.hpp"
 #include "handscan/shm/live_map_reader.hpp"
 #include "handscan/shm/text_field.hpp"
 
@@ -133,7 +135,7 @@ TEST(OperatorFlow, StartScanStopExportSafeToRemove) {
     }
     EXPECT_NE(header.find("element vertex " + std::to_string(points) + "\n"), std::string::npos)
         << header;
-    EXPECT_EQ(fs::file_size(ply), header.size() + points * sizeof(shm::DisplayPoint));
+    EXPECT_EQ(fs::file_size(ply), header.size() + points * exporter::kPlyPointRecordBytes);
 
     // The UI shows the finished export and the whole map.
     if (ensureDisplay().empty() && fs::exists(kUi)) {
@@ -147,14 +149,13 @@ TEST(OperatorFlow, StartScanStopExportSafeToRemove) {
         std::stringstream ss;
         ss << js.rdbuf();
         const std::string json = ss.str();
-        EXPECT_NE(
-            json.find(
-                R"("export": {"text": "Export done: SAFE TO REMOVE the USB stick", "health": "ok"})"),
-            std::string::npos)
+        const Json doc = Json::parse(json, nullptr, false);
+        ASSERT_TRUE(doc.is_object()) << json;
+        EXPECT_EQ(doc["export"],
+                  Json({{"text", "Export done: SAFE TO REMOVE the USB stick"}, {"health", "ok"}}))
             << json;
-        EXPECT_NE(json.find(R"("scan_state": "STOPPED")"), std::string::npos) << json;
-        EXPECT_NE(json.find("\"points_drawn\": " + std::to_string(points) + ","), std::string::npos)
-            << json;
+        EXPECT_EQ(doc["scan_state"], "STOPPED") << json;
+        EXPECT_EQ(doc["map"]["points_drawn"], points) << json;
     }
 
     // Shutdown ends the pipeline process cleanly.

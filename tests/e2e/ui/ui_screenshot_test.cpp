@@ -9,11 +9,11 @@
 #include <filesystem>
 #include <fstream>
 #include <opencv2/imgcodecs.hpp>
-#include <regex>
 #include <sstream>
 #include <thread>
 
 #include "child_process.hpp"
+#include "handscan/core/json.hpp"
 #include "handscan/shm/live_map_writer.hpp"
 #include "handscan/shm/text_field.hpp"
 
@@ -154,14 +154,19 @@ TEST_F(UiScreenshot, PointsLandWhereTheProjectionSaysAndStatusMatchesTheBlock) {
     ASSERT_EQ(img.cols, 1280);
     ASSERT_EQ(img.rows, 800);
     const std::string json = readText(dir_ / "out.json");
+    const Json doc = Json::parse(json, nullptr, false);
+    ASSERT_TRUE(doc.is_object()) << json;
 
     // The viewport the UI used (the layout: status bar on top, buttons on the right).
-    std::smatch m;
-    ASSERT_TRUE(std::regex_search(
-        json, m, std::regex(R"("viewport": \[([0-9.]+), ([0-9.]+), ([0-9.]+), ([0-9.]+)\])")))
-        << json;
-    const Projector proj{{0, -10, 0},     {0, 0, 0},       60.0,           std::stod(m[1]),
-                         std::stod(m[2]), std::stod(m[3]), std::stod(m[4])};
+    const Json& viewport = doc["view"]["viewport"];
+    ASSERT_TRUE(viewport.is_array() && viewport.size() == 4) << json;
+    const Projector proj{{0, -10, 0},
+                         {0, 0, 0},
+                         60.0,
+                         viewport[0].get<double>(),
+                         viewport[1].get<double>(),
+                         viewport[2].get<double>(),
+                         viewport[3].get<double>()};
     EXPECT_GT(proj.vw, 600);
     EXPECT_GT(proj.vh, 400);
 
@@ -207,20 +212,31 @@ TEST_F(UiScreenshot, PointsLandWhereTheProjectionSaysAndStatusMatchesTheBlock) {
               30);
 
     // The status texts shown are the published block's values.
-    for (
-        const char* expected :
-        {R"("scan_state": "SCANNING")", R"("elapsed": "02:05")", R"("distance": "12.3 m")",
-         R"("points": "1,234,567 points")",
-         R"("storage": {"text": "free 12.0 GiB of 58.0 GiB", "health": "ok"})",
-         R"({"text": "hokuyo 40.0 Hz", "health": "ok"})",
-         R"({"text": "xsens 200.0 Hz", "health": "ok"})",
-         R"({"text": "colour-cam LOST", "health": "error"})",
-         R"j({"text": "Sensor lost: colour-cam (/dev/video2: No such device)", "health": "error"})j",
-         R"({"text": "scan-match degenerate tx", "health": "warning"})", R"("message": "e2e test")",
-         R"("dof": ["vio", "vio", "vio", "imu", "scan", "scan"])", R"("points_drawn": 5)",
-         R"("connection": {"text": "connected", "health": "ok"})"}) {
-        EXPECT_NE(json.find(expected), std::string::npos) << "missing " << expected << " in\n"
-                                                          << json;
+    const auto line = [](const char* text, const char* health) {
+        return Json{{"text", text}, {"health", health}};
+    };
+    const auto listed = [&](const Json& l) {  // in the sensors, modules or warnings
+        for (const char* list : {"sensors", "modules", "warnings"}) {
+            for (const Json& e : doc[list])
+                if (e == l) return true;
+        }
+        return false;
+    };
+    EXPECT_EQ(doc["scan_state"], "SCANNING") << json;
+    EXPECT_EQ(doc["elapsed"], "02:05") << json;
+    EXPECT_EQ(doc["distance"], "12.3 m") << json;
+    EXPECT_EQ(doc["points"], "1,234,567 points") << json;
+    EXPECT_EQ(doc["storage"], line("free 12.0 GiB of 58.0 GiB", "ok")) << json;
+    EXPECT_EQ(doc["connection"], line("connected", "ok")) << json;
+    EXPECT_EQ(doc["message"], "e2e test") << json;
+    EXPECT_EQ(doc["dof"], Json({"vio", "vio", "vio", "imu", "scan", "scan"})) << json;
+    EXPECT_EQ(doc["map"]["points_drawn"], 5) << json;
+    for (const Json& expected :
+         {line("hokuyo 40.0 Hz", "ok"), line("xsens 200.0 Hz", "ok"),
+          line("colour-cam LOST", "error"),
+          line("Sensor lost: colour-cam (/dev/video2: No such device)", "error"),
+          line("scan-match degenerate tx", "warning")}) {
+        EXPECT_TRUE(listed(expected)) << "missing " << expected.dump() << " in\n" << json;
     }
     EXPECT_NE(json.find("Laser degenerate along tx"), std::string::npos);
 }
@@ -272,7 +288,7 @@ TEST_F(UiScreenshot, FollowsAPipelineThatRestarts) {
     const ChildResult r = ui.wait(30, [&] { (*second)->heartbeat(); });
     ASSERT_EQ(r.exit_code, 0) << r.output;
     const std::string json = readText(dir_ / "restart.json");
-    EXPECT_NE(json.find(R"("points_drawn": 40)"), std::string::npos) << json;  // not 70
+    EXPECT_EQ(Json::parse(json, nullptr, false)["map"]["points_drawn"], 40) << json;  // not 70
 }
 
 }  // namespace

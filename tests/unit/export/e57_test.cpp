@@ -121,15 +121,11 @@ TEST_F(ExportTest, E57RoundTrip) {
         auto w = journal::JournalWriter::create(journal, R"({"serial": "HS-0042"})");
         ASSERT_TRUE(w.isOk());
         for (std::size_t i = 0; i < pts.size(); ++i) {
-            const auto c = static_cast<std::uint8_t>(i % 7 == 0 ? 0 : i % 251);
-            pts[i] = {100.0 + i * 1e-3,
-                      i * 0.01f,
-                      -0.5f * i,
-                      1.25f,
-                      c,
-                      c,
-                      c,
-                      static_cast<std::uint16_t>(i * 13)};
+            // Every 7th point unseen by the camera: in its laser grey (journal::laserGrey).
+            const auto intensity = static_cast<std::uint16_t>(i * 13);
+            const auto c =
+                static_cast<std::uint8_t>(i % 7 == 0 ? journal::laserGrey(intensity) : i % 251);
+            pts[i] = {100.0 + i * 1e-3, i * 0.01f, -0.5f * i, 1.25f, c, c, c, intensity};
         }
         ASSERT_TRUE((*w)->appendPoints(pts).isOk());
         for (int k = 0; k < 700; ++k)
@@ -161,7 +157,7 @@ TEST_F(ExportTest, E57RoundTrip) {
         ASSERT_EQ(y[i], pts[i].y) << i;
         ASSERT_EQ(z[i], pts[i].z) << i;
         ASSERT_EQ(red[i], pts[i].r) << i;
-        ASSERT_EQ(invalid[i], pts[i].r == 0 ? 1.0 : 0.0) << i;
+        ASSERT_EQ(invalid[i], i % 7 == 0 ? 1.0 : 0.0) << i;
         ASSERT_EQ(intensity[i], pts[i].intensity) << i;
         ASSERT_EQ(t[i], pts[i].t_s) << i;
     }

@@ -39,6 +39,9 @@ std::string ExportTest::makeJournal(std::size_t n, const std::string& name) {
         pts.push_back({static_cast<double>(i), static_cast<float>(i), 0.5f, -1.0f,
                        static_cast<std::uint8_t>(i), static_cast<std::uint8_t>(2 * i),
                        static_cast<std::uint8_t>(3 * i), static_cast<std::uint16_t>(i)});
+        // Every 256th point was not seen by the camera: it carries its laser grey.
+        if (i % 256 == 0)
+            pts.back().r = pts.back().g = pts.back().b = journal::laserGrey(pts.back().intensity);
     }
     EXPECT_TRUE((*w)->appendPoints(pts).isOk());
     EXPECT_TRUE((*w)->appendPose({0.0, 0, 0, 0, 0, 0, 0, 1}).isOk());

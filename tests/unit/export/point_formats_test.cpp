@@ -6,6 +6,7 @@
 #include <iterator>
 
 #include "export_test_support.hpp"
+#include "handscan/core/json.hpp"
 #include "handscan/export/exporter.hpp"
 #include "handscan/journal/journal_writer.hpp"
 
@@ -45,7 +46,8 @@ TEST_F(ExportTest, PlyHeaderAndRecords) {
 }
 
 TEST_F(ExportTest, CountsThePointsTheCameraColoured) {
-    // Colours (i, 2i, 3i) mod 256: points 0, 256 and 512 are black, i.e. never seen by the camera.
+    // Points 0, 256 and 512 carry their laser grey (never seen by the camera), the rest colours
+    // (i, 2i, 3i) mod 256.
     const std::string journal = makeJournal(600);
     auto r = exportScan(journal, dir_.string(), {{"ply"}, 0.0, "out", {}, {}});
     ASSERT_TRUE(r.isOk()) << r.status().message();
@@ -117,8 +119,11 @@ TEST_F(ExportTest, TrajectoryAndMetadataFiles) {
               "1.000000000\n");
     const auto json = readFile((dir_ / "out" / "scan.json").string());
     const std::string js(json.begin(), json.end());
-    EXPECT_NE(js.find("\"scan\": {\"device\":\"test\"}"), std::string::npos) << js;
-    EXPECT_NE(js.find("\"points\": 5,"), std::string::npos) << js;
+    const Json doc = Json::parse(js, nullptr, false);
+    ASSERT_TRUE(doc.is_object()) << js;
+    EXPECT_EQ(doc["scan"], Json({{"device", "test"}})) << js;  // the journal's metadata, as JSON
+    EXPECT_EQ(doc["journal"]["points"], 5) << js;
+    EXPECT_EQ(doc["export"]["points"], 5) << js;
 }
 
 TEST_F(ExportTest, EmptyScanExportsValidEmptyFiles) {
@@ -146,7 +151,9 @@ TEST_F(ExportTest, ScanJsonListsTheFormatsWritten) {
     ASSERT_TRUE(exportScan(journal, dir_.string(), defaults).isOk());
     const auto json = readFile((dir_ / "out" / "scan.json").string());
     const std::string text(json.begin(), json.end());
-    EXPECT_NE(text.find("\"formats\": [\"ply\", \"las\", \"e57\"]"), std::string::npos) << text;
+    const Json doc = Json::parse(text, nullptr, false);
+    ASSERT_TRUE(doc.is_object()) << text;
+    EXPECT_EQ(doc["export"]["formats"], Json({"ply", "las", "e57"})) << text;
     EXPECT_EQ(text.find("unavailable"), std::string::npos) << text;
 }
 

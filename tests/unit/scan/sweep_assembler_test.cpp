@@ -3,12 +3,8 @@
 #include <gtest/gtest.h>
 
 #include <cstdio>
-#include <cstring>
-#include <filesystem>
-#include <fstream>
 #include <string>
 
-#include "handscan/scan/ply_writer.hpp"
 #include "spin_sim.hpp"
 
 namespace handscan::scan {
@@ -125,41 +121,6 @@ TEST(SweepAssembler, EncoderGapDropsOnlyTheUncoveredSteps) {
     LaserScan bad;
     bad.t_host = 5;
     EXPECT_EQ(a.addScan(bad).code(), StatusCode::kInvalidArgument);
-}
-
-TEST(SweepPly, WritesTheDocumentedLayout) {
-    const auto scene = officeRoom();
-    const auto streams = simulate(scene, testing::staticPose(Eigen::Isometry3d::Identity()),
-                                  deviceGeometry(), kNsPerSec, kNsPerSec);
-    const auto sweeps =
-        assemble(streams, deviceGeometry(), testing::staticPose(Eigen::Isometry3d::Identity()));
-    ASSERT_FALSE(sweeps.empty());
-    const Sweep& s = sweeps.front();
-    const std::string path = std::string(HANDSCAN_BINARY_DIR) + "/scan_sweep_test.ply";
-    ASSERT_TRUE(writeSweepPly(path, s).isOk());
-    std::ifstream in(path, std::ios::binary);
-    std::string content((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-    const auto end = content.find("end_header\n");
-    ASSERT_NE(end, std::string::npos);
-    const std::string header = content.substr(0, end);
-    EXPECT_NE(header.find("element vertex " + std::to_string(s.points.size())), std::string::npos);
-    EXPECT_NE(header.find("property double t"), std::string::npos);
-    const std::size_t body = end + std::strlen("end_header\n");
-    ASSERT_EQ(content.size() - body, s.points.size() * 24);
-    // The last vertex: x y z intensity as float, t as double seconds since the first point.
-    const char* v = content.data() + body + (s.points.size() - 1) * 24;
-    float xyz[4];
-    double t;
-    std::memcpy(xyz, v, 16);
-    std::memcpy(&t, v + 16, 8);
-    EXPECT_FLOAT_EQ(xyz[0], static_cast<float>(s.points.back().p_start.x()));
-    EXPECT_FLOAT_EQ(xyz[3], s.points.back().intensity);
-    EXPECT_NEAR(t, toSeconds(s.t_end - s.t_start), 1e-9);
-    std::filesystem::remove(path);
-
-    const Status bad = writeSweepPly("/nonexistent-dir/x.ply", s);
-    EXPECT_EQ(bad.code(), StatusCode::kIoError);
-    EXPECT_NE(bad.message().find("/nonexistent-dir/x.ply"), std::string::npos);
 }
 
 }  // namespace

@@ -44,13 +44,15 @@ TEST(PointRecord, LaysOutXyzIntensityAndPackedRgb) {
     EXPECT_EQ(out[19], 0);
 }
 
-TEST(PointRecord, UncolouredPointTakesTheIntensityGrey) {
+TEST(PointRecord, UncolouredPointKeepsItsLaserGrey) {
+    // The worker journals an unseen point in its laser grey (journal::laserGrey): 1600 / 16.
+    journal::MapPoint p = point(0, 0, 0, 0, 1600);
+    p.r = p.g = p.b = journal::laserGrey(p.intensity);
+    ASSERT_FALSE(journal::hasColour(p));
     std::string out;
-    appendPointRecord(point(0, 0, 0, 0, 1600), out);  // 1600 / 16 = 100
+    appendPointRecord(p, out);
     EXPECT_EQ(rgbAt(out, 0), (100u << 16) | (100u << 8) | 100u);
-    out.clear();
-    appendPointRecord(point(0, 0, 0, 0, 60000), out);  // saturates at 255
-    EXPECT_EQ(rgbAt(out, 0), 0xFFFFFFu);
+    EXPECT_EQ(journal::laserGrey(60000), 255);  // saturates
 }
 
 TEST(DisplayMap, KeepsTheFirstPointOfEachVoxel) {

@@ -67,9 +67,10 @@ int FakeHokuyoSensor::ppInt(const char* key, int fallback) const {
 
 void FakeHokuyoSensor::onCommand(const std::string& command) {
     const std::string body = command.substr(0, command.find(';'));
-    if (body == "SCIP2.0") {
-        out_ += encodeReply(command, "0E");  // a SCIP 2.0-only sensor: "command not defined"
-    } else if (body == "VV") {
+    const bool scan_command = body.size() >= 2 && (body[0] == 'M' || body[0] == 'G') &&
+                              (body[1] == 'S' || body[1] == 'D' || body[1] == 'E');
+    // SCIP2.0 included: a SCIP 2.0-only sensor answers it with "command not defined" (0E) too.
+    if (body == "VV") {
         out_ += encodeKeyValueReply(command, "00", identity_.vv);
     } else if (body == "PP") {
         out_ += encodeKeyValueReply(command, "00", identity_.pp);
@@ -87,11 +88,7 @@ void FakeHokuyoSensor::onCommand(const std::string& command) {
     } else if (body == "BM") {
         out_ += encodeReply(command, laser_on_ ? "02" : "00");
         laser_on_ = true;
-    } else if (body == "QT") {
-        streaming_ = false;
-        laser_on_ = false;
-        out_ += encodeReply(command, "00");
-    } else if (body == "RS") {
+    } else if (body == "QT" || body == "RS") {
         streaming_ = false;
         laser_on_ = false;
         out_ += encodeReply(command, "00");
@@ -100,8 +97,7 @@ void FakeHokuyoSensor::onCommand(const std::string& command) {
     } else if (body == "TM1") {
         const std::uint32_t now = next_ > 0 ? source_[next_ - 1].scan.timestamp_ms : time_ms_;
         out_ += encodeReply(command, "00", {encodeScipChars(now & 0xFFFFFFu, 4)});
-    } else if (body.size() >= 2 && (body[0] == 'M' || body[0] == 'G') &&
-               (body[1] == 'S' || body[1] == 'D' || body[1] == 'E')) {
+    } else if (scan_command) {
         onScanCommand(command);
     } else {
         out_ += encodeReply(command, "0E");  // command not defined

@@ -11,11 +11,12 @@
 #include <cerrno>
 #include <cstring>
 #include <stdexcept>
+#include <utility>
 
 namespace handscan::xsens {
 
 PtyXsens::PtyXsens(FakeXsens& device, PtyXsensOptions options)
-    : device_(device), options_(options) {
+    : device_(device), options_(std::move(options)) {
     master_ = ::posix_openpt(O_RDWR | O_NOCTTY | O_NONBLOCK | O_CLOEXEC);
     if (master_ < 0) throw std::runtime_error(std::string("posix_openpt: ") + std::strerror(errno));
     char name[128];
@@ -226,7 +227,7 @@ void PtyXsens::run() {
             }
         }
         // Nobody listening for long: a UART would lose these bytes too.
-        constexpr std::size_t kMaxPending = 64 * 1024;
+        constexpr std::size_t kMaxPending = std::size_t{64} * 1024;
         if (pending.size() > kMaxPending) {
             pending.erase(pending.begin(),
                           pending.end() - static_cast<std::ptrdiff_t>(kMaxPending));

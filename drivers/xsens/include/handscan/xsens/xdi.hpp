@@ -34,7 +34,6 @@ constexpr std::uint16_t withFormat(std::uint16_t type, Precision p, CoordSys c =
 constexpr std::size_t realSize(Precision p) {
     switch (p) {
         case Precision::kFloat32:
-            return 4;
         case Precision::kFp1220:
             return 4;
         case Precision::kFp1632:

@@ -64,7 +64,13 @@ struct E57Options {
     std::vector<journal::TrajectoryPose> trajectory;  // written as handscan:trajectory
 };
 
-std::unique_ptr<PointFileWriter> makePlyWriter(SafeFileWriter& file);
+// The one PLY point-cloud writer of the tree (exports, replay's map.ply and --dump-sweeps, the
+// demo's live-map export). `comment`: the header's comment lines (frame, units, time origin),
+// one per element, without "comment ".
+inline const std::vector<std::string> kPlyWorldComment = {
+    "handscan colourised point cloud, metres, world frame"};
+std::unique_ptr<PointFileWriter> makePlyWriter(SafeFileWriter& file,
+                                               std::vector<std::string> comment = kPlyWorldComment);
 std::unique_ptr<PointFileWriter> makeLasWriter(SafeFileWriter& file, LasOptions options = {});
 // Installs its per-page CRC-32C check on `file`'s read-back.
 std::unique_ptr<PointFileWriter> makeE57Writer(SafeFileWriter& file, E57Options options);
@@ -73,6 +79,7 @@ std::unique_ptr<PointFileWriter> makeE57Writer(SafeFileWriter& file, E57Options 
 std::uint64_t plyBytes(std::uint64_t points);
 std::uint64_t lasBytes(std::uint64_t points);
 std::uint64_t e57Bytes(std::uint64_t points, std::uint64_t trajectory_poses);
+constexpr std::size_t kPlyPointRecordBytes = 3 * 4 + 3 + 2 + 8;  // x y z, rgb, intensity, time
 constexpr std::size_t kLasHeaderBytes = 375;
 constexpr std::size_t kLasPointRecordBytes = 36;
 

@@ -12,8 +12,18 @@ struct MapPoint {
     std::uint16_t intensity = 0;
 };
 
-// Whether the colour camera saw the point: an uncoloured point keeps RGB 0,0,0.
-inline bool hasColour(const MapPoint& p) { return (p.r | p.g | p.b) != 0; }
+// The grey a point the colour camera did not see is journaled, shown and exported in: its laser
+// return's intensity (live_output::sweepMapPoints), so an uncoloured cloud still shows surfaces.
+inline std::uint8_t laserGrey(std::uint16_t intensity) {
+    return static_cast<std::uint8_t>(intensity / 16 < 255 ? intensity / 16 : 255);
+}
+
+// Whether the colour camera saw the point: the others carry exactly their laser grey. A camera
+// colour that happens to equal that grey in all three channels counts as unseen (on a grey
+// surface about one point in 256; nowhere else).
+inline bool hasColour(const MapPoint& p) {
+    return !(p.r == p.g && p.g == p.b && p.r == laserGrey(p.intensity));
+}
 
 // A trajectory sample of the rig's body frame in the scan's world frame.
 struct TrajectoryPose {
