@@ -4,8 +4,9 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
-#include <sstream>
+#include <vector>
 
+#include "handscan/core/json.hpp"
 #include "handscan/export/point_formats.hpp"
 #include "handscan/export/safe_file.hpp"
 
@@ -23,70 +24,68 @@ Status writeText(const std::string& path, const std::string& text) {
     return f.commit();
 }
 
-void callsJson(std::ostringstream& os, const std::map<std::string, CallStats>& calls) {
-    os << "  \"modules\": {";
-    bool first = true;
-    for (const auto& [name, s] : calls) {
-        os << (first ? "\n" : ",\n") << "    \"" << name << "\": {\"calls\": " << s.calls
-           << ", \"mean_us\": " << s.mean_us << ", \"p50_us\": " << s.p50_us
-           << ", \"p99_us\": " << s.p99_us << ", \"max_us\": " << s.max_us
-           << ", \"total_ms\": " << s.total_ms << "}";
-        first = false;
+Json callsJson(const std::map<std::string, CallStats>& calls) {
+    Json j = Json::object();
+    for (const auto& [name, c] : calls) {
+        j[name] = {{"calls", c.calls},   {"mean_us", c.mean_us}, {"p50_us", c.p50_us},
+                   {"p99_us", c.p99_us}, {"max_us", c.max_us},   {"total_ms", c.total_ms}};
     }
-    os << "\n  },\n";
+    return j;
 }
 
-void streamJson(std::ostringstream& os, const char* name, const StreamCounters& c, bool last) {
-    os << "    \"" << name << "\": {\"messages\": " << c.messages
-       << ", \"checksum_failures\": " << c.checksum_failures << ", \"resyncs\": " << c.resyncs
-       << ", \"gaps\": " << c.gaps << ", \"errors\": " << c.errors << "}" << (last ? "\n" : ",\n");
+Json streamJson(const StreamCounters& c) {
+    return {{"messages", c.messages},
+            {"checksum_failures", c.checksum_failures},
+            {"resyncs", c.resyncs},
+            {"gaps", c.gaps},
+            {"errors", c.errors}};
 }
 
-// The tracking monitor's intervals with tracking lost (sweep start times, s; an interval still
-// open at the end has "end_s": null) and the sweeps it kept out of the map.
-void trackingJson(std::ostringstream& os, const fusion::TrackingMonitor& m) {
+// An interval's end, or null while it is still open at the end of the recording.
+Json endSeconds(TimeNs t_end) { return t_end != 0 ? Json(toSeconds(t_end)) : Json(nullptr); }
+
+// The tracking monitor's intervals with tracking lost (sweep start times, s) and the sweeps it
+// kept out of the map.
+Json trackingJson(const fusion::TrackingMonitor& m) {
     std::uint64_t lost_sweeps = 0;
-    for (const auto& i : m.intervals()) lost_sweeps += i.sweeps;
-    os << "  \"tracking\": {\"lost_now\": " << (m.lost() ? "true" : "false")
-       << ", \"inconsistent_sweeps\": " << m.rejectedSweeps()
-       << ", \"lost_sweeps\": " << lost_sweeps << ", \"lost_intervals\": [";
-    bool first = true;
+    Json intervals = Json::array();
     for (const auto& i : m.intervals()) {
-        os << (first ? "" : ", ") << "{\"begin_s\": " << toSeconds(i.t_begin) << ", \"end_s\": ";
-        if (i.t_end != 0)
-            os << toSeconds(i.t_end);
-        else
-            os << "null";
-        os << ", \"sweeps\": " << i.sweeps << ", \"reason\": \"" << fusion::lostReasonName(i.reason)
-           << "\", \"detail\": \"" << i.detail << "\"}";
-        first = false;
+        lost_sweeps += i.sweeps;
+        intervals.push_back({{"begin_s", toSeconds(i.t_begin)},
+                             {"end_s", endSeconds(i.t_end)},
+                             {"sweeps", i.sweeps},
+                             {"reason", fusion::lostReasonName(i.reason)},
+                             {"detail", i.detail}});
     }
-    os << "]},\n";
+    return {{"lost_now", m.lost()},
+            {"inconsistent_sweeps", m.rejectedSweeps()},
+            {"lost_sweeps", lost_sweeps},
+            {"lost_intervals", intervals}};
 }
 
 // The visual-inertial odometry (section 5): frames, how many solved something / everything, the
 // mean features and depth kinds, and the stretches it was bypassed (section 8: dark,
-// texture-less; recording times in s, "end_s": null while still bypassed at the end).
-void visualJson(std::ostringstream& os, const worker::VisualStage& v) {
+// texture-less; recording times in s).
+Json visualJson(const worker::VisualStage& v) {
     const worker::VisualStageStats& s = v.stats();
     const double n = s.processed > 0 ? static_cast<double>(s.processed) : 1.0;
-    os << "  \"vio\": {\"first_frame_s\": " << toSeconds(s.t_first) << ", \"frames\": " << s.frames
-       << ", \"processed\": " << s.processed << ", \"used\": " << s.used
-       << ", \"all_solved\": " << s.all_solved << ", \"keyframes\": " << s.keyframes
-       << ", \"errors\": " << s.errors << ", \"mean_features\": " << s.features_sum / n
-       << ", \"mean_with_laser_depth\": " << s.laser_depth_sum / n
-       << ", \"mean_triangulated\": " << s.triangulated_sum / n << ", \"bypassed\": [";
-    bool first = true;
+    Json bypassed = Json::array();
     for (const worker::BypassInterval& b : v.bypassed()) {
-        os << (first ? "" : ", ") << "{\"begin_s\": " << toSeconds(b.t_begin) << ", \"end_s\": ";
-        if (b.t_end != 0)
-            os << toSeconds(b.t_end);
-        else
-            os << "null";
-        os << ", \"frames\": " << b.frames << "}";
-        first = false;
+        bypassed.push_back({{"begin_s", toSeconds(b.t_begin)},
+                            {"end_s", endSeconds(b.t_end)},
+                            {"frames", b.frames}});
     }
-    os << "]},\n";
+    return {{"first_frame_s", toSeconds(s.t_first)},
+            {"frames", s.frames},
+            {"processed", s.processed},
+            {"used", s.used},
+            {"all_solved", s.all_solved},
+            {"keyframes", s.keyframes},
+            {"errors", s.errors},
+            {"mean_features", static_cast<double>(s.features_sum) / n},
+            {"mean_with_laser_depth", static_cast<double>(s.laser_depth_sum) / n},
+            {"mean_triangulated", static_cast<double>(s.triangulated_sum) / n},
+            {"bypassed", bypassed}};
 }
 
 }  // namespace
@@ -165,79 +164,84 @@ Result<std::uint64_t> ReplayOutputs::writeMap() {
 }
 
 Result<std::string> ReplayOutputs::writeStats(const StatsInputs& in) const {
-    std::ostringstream os;
-    os.precision(6);
-    os << std::fixed;
     const ReplayReport& r = in.report;
-    os << "{\n  \"recording_s\": " << r.recording_s << ",\n  \"wall_s\": " << r.wall_s
-       << ",\n  \"realtime_factor\": " << r.realtime_factor << ",\n  \"poses\": " << r.poses
-       << ",\n  \"distance_m\": " << distance_m_ << ",\n  \"sweeps\": " << sweeps_.size()
-       << ",\n  \"registered_points\": " << registered_points_
-       << ",\n  \"map_points\": " << r.map_points << ",\n  \"peak_rss_mib\": " << in.peak_rss_mib
-       << ",\n";
+    Json j;
+    j["recording_s"] = r.recording_s;
+    j["wall_s"] = r.wall_s;
+    j["realtime_factor"] = r.realtime_factor;
+    j["poses"] = r.poses;
+    j["distance_m"] = distance_m_;
+    j["sweeps"] = sweeps_.size();
+    j["registered_points"] = registered_points_;
+    j["map_points"] = r.map_points;
+    j["peak_rss_mib"] = in.peak_rss_mib;
     const TiledMapStats& m = map_.stats();
     constexpr double kMiB = 1.0 / (1 << 20);
-    os << "  \"map\": {\"voxel_m\": " << map_.config().voxel_m
-       << ", \"tile_m\": " << map_.config().tile_m << ", \"memory_budget_mib\": "
-       << static_cast<double>(map_.config().memory_budget_bytes) * kMiB
-       << ", \"tiles\": " << m.tiles
-       << ", \"peak_resident_mib\": " << static_cast<double>(m.peak_resident_bytes) * kMiB
-       << ", \"fragments_flushed\": " << m.fragments_flushed
-       << ", \"voxels_flushed\": " << m.cells_flushed
-       << ", \"consolidations\": " << m.consolidations << ", \"compactions\": " << m.compactions
-       << ", \"peak_spill_mib\": " << static_cast<double>(m.peak_spill_bytes) * kMiB
-       << ", \"spill_written_mib\": " << static_cast<double>(m.spill_written_bytes) * kMiB
-       << "},\n";
-    callsJson(os, in.calls);
-    os << "  \"streams\": {\n";
-    streamJson(os, "hokuyo", in.hokuyo, false);
-    streamJson(os, "xsens", in.xsens, false);
-    streamJson(os, "encoder", in.encoder, true);
-    os << "  },\n";
+    j["map"] = {
+        {"voxel_m", map_.config().voxel_m},
+        {"tile_m", map_.config().tile_m},
+        {"memory_budget_mib", static_cast<double>(map_.config().memory_budget_bytes) * kMiB},
+        {"tiles", m.tiles},
+        {"peak_resident_mib", static_cast<double>(m.peak_resident_bytes) * kMiB},
+        {"fragments_flushed", m.fragments_flushed},
+        {"voxels_flushed", m.cells_flushed},
+        {"consolidations", m.consolidations},
+        {"compactions", m.compactions},
+        {"peak_spill_mib", static_cast<double>(m.peak_spill_bytes) * kMiB},
+        {"spill_written_mib", static_cast<double>(m.spill_written_bytes) * kMiB}};
+    j["modules"] = callsJson(in.calls);
+    j["streams"] = {{"hokuyo", streamJson(in.hokuyo)},
+                    {"xsens", streamJson(in.xsens)},
+                    {"encoder", streamJson(in.encoder)}};
     const auto& a = in.pipeline.assemblerStats();
-    os << "  \"sweep_assembly\": {\"scans\": " << a.scans << ", \"points\": " << a.points
-       << ", \"dropped_invalid_range\": " << a.dropped_invalid_range
-       << ", \"dropped_no_encoder\": " << a.dropped_no_encoder
-       << ", \"dropped_scans_late\": " << a.dropped_scans_late << "},\n";
+    j["sweep_assembly"] = {{"scans", a.scans},
+                           {"points", a.points},
+                           {"dropped_invalid_range", a.dropped_invalid_range},
+                           {"dropped_no_encoder", a.dropped_no_encoder},
+                           {"dropped_scans_late", a.dropped_scans_late}};
     const auto& p = in.pipeline.predictor().stats();
-    os << "  \"imu\": {\"aligned\": " << (in.pipeline.aligned() ? "true" : "false")
-       << ", \"samples\": " << p.samples << ", \"rejected\": " << p.rejected_samples
-       << ", \"gaps\": " << p.gaps << ", \"corrections\": " << p.corrections
-       << ", \"rejected_corrections\": " << p.rejected_corrections << "},\n";
-    os << "  \"recording\": {\"truncated\": " << (in.recording_truncated ? "true" : "false")
-       << ", \"dropped_regions\": " << in.recording_dropped_regions << "},\n";
-    trackingJson(os, in.pipeline.tracking());
-    if (in.visual != nullptr && in.visual->stats().frames > 0) visualJson(os, *in.visual);
+    j["imu"] = {
+        {"aligned", in.pipeline.aligned()}, {"samples", p.samples},
+        {"rejected", p.rejected_samples},   {"gaps", p.gaps},
+        {"corrections", p.corrections},     {"rejected_corrections", p.rejected_corrections}};
+    j["recording"] = {{"truncated", in.recording_truncated},
+                      {"dropped_regions", in.recording_dropped_regions}};
+    j["tracking"] = trackingJson(in.pipeline.tracking());
+    if (in.visual != nullptr && in.visual->stats().frames > 0) j["vio"] = visualJson(*in.visual);
     // Degenerate directions per sweep (section 8): 6 minus the DOFs the matcher solved.
-    std::size_t histogram[7] = {0, 0, 0, 0, 0, 0, 0};
-    for (const SweepSummary& s : sweeps_)
-        ++histogram[6 - std::popcount(static_cast<unsigned>(s.solved_mask & 0x3F))];
-    os << "  \"degenerate_directions_histogram\": [";
-    for (int i = 0; i < 7; ++i) os << (i ? ", " : "") << histogram[i];
-    os << "],\n  \"per_sweep\": [";
-    for (std::size_t i = 0; i < sweeps_.size(); ++i) {
-        const SweepSummary& s = sweeps_[i];
-        os << (i ? ",\n" : "\n") << "    {\"index\": " << s.index
-           << ", \"t_start_s\": " << s.t_start_s << ", \"degenerate_directions\": "
-           << 6 - std::popcount(static_cast<unsigned>(s.solved_mask & 0x3F))
-           << ", \"solved_dof_mask\": " << static_cast<int>(s.solved_mask)
-           << ", \"vio_solved_dof_mask\": " << static_cast<int>(s.visual_solved_mask)
-           << ", \"points\": " << s.points << ", \"edges\": " << s.edges
-           << ", \"planars\": " << s.planars << ", \"associations\": " << s.associations
-           << ", \"rms_m\": " << s.rms_m << ", \"total_ms\": " << s.total_ms << ", \"tracking\": \""
-           << (s.tracking.lost ? "lost" : (s.tracking.consistent ? "ok" : "rejected"))
-           << "\", \"in_map\": " << (s.tracking.enters_map ? "true" : "false");
+    const auto degenerate = [](const SweepSummary& s) {
+        return 6 - std::popcount(static_cast<unsigned>(s.solved_mask & 0x3F));
+    };
+    std::vector<std::size_t> histogram(7, 0);
+    for (const SweepSummary& s : sweeps_) ++histogram[static_cast<std::size_t>(degenerate(s))];
+    j["degenerate_directions_histogram"] = histogram;
+    Json per_sweep = Json::array();
+    for (const SweepSummary& s : sweeps_) {
+        Json e = {
+            {"index", s.index},
+            {"t_start_s", s.t_start_s},
+            {"degenerate_directions", degenerate(s)},
+            {"solved_dof_mask", static_cast<int>(s.solved_mask)},
+            {"vio_solved_dof_mask", static_cast<int>(s.visual_solved_mask)},
+            {"points", s.points},
+            {"edges", s.edges},
+            {"planars", s.planars},
+            {"associations", s.associations},
+            {"rms_m", s.rms_m},
+            {"total_ms", s.total_ms},
+            {"tracking", s.tracking.lost ? "lost" : (s.tracking.consistent ? "ok" : "rejected")},
+            {"in_map", s.tracking.enters_map}};
         if (s.tracking.reason != fusion::LostReason::kNone)
-            os << ", \"tracking_reason\": \"" << fusion::lostReasonName(s.tracking.reason) << "\"";
+            e["tracking_reason"] = fusion::lostReasonName(s.tracking.reason);
         const Eigen::Quaterniond q(s.T_world_body.linear());
         const Eigen::Vector3d t = s.T_world_body.translation(), tp = s.T_world_prior.translation();
-        os << ", \"pose_xyz_qxyzw\": [" << t.x() << ", " << t.y() << ", " << t.z() << ", " << q.x()
-           << ", " << q.y() << ", " << q.z() << ", " << q.w() << "], \"prior_xyz\": [" << tp.x()
-           << ", " << tp.y() << ", " << tp.z() << "]}";
+        e["pose_xyz_qxyzw"] = {t.x(), t.y(), t.z(), q.x(), q.y(), q.z(), q.w()};
+        e["prior_xyz"] = {tp.x(), tp.y(), tp.z()};
+        per_sweep.push_back(std::move(e));
     }
-    os << "\n  ]\n}\n";
+    j["per_sweep"] = std::move(per_sweep);
     const std::string path = (fs::path(dir_) / "stats.json").string();
-    if (Status s = writeText(path, os.str()); !s.isOk()) return s;
+    if (Status s = writeText(path, jsonText(j, 2) + "\n"); !s.isOk()) return s;
     return path;
 }
 
