@@ -11,7 +11,7 @@ namespace handscan::shm {
 template <std::size_t N>
 void setText(char (&field)[N], std::string_view text) {
     const std::size_t n = text.size() < N - 1 ? text.size() : N - 1;
-    std::memcpy(field, text.data(), n);
+    if (n > 0) std::memcpy(field, text.data(), n);  // an empty view's data() may be null
     std::memset(field + n, 0, N - n);
 }
 
