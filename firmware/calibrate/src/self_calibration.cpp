@@ -225,24 +225,38 @@ Result<SelfCalibrationReport> selfCalibrate(const SelfCalibrationOptions& o) {
     // IMU clock come from the gyro alignment. The encoder's time offset is not solved: with the
     // shaft turning at a near constant speed it turns the sweep as the zero does (the speed ripple,
     // ~2 %, leaves a 1 ms error 0.007 deg to show), so the zero found stands for both.
+    // A replay with `current` written to DIR/calibration.yaml, then the IMU and the half-revolution
+    // observations on its trajectory: each round's input and the final "after" check.
+    struct Observed {
+        Replayed replayed;
+        std::vector<ImuSample> imu;
+        std::vector<SpinObservation> observations;
+    };
+    auto observe = [&](const std::string& dir) -> Result<Observed> {
+        fs::create_directories(dir);
+        const std::string yaml = dir + "/calibration.yaml";
+        if (Status st = writeCalibrationYaml(yaml, current, camchain, {}); !st.isOk()) return st;
+        auto replayed = replayWith(opt, yaml, dir);
+        if (!replayed.isOk()) return replayed.status();
+        const DeviceConfig clocks = withCalibratedLatencies(device, current);
+        auto imu = loadImu(o.recording, clocks);
+        if (!imu.isOk()) return imu.status();
+        auto obs = loadObservations(o.recording, clocks, current, replayed->trajectory,
+                                    replayed->untrusted_s, *imu, o.observations);
+        if (!obs.isOk()) return obs.status();
+        return Observed{std::move(*replayed), std::move(*imu), std::move(*obs)};
+    };
     SpinMask geometry{};
     geometry[C::kRollShaft] = geometry[C::kPitchShaft] = true;
     geometry[C::kShiftX] = geometry[C::kShiftY] = true;
     SpinSolution last;
     std::vector<std::string> notes;
     for (int round = 0; round < o.max_rounds; ++round) {
-        const std::string dir = fmt::format("{}/round{}", work, round);
-        fs::create_directories(dir);
-        const std::string yaml = dir + "/calibration.yaml";
-        if (Status st = writeCalibrationYaml(yaml, current, camchain, {}); !st.isOk()) return st;
-        auto replayed = replayWith(opt, yaml, dir);
-        if (!replayed.isOk()) return replayed.status();
-        auto imu = loadImu(o.recording, withCalibratedLatencies(device, current));
-        if (!imu.isOk()) return imu.status();
-        auto obs =
-            loadObservations(o.recording, withCalibratedLatencies(device, current), current,
-                             replayed->trajectory, replayed->untrusted_s, *imu, o.observations);
-        if (!obs.isOk()) return obs.status();
+        auto observed = observe(fmt::format("{}/round{}", work, round));
+        if (!observed.isOk()) return observed.status();
+        const Replayed* replayed = &observed->replayed;
+        const std::vector<ImuSample>* imu = &observed->imu;
+        const std::vector<SpinObservation>* obs = &observed->observations;
         SpinModel model{current};
         if (round == 0) {
             const Consistency c = consistencyOf(*obs, model, o.association);
@@ -317,18 +331,10 @@ Result<SelfCalibrationReport> selfCalibrate(const SelfCalibrationOptions& o) {
 
     // The "after" replay, with the calibration as it will be written.
     {
-        const std::string dir = work + "/final";
-        fs::create_directories(dir);
-        const std::string yaml = dir + "/calibration.yaml";
-        if (Status st = writeCalibrationYaml(yaml, current, camchain, {}); !st.isOk()) return st;
-        auto replayed = replayWith(opt, yaml, dir);
-        if (!replayed.isOk()) return replayed.status();
-        auto imu = loadImu(o.recording, withCalibratedLatencies(device, current));
-        if (!imu.isOk()) return imu.status();
-        auto obs =
-            loadObservations(o.recording, withCalibratedLatencies(device, current), current,
-                             replayed->trajectory, replayed->untrusted_s, *imu, o.observations);
-        if (!obs.isOk()) return obs.status();
+        auto observed = observe(work + "/final");
+        if (!observed.isOk()) return observed.status();
+        const Replayed* replayed = &observed->replayed;
+        const std::vector<SpinObservation>* obs = &observed->observations;
         const Consistency c = consistencyOf(*obs, SpinModel{current}, o.association);
         report.consistency_after_m = c.sigma_m;
         report.residuals_after = c.residuals;
