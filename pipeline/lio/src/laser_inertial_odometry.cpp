@@ -54,6 +54,7 @@ void LaserInertialOdometry::addImu(const ImuSample& sample) {
         if (!integrator_.lastScanPose()) {
             ref.tracking_lost = monitor_.lost();
             poses_.push_back(ref);
+            trajectory_.add(ref);
             ++stats_.poses_out;
             return;
         }
@@ -62,7 +63,12 @@ void LaserInertialOdometry::addImu(const ImuSample& sample) {
     auto pose = integrator_.poseAt(sample.t_host);
     if (pose.isOk()) {
         pose->tracking_lost = monitor_.lost();
+        // The camera's directions while its frames keep coming (a bypassed camera gives none).
+        if (!visual_.empty() &&
+            sample.t_host - visual_.back().t <= static_cast<TimeNs>(config_.visual_max_gap_s * 1e9))
+            pose->visual_solved_dof_mask = visual_.back().mask;
         poses_.push_back(*pose);
+        trajectory_.add(*pose);
         ++stats_.poses_out;
     }
 }
@@ -84,7 +90,7 @@ void LaserInertialOdometry::addScan(const LaserScan& scan) {
 void LaserInertialOdometry::addVisualPose(const PoseEstimate& pose, const Matrix6d& solved_world) {
     if (!predictor_.initialized() || !pose.T_world_body.matrix().allFinite()) return;
     if (!visual_.empty() && pose.t_host <= visual_.back().t) return;  // out of order
-    visual_.push_back({pose.t_host, solved_world, pose.T_world_body});
+    visual_.push_back({pose.t_host, solved_world, pose.T_world_body, pose.solved_dof_mask});
     // Long enough for a sweep matched a couple of sweeps after its start (the integrator's too).
     while (!visual_.empty() && visual_.front().t < pose.t_host - 5 * kNsPerSec) visual_.pop_front();
     if (config_.laser_enabled || motion_) return;
@@ -95,11 +101,12 @@ void LaserInertialOdometry::addVisualPose(const PoseEstimate& pose, const Matrix
         static_cast<TimeNs>(config_.visual_feedback_interval_s * 1e9))
         return;
     last_visual_feedback_t_ = pose.t_host;
+    PoseEstimate anchor = pose;
+    anchor.source = PoseSource::kVisualOdometry;
+    trajectory_.anchor(anchor, [this](TimeNs t) { return carriedPose(t); });
     if (config_.imu_feedback &&
         !predictor_.correct(pose.t_host, pose.T_world_body, solved_world).isOk())
         ++stats_.rejected;
-    PoseEstimate anchor = pose;
-    anchor.source = PoseSource::kVisualOdometry;
     integrator_.setScanPose(anchor);
 }
 
@@ -135,10 +142,18 @@ Matrix6d LaserInertialOdometry::visualSolved(TimeNs t_from, TimeNs t_to) const {
 }
 
 void LaserInertialOdometry::finish() {
-    if (!config_.laser_enabled) return;
-    processSweeps();
-    scan::Sweep last = assembler_->flush();
-    if (!last.empty()) matchSweep(std::move(last));
+    if (config_.laser_enabled) {
+        processSweeps();
+        scan::Sweep last = assembler_->flush();
+        if (!last.empty()) matchSweep(std::move(last));
+    }
+    trajectory_.flush();
+}
+
+Result<Eigen::Isometry3d> LaserInertialOdometry::carriedPose(TimeNs t) const {
+    auto p = integrator_.poseAt(t);
+    if (!p) return p.status();
+    return p->T_world_body;
 }
 
 void LaserInertialOdometry::processSweeps() {
@@ -235,12 +250,15 @@ void LaserInertialOdometry::matchSweep(scan::Sweep sweep) {
         r.pose.solved_dof_mask = 0;
         r.solved_projector_world.setZero();
     }
-    if (config_.imu_feedback && !reference && !r.first_sweep)
-        feedBack(sweep, r, verdict.fits_map && r.match.enough_matches, visual);
     PoseEstimate scan_pose = r.pose;
     scan_pose.t_host = sweep.t_start;
     scan_pose.source = PoseSource::kScanMatching;
     scan_pose.tracking_lost = verdict.lost;
+    // The kept trajectory's segment since the previous match, closed by this one before the
+    // feedback re-propagates the prediction from t_start.
+    trajectory_.anchor(scan_pose, [this](TimeNs t) { return carriedPose(t); });
+    if (config_.imu_feedback && !reference && !r.first_sweep)
+        feedBack(sweep, r, verdict.fits_map && r.match.enough_matches, visual);
     integrator_.setScanPose(scan_pose);
 
     RegisteredSweep reg;
@@ -332,6 +350,8 @@ std::vector<PoseEstimate> LaserInertialOdometry::takePoses() {
     out.swap(poses_);
     return out;
 }
+
+std::vector<PoseEstimate> LaserInertialOdometry::takeTrajectory() { return trajectory_.take(); }
 
 std::vector<RegisteredSweep> LaserInertialOdometry::takeSweeps() {
     std::vector<RegisteredSweep> out;
