@@ -1,5 +1,6 @@
 // `handscan export JOURNAL|DIR --to PATH|usb`: the scan onto a stick or into a directory
-// (PLY, LAS 1.4, E57, trajectory, scan.json, report.html).
+// (PLY, LAS 1.4, E57, trajectory, scan.json, report.html, report.pdf where weasyprint is
+// installed).
 #include <cstdio>
 #include <iostream>
 #include <sstream>
@@ -32,9 +33,8 @@ std::vector<std::string> splitComma(const std::string& s) {
 
 const RegisterCommand kExport{
     "export",
-    "Export a scan (journal) as PLY / LAS 1.4 / E57 + trajectory + report.html to a directory or "
-    "the "
-    "USB stick",
+    "Export a scan (journal) as PLY / LAS 1.4 / E57 + trajectory + report.html (+ report.pdf with "
+    "weasyprint) to a directory or the USB stick",
     [](CLI::App& sub) {
         struct Args {
             std::string source;
@@ -76,6 +76,8 @@ const RegisterCommand kExport{
             if (!report->journal_damage.empty()) {
                 log().warn("the journal was recovered after a crash: {}", report->journal_damage);
             }
+            for (const auto& note : report->notes) log().warn("{}", note);
+            if (report->pdf_seconds > 0) log().debug("report.pdf: {:.2f} s", report->pdf_seconds);
             for (const auto& f : report->files) std::cout << f << '\n';
             std::cout << "exported " << report->points << " points (" << report->journal_points
                       << " in the journal; " << report->coloured_points << " coloured, "

@@ -19,6 +19,7 @@
 #include "handscan/export/e57_reader.hpp"
 #include "handscan/export/voxel_filter.hpp"
 #include "handscan/journal/journal_reader.hpp"
+#include "report_pdf.hpp"
 
 #ifndef HANDSCAN_VERSION
 #define HANDSCAN_VERSION "0.0.0"
@@ -332,6 +333,17 @@ Result<ExportReport> exportScan(const std::string& source, const std::string& ta
         if (Status s = writeSmallFile(path, html, options.faults); !s.isOk()) return s;
         report.files.push_back(path);
         report.bytes += html.size();
+        if (!options.pdf_tool.empty()) progress(0.997, "writing report.pdf");
+        const std::string pdf_path = (out_dir / "report.pdf").string();
+        auto pdf = writeReportPdf(path, pdf_path, options.pdf_tool, options.faults);
+        if (!pdf.isOk()) return pdf.status();
+        if (pdf->written) {
+            report.files.push_back(pdf_path);
+            report.bytes += pdf->bytes;
+            report.pdf_seconds = pdf->seconds;
+        } else if (!pdf->note.empty()) {
+            report.notes.push_back(pdf->note);
+        }
     }
     // Flush the whole filesystem (the stick) so that pulling it now loses nothing.
     if (int fd = ::open(out_dir.c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC); fd >= 0) {

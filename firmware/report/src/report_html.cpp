@@ -124,7 +124,13 @@ std::string reportHtml(const ReportInputs& in) {
           "10px;"
           "text-align:left}img{max-width:100%;border:1px solid #ccc;margin:6px 0}"
           ".views{display:flex;flex-wrap:wrap;gap:12px}.views figure{margin:0}"
-          "figcaption{font-size:13px;color:#555}.warn{color:#a00}</style>\n</head><body>\n";
+          "figcaption{font-size:13px;color:#555}.warn{color:#a00}"
+          // On paper (report.pdf, a browser's print): A4, two map views a row, charts to width.
+          "@page{size:A4;margin:12mm}@media print{body{margin:0;font-size:10pt}"
+          ".views{display:block}.views figure{display:inline-block;width:49%;"
+          "vertical-align:top;break-inside:avoid}svg.chart{width:100%;height:auto;"
+          "break-inside:avoid}h2,h3{break-after:avoid}table{break-inside:avoid}}"
+          "</style>\n</head><body>\n";
     os << "<h1>Scan report: " << esc(in.scan_name) << "</h1>\n";
     if (!in.journal_damage.empty())
         os << "<p class=\"warn\">The journal was recovered after a crash: "

@@ -2,7 +2,7 @@
 // shelf) walked once
 // around a loop for 60 s, coloured by the "camera" except for the first 10 s, with the laser silent
 // from 20 to 22 s, and a replay-style stats.json saying the matcher was degenerate from 30 to 35 s.
-// Exports it (E57 + report.html) into OUT_DIR/target/walk.
+// Exports it (E57 + report.html + report.pdf) into OUT_DIR/target/walk.
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -67,11 +67,13 @@ int main(int argc, char** argv) {
                     p.z = uz(rng);
                     break;
             }
+            // Unseen by the camera, a point keeps its laser grey, as the worker journals it.
             const bool coloured = t >= kT0 + 10.0;
-            p.r = coloured ? static_cast<std::uint8_t>(120 + 40 * (p.z > 0)) : 0;
-            p.g = coloured ? static_cast<std::uint8_t>(80 + 100 * (p.x > 0)) : 0;
-            p.b = coloured ? 60 : 0;
             p.intensity = 1000;
+            const std::uint8_t grey = journal::laserGrey(p.intensity);
+            p.r = coloured ? static_cast<std::uint8_t>(120 + 40 * (p.z > 0)) : grey;
+            p.g = coloured ? static_cast<std::uint8_t>(80 + 100 * (p.x > 0)) : grey;
+            p.b = coloured ? 60 : grey;
             batch.push_back(p);
         }
         if (!(*w)->appendPoints(batch).isOk()) return 1;

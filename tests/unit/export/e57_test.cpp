@@ -133,7 +133,7 @@ TEST_F(ExportTest, E57RoundTrip) {
                 (*w)->appendPose({100.0 + k * 0.005, k * 0.1, 0, 1.5, 0, 0, 0.6, 0.8}).isOk());
         ASSERT_TRUE((*w)->finish().isOk());
     }
-    auto report = exportScan(journal, dir_.string(), {{"e57"}, 0.0, "out", {}, {}});
+    auto report = exportScan(journal, dir_.string(), {{"e57"}, 0.0, "out", {}, {}, true, ""});
     ASSERT_TRUE(report.isOk()) << report.status().message();
     const std::string path = (dir_ / "out" / "cloud.e57").string();
     ASSERT_EQ(fs::file_size(path) % 1024, 0u);
@@ -172,7 +172,7 @@ TEST_F(ExportTest, E57RoundTrip) {
 // no cloud.e57 is left that looks complete.
 TEST_F(ExportTest, E57ReadBackNamesADamagedPage) {
     const std::string journal = makeJournal(5000);
-    ExportOptions opt{{"e57"}, 0.0, "out", {}, {}};
+    ExportOptions opt{{"e57"}, 0.0, "out", {}, {}, true, ""};
     opt.faults.before_verify = [](const std::string& partial) {
         std::fstream f(partial, std::ios::in | std::ios::out | std::ios::binary);
         f.seekp(3 * 1024 + 100);
