@@ -23,7 +23,8 @@ echo "check_report_pdf: images in report.html: $(echo $want); in report.pdf: $(e
 [ "$(wc -l <<<"$want")" -ge 4 ] || { echo "check_report_pdf: report.html has fewer than 4 map views"; exit 1; }
 [ "$want" = "$have" ] || { echo "check_report_pdf: the PDF's images are not report.html's"; exit 1; }
 text=$(pdftotext "$pdf" -)
-for phrase in "Scan report: walk" "Sensor health over time" "Degenerate intervals" "30.0 s"; do
+for phrase in "Scan report: walk" "Sensor health over time" "Degenerate intervals" "30.0 s" \
+              "Modules and directions over time" "too_few_correspondences" "45.0 s"; do
   grep -qF "$phrase" <<<"$text" || { echo "check_report_pdf: the text lacks '$phrase'"; exit 1; }
 done
 rm -f "$out/pdf-page-1.png"
