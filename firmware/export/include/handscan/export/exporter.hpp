@@ -28,6 +28,8 @@ struct ExportOptions {
     // The HTML-to-PDF program that makes report.pdf of report.html (name on PATH or a path);
     // empty: no PDF. When it is missing or fails the export still succeeds, with a note.
     std::string pdf_tool = "weasyprint";
+    // E57 coordinates: 0 doubles; > 0 scaled integers of this many metres (E57Options).
+    double e57_scale_m = 0.0;
 };
 
 struct ExportReport {
