@@ -43,6 +43,11 @@ Status PipelineWorker::finish(TimeNs deadline) {
     return consume();
 }
 
+Status PipelineWorker::flushTrajectory() {
+    lio_->flushTrajectory();
+    return consume();
+}
+
 Status PipelineWorker::run(TimeNs horizon, TimeNs deadline) {
     for (std::uint64_t n = 1;; ++n) {
         if ((n % 64) == 0 && deadline != std::numeric_limits<TimeNs>::max() &&
@@ -91,6 +96,9 @@ void PipelineWorker::process(sources::Sample& sample) {
 Status PipelineWorker::consume() {
     for (const PoseEstimate& p : lio_->takePoses()) {
         if (Status s = sink_.pose(p); !s.isOk()) return s;
+    }
+    for (const PoseEstimate& p : lio_->takeTrajectory()) {
+        if (Status s = sink_.trajectoryPose(p); !s.isOk()) return s;
     }
     for (const lio::RegisteredSweep& s : lio_->takeSweeps()) {
         if (timer_ != nullptr) timer_->add("scan_matching", s.result.total_ms * 1e3);
