@@ -67,6 +67,12 @@ int evalTrajectory(const EvalOptions& o, Eigen::Isometry3d& T_gt_est) {
     T_gt_est = ate.T_gt_est;
     if (o.start_in_frame) {
         // Where the ground truth starts, in the estimate's frame (a hint for --initial-pose).
+        const Eigen::Quaterniond qa(T_gt_est.linear());
+        std::cout << fmt::format(
+            "alignment (estimate to ground truth): "
+            "{:.6f},{:.6f},{:.6f},{:.9f},{:.9f},{:.9f},{:.9f}\n",
+            T_gt_est.translation().x(), T_gt_est.translation().y(), T_gt_est.translation().z(),
+            qa.x(), qa.y(), qa.z(), qa.w());
         const Eigen::Isometry3d S = T_gt_est.inverse() * gt->front().T;
         const Eigen::Quaterniond q(S.linear());
         std::cout << fmt::format(
@@ -192,8 +198,8 @@ const RegisterCommand kEval{
         sub.add_option("--frame-est", o->frame_est,
                        "the first session's estimated trajectory (TUM)");
         sub.add_flag("--start-in-frame", o->start_in_frame,
-                     "print where --gt starts in the estimate's frame (x,y,z,qx,qy,qz,qw: an "
-                     "--initial-pose for replay --prior-map)");
+                     "print the alignment and where --gt starts in the estimate's frame "
+                     "(x,y,z,qx,qy,qz,qw: an --initial-pose for replay --prior-map)");
         sub.add_option("--map", o->map, "registered map (PLY)");
         sub.add_option("--mesh", o->mesh, "true scene surfaces (PLY mesh)");
         return std::function<int()>([o] {

@@ -71,10 +71,11 @@ int runSim(const SimArgs& a) {
         o.duration_s, st.path_length_m, st.peak_rate_dps,
         st.loop_closed ? fmt::format("closed loop ({} lap{})", st.laps, st.laps > 1 ? "s" : "")
                        : std::string("open (too short to close the loop)"));
+    // On stdout, for scripts (tests/e2e/localize): what the second session should see changed.
     for (const sim::MovedObject& m : simulator.movedObjects())
-        log().info("sim: moved {} at ({:.2f}, {:.2f}, {:.2f}) by {:.2f} m, turned {:.0f} deg",
-                   m.name, m.centre_before.x(), m.centre_before.y(), m.centre_before.z(),
-                   (m.centre_after - m.centre_before).norm(), m.turn_deg);
+        std::printf("moved %s from %.3f,%.3f,%.3f to %.3f,%.3f,%.3f, turned %.1f deg\n",
+                    m.name.c_str(), m.centre_before.x(), m.centre_before.y(), m.centre_before.z(),
+                    m.centre_after.x(), m.centre_after.y(), m.centre_after.z(), m.turn_deg);
     auto sink = sim::McapSink::create(a.out, o.cameras);
     if (!sink) {
         log().error("{}", sink.status().message());
