@@ -31,6 +31,9 @@ public:
         : publisher_(publisher), session_(session) {}
     Status pose(const PoseEstimate& p) override {
         publisher_.pose(p);
+        return Status::ok();
+    }
+    Status trajectoryPose(const PoseEstimate& p) override {
         // Poses guessed while tracking is lost are not the scan's trajectory.
         if (!p.tracking_lost) session_.appendPose(live_output::trajectoryPose(p));
         return Status::ok();
@@ -134,6 +137,8 @@ void PipelineThread::handle(Request& r) {
             break;
         }
         case ScanControl::kStop:
+            // The trajectory of the last sweeps, which no match has closed yet, is the scan's.
+            check(worker_->flushTrajectory());
             out = session_->stop();
             break;
         case ScanControl::kNewScan:

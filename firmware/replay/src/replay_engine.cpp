@@ -82,11 +82,15 @@ public:
         : o_(o), outputs_(outputs), journal_(journal), live_(live) {}
 
     Status pose(const PoseEstimate& p) override {
+        if (live_) live_->pose(p);
+        return Status::ok();
+    }
+
+    Status trajectoryPose(const PoseEstimate& p) override {
         if (Status st = outputs_.addPose(p); !st.isOk()) return st;
         // Poses guessed while tracking is lost are not the scan's trajectory.
         if (journal_ && !p.tracking_lost)
             (void)journal_->appendPose(live_output::trajectoryPose(p));
-        if (live_) live_->pose(p);
         return Status::ok();
     }
 

@@ -29,8 +29,12 @@ void VizSink::keep(const Status& s) {
 }
 
 Status VizSink::pose(const PoseEstimate& p) {
-    if (failed_.isOk()) timed([&] { keep(writer_->pose(p)); });
     return next_ != nullptr ? next_->pose(p) : Status::ok();
+}
+
+Status VizSink::trajectoryPose(const PoseEstimate& p) {
+    if (failed_.isOk()) timed([&] { keep(writer_->pose(p)); });
+    return next_ != nullptr ? next_->trajectoryPose(p) : Status::ok();
 }
 
 Status VizSink::sweep(const lio::RegisteredSweep& s, std::span<const journal::MapPoint> points) {

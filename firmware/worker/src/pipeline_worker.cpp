@@ -49,6 +49,11 @@ Status PipelineWorker::finish(TimeNs deadline) {
     return consume();
 }
 
+Status PipelineWorker::flushTrajectory() {
+    lio_->flushTrajectory();
+    return consume();
+}
+
 Status PipelineWorker::run(TimeNs horizon, TimeNs deadline) {
     for (std::uint64_t n = 1;; ++n) {
         if ((n % 64) == 0 && deadline != std::numeric_limits<TimeNs>::max() &&
@@ -98,6 +103,9 @@ Status PipelineWorker::consume() {
     if (localizer_) return consumeLocalized(lio_->takePoses(), lio_->takeSweeps());
     for (const PoseEstimate& p : lio_->takePoses()) {
         if (Status s = sink_.pose(p); !s.isOk()) return s;
+    }
+    for (const PoseEstimate& p : lio_->takeTrajectory()) {
+        if (Status s = sink_.trajectoryPose(p); !s.isOk()) return s;
     }
     for (const lio::RegisteredSweep& s : lio_->takeSweeps()) {
         if (Status st = handOn(s); !st.isOk()) return st;

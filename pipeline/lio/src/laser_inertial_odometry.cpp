@@ -54,6 +54,7 @@ void LaserInertialOdometry::addImu(const ImuSample& sample) {
         if (!integrator_.lastScanPose()) {
             ref.tracking_lost = monitor_.lost();
             poses_.push_back(ref);
+            trajectory_.add(ref);
             ++stats_.poses_out;
             return;
         }
@@ -63,6 +64,7 @@ void LaserInertialOdometry::addImu(const ImuSample& sample) {
     if (pose.isOk()) {
         pose->tracking_lost = monitor_.lost();
         poses_.push_back(*pose);
+        trajectory_.add(*pose);
         ++stats_.poses_out;
     }
 }
@@ -95,11 +97,12 @@ void LaserInertialOdometry::addVisualPose(const PoseEstimate& pose, const Matrix
         static_cast<TimeNs>(config_.visual_feedback_interval_s * 1e9))
         return;
     last_visual_feedback_t_ = pose.t_host;
+    PoseEstimate anchor = pose;
+    anchor.source = PoseSource::kVisualOdometry;
+    trajectory_.anchor(anchor, [this](TimeNs t) { return carriedPose(t); });
     if (config_.imu_feedback &&
         !predictor_.correct(pose.t_host, pose.T_world_body, solved_world).isOk())
         ++stats_.rejected;
-    PoseEstimate anchor = pose;
-    anchor.source = PoseSource::kVisualOdometry;
     integrator_.setScanPose(anchor);
 }
 
@@ -135,10 +138,18 @@ Matrix6d LaserInertialOdometry::visualSolved(TimeNs t_from, TimeNs t_to) const {
 }
 
 void LaserInertialOdometry::finish() {
-    if (!config_.laser_enabled) return;
-    processSweeps();
-    scan::Sweep last = assembler_->flush();
-    if (!last.empty()) matchSweep(std::move(last));
+    if (config_.laser_enabled) {
+        processSweeps();
+        scan::Sweep last = assembler_->flush();
+        if (!last.empty()) matchSweep(std::move(last));
+    }
+    trajectory_.flush();
+}
+
+Result<Eigen::Isometry3d> LaserInertialOdometry::carriedPose(TimeNs t) const {
+    auto p = integrator_.poseAt(t);
+    if (!p) return p.status();
+    return p->T_world_body;
 }
 
 void LaserInertialOdometry::processSweeps() {
@@ -235,12 +246,15 @@ void LaserInertialOdometry::matchSweep(scan::Sweep sweep) {
         r.pose.solved_dof_mask = 0;
         r.solved_projector_world.setZero();
     }
-    if (config_.imu_feedback && !reference && !r.first_sweep)
-        feedBack(sweep, r, verdict.fits_map && r.match.enough_matches, visual);
     PoseEstimate scan_pose = r.pose;
     scan_pose.t_host = sweep.t_start;
     scan_pose.source = PoseSource::kScanMatching;
     scan_pose.tracking_lost = verdict.lost;
+    // The kept trajectory's segment since the previous match, closed by this one before the
+    // feedback re-propagates the prediction from t_start.
+    trajectory_.anchor(scan_pose, [this](TimeNs t) { return carriedPose(t); });
+    if (config_.imu_feedback && !reference && !r.first_sweep)
+        feedBack(sweep, r, verdict.fits_map && r.match.enough_matches, visual);
     integrator_.setScanPose(scan_pose);
 
     RegisteredSweep reg;
@@ -332,6 +346,8 @@ std::vector<PoseEstimate> LaserInertialOdometry::takePoses() {
     out.swap(poses_);
     return out;
 }
+
+std::vector<PoseEstimate> LaserInertialOdometry::takeTrajectory() { return trajectory_.take(); }
 
 std::vector<RegisteredSweep> LaserInertialOdometry::takeSweeps() {
     std::vector<RegisteredSweep> out;

@@ -36,6 +36,8 @@ public:
                                                                  worker::WorkerSink* next);
 
     [[nodiscard]] Status pose(const PoseEstimate& pose) override;
+    // /pose and /tf hold the trajectory the scan keeps (as trajectory.tum).
+    [[nodiscard]] Status trajectoryPose(const PoseEstimate& pose) override;
     bool wantsSweeps() const override { return next_ == nullptr || next_->wantsSweeps(); }
     [[nodiscard]] Status sweep(const lio::RegisteredSweep& sweep,
                                std::span<const journal::MapPoint> points) override;

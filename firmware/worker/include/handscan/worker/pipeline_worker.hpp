@@ -33,8 +33,12 @@ namespace handscan::worker {
 class WorkerSink {
 public:
     virtual ~WorkerSink() = default;
-    // Every 200 Hz integrated pose.
+    // Every 200 Hz integrated pose as it is estimated: the real-time output (the live display).
     [[nodiscard]] virtual Status pose(const PoseEstimate& pose) = 0;
+    // The same poses once the next scan match is known, corrected to meet the matches on both
+    // sides (fusion::TrajectorySmoother), a sweep or two later: the trajectory the scan keeps
+    // (journal, trajectory.tum, export). Each pose exactly once, in time order.
+    [[nodiscard]] virtual Status trajectoryPose(const PoseEstimate& pose) = 0;
     // False: registered sweeps are not wanted now (between scans), so they are not coloured.
     virtual bool wantsSweeps() const { return true; }
     // A registered sweep and its coloured full-resolution map points.
@@ -85,6 +89,9 @@ public:
                                  TimeNs deadline = std::numeric_limits<TimeNs>::max());
     // End of input: every queued sample, then the last partial sweep.
     [[nodiscard]] Status finish(TimeNs deadline = std::numeric_limits<TimeNs>::max());
+    // Hands the trajectory poses still held back to the sink as they were output (the scan
+    // stops: its last seconds are not left out of the journal).
+    [[nodiscard]] Status flushTrajectory();
     // A new scan: a new world frame and an empty map (the queued samples stay).
     void reset();
 

@@ -23,6 +23,7 @@
 #include "handscan/core/config.hpp"
 #include "handscan/core/samples.hpp"
 #include "handscan/fusion/tracking_monitor.hpp"
+#include "handscan/fusion/trajectory_smoother.hpp"
 #include "handscan/fusion/transform_integrator.hpp"
 #include "handscan/imu/imu_predictor.hpp"
 #include "handscan/lio/motion_override.hpp"
@@ -110,11 +111,18 @@ public:
     // (only increments are used, section 7) with the directions it solved as a world-axis
     // projector (section 8). Poses of a bypassed camera are simply not given.
     void addVisualPose(const PoseEstimate& pose, const Matrix6d& solved_world);
-    // End of input: assembles and matches the last partial sweep.
+    // End of input: assembles and matches the last partial sweep; flushes the trajectory.
     void finish();
 
-    // The 200 Hz integrated poses produced since the last call (one per IMU sample once aligned).
+    // The 200 Hz integrated poses produced since the last call (one per IMU sample once aligned):
+    // the real-time output (the live display).
     std::vector<PoseEstimate> takePoses();
+    // The same poses once the match after them is known, corrected to meet the matches on both
+    // sides (fusion::TrajectorySmoother): the trajectory the scan keeps. Each pose exactly once,
+    // in time order, a sweep or two after takePoses() gave it.
+    std::vector<PoseEstimate> takeTrajectory();
+    // Hands on the poses takeTrajectory() still holds back, as they were output (a stopped scan).
+    void flushTrajectory() { trajectory_.flush(); }
     // Registered sweeps since the last call, in order.
     std::vector<RegisteredSweep> takeSweeps();
 
@@ -131,6 +139,8 @@ public:
 
 private:
     void processSweeps();
+    // The pose at t carried forward from the newest anchor (the real-time output's chain).
+    Result<Eigen::Isometry3d> carriedPose(TimeNs t) const;
     void matchSweep(scan::Sweep sweep);
     // Feedback to the IMU predictor from one match (section 4.2), `trusted`: the match passed
     // the tracking monitor; else every direction is unsolved.
@@ -154,6 +164,7 @@ private:
     std::unique_ptr<scan::LaserOdometry> odometry_;
     fusion::TrackingMonitor monitor_;
     std::vector<PoseEstimate> poses_;
+    fusion::TrajectorySmoother trajectory_;
     std::vector<RegisteredSweep> sweeps_;
     TimeNs last_unknown_pose_t_ = 0;
     // The solved subspace of the last feedback in world axes (rot, trans). Before the first one
