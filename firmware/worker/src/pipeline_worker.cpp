@@ -100,7 +100,8 @@ void PipelineWorker::process(sources::Sample& sample) {
 }
 
 Status PipelineWorker::consume() {
-    if (localizer_) return consumeLocalized(lio_->takePoses(), lio_->takeSweeps());
+    if (localizer_)
+        return consumeLocalized(lio_->takePoses(), lio_->takeTrajectory(), lio_->takeSweeps());
     for (const PoseEstimate& p : lio_->takePoses()) {
         if (Status s = sink_.pose(p); !s.isOk()) return s;
     }
@@ -123,6 +124,7 @@ PoseEstimate moved(const Eigen::Isometry3d& T, PoseEstimate p) {
 }  // namespace
 
 Status PipelineWorker::consumeLocalized(std::vector<PoseEstimate> poses,
+                                        std::vector<PoseEstimate> trajectory,
                                         std::vector<lio::RegisteredSweep> sweeps) {
     // Section 9: the odometry's sweeps (those it trusts) go to the localizer first, so that the
     // outputs of this batch use the newest estimate of the odometry's place in the prior map.
@@ -135,8 +137,9 @@ Status PipelineWorker::consumeLocalized(std::vector<PoseEstimate> poses,
     }
     const Eigen::Isometry3d& T = localizer_->priorFromOdom();
     if (!localizer_->locked()) {
-        // Nothing is merged before the lock; the poses wait to be moved into the prior's frame.
-        for (PoseEstimate& p : poses) poses_before_lock_.push_back(std::move(p));
+        // Nothing is merged before the lock: the real-time poses have no place on the prior map
+        // yet, the trajectory's wait to be moved into the prior's frame.
+        for (PoseEstimate& p : trajectory) poses_before_lock_.push_back(std::move(p));
         while (poses_before_lock_.size() > config_.max_poses_before_lock)
             poses_before_lock_.pop_front();
         for (const lio::RegisteredSweep& s : sweeps) {
@@ -146,11 +149,15 @@ Status PipelineWorker::consumeLocalized(std::vector<PoseEstimate> poses,
         }
         return Status::ok();
     }
-    for (; !poses_before_lock_.empty(); poses_before_lock_.pop_front()) {
-        if (Status st = sink_.pose(moved(T, poses_before_lock_.front())); !st.isOk()) return st;
-    }
     for (const PoseEstimate& p : poses) {
         if (Status st = sink_.pose(moved(T, p)); !st.isOk()) return st;
+    }
+    for (; !poses_before_lock_.empty(); poses_before_lock_.pop_front()) {
+        const PoseEstimate p = moved(T, poses_before_lock_.front());
+        if (Status st = sink_.trajectoryPose(p); !st.isOk()) return st;
+    }
+    for (const PoseEstimate& p : trajectory) {
+        if (Status st = sink_.trajectoryPose(moved(T, p)); !st.isOk()) return st;
     }
     for (const lio::RegisteredSweep& s : sweeps) {
         if (Status st = handOn(s); !st.isOk()) return st;

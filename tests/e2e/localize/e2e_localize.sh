@@ -1,8 +1,8 @@
 #!/usr/bin/env bash
 # Localization on an existing map (section 9, issue 14) end to end: a 40 s house walk is session 1
 # (replayed: its trajectory, journal and feature map); session 2 walks the same house from half
-# way round the loop (upstairs) with one of its ten pieces of furniture moved (--scene-change 1,
-# 10 %), and is replayed with --prior-map on session 1 and a start hint 1 m and 15 deg off the
+# way round the loop (upstairs) with one of its eight pieces of furniture moved (--scene-change
+# 1), and is replayed with --prior-map on session 1 and a start hint 1 m and 15 deg off the
 # truth. Checked:
 #  - the localizer locked (stats.json localization.locked) and its tracking matches were used;
 #  - session 2's trajectory in session 1's frame: ATE against its ground truth moved into that

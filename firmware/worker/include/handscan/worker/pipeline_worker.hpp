@@ -66,8 +66,8 @@ struct WorkerConfig {
     // none: the prior scan's start.
     std::optional<Eigen::Isometry3d> initial_pose;
     localize::LocalizerConfig localizer;
-    // Poses kept while not locked, handed on in the prior map's frame at the lock (beyond this
-    // many the oldest are dropped: 60 s at 200 Hz).
+    // Trajectory poses kept while not locked, handed on in the prior map's frame at the lock
+    // (beyond this many the oldest are dropped: 60 s at 200 Hz).
     std::size_t max_poses_before_lock = 12000;
 };
 
@@ -115,6 +115,7 @@ private:
     [[nodiscard]] Status consume();
     // consume() of a session localized on a prior map: outputs in its frame, none before lock.
     [[nodiscard]] Status consumeLocalized(std::vector<PoseEstimate> poses,
+                                          std::vector<PoseEstimate> trajectory,
                                           std::vector<lio::RegisteredSweep> sweeps);
     [[nodiscard]] Status handOn(const lio::RegisteredSweep& s);
     template <typename Fn>
