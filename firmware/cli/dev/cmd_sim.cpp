@@ -161,6 +161,21 @@ const RegisterCommand kSim{
                        "lose this many tracking-camera frames");
         sub.add_option("--fault-reconnect", a->options.faults.tcp_reconnects,
                        "drop the Hokuyo TCP connection this many times");
+        // A harder world for the laser (tools/sim laser_hazards.hpp); the cameras do not see it.
+        sub.add_option("--people", a->options.hazards.people,
+                       "people walking the operator's path (half ahead, half coming towards)")
+            ->check(CLI::Range(0, 50));
+        sub.add_option("--glass", a->options.hazards.glass_panes,
+                       "glass panes beside the path (specular, mirrored and transmitted beams)")
+            ->check(CLI::Range(0, 50));
+        sub.add_flag("--mixed-pixels", a->options.hazards.mixed_pixels,
+                     "beams straddling a depth edge report a range between the two surfaces");
+        sub.add_option("--dark-surfaces", a->options.hazards.dark_surfaces,
+                       "share of the scene's materials black at 905 nm (dropouts), 0-1")
+            ->check(CLI::Range(0.0, 1.0));
+        sub.add_option("--range-noise", a->options.hazards.range_noise_scale,
+                       "range noise as a multiple of the datasheet's")
+            ->check(CLI::Range(0.0, 20.0));
         sub.add_option("--device", a->device, "device.yaml (default: <config dir>/device.yaml)");
         sub.add_option("--calibration", a->calibration,
                        "calibration.yaml (default: <config dir>/calibration.yaml)");

@@ -48,7 +48,7 @@ PoseRecord toPoseRecord(const PoseEstimate& pose) {
             return toPoseRecord(pose, pose.solved_dof_mask, 0);
         case PoseSource::kScanMatching:
         case PoseSource::kIntegrated:
-            return toPoseRecord(pose, 0, pose.solved_dof_mask);
+            return toPoseRecord(pose, pose.visual_solved_dof_mask, pose.solved_dof_mask);
         case PoseSource::kImuPrediction:
             break;
     }

@@ -63,6 +63,10 @@ void LaserInertialOdometry::addImu(const ImuSample& sample) {
     auto pose = integrator_.poseAt(sample.t_host);
     if (pose.isOk()) {
         pose->tracking_lost = monitor_.lost();
+        // The camera's directions while its frames keep coming (a bypassed camera gives none).
+        if (!visual_.empty() &&
+            sample.t_host - visual_.back().t <= static_cast<TimeNs>(config_.visual_max_gap_s * 1e9))
+            pose->visual_solved_dof_mask = visual_.back().mask;
         poses_.push_back(*pose);
         trajectory_.add(*pose);
         ++stats_.poses_out;
@@ -86,7 +90,7 @@ void LaserInertialOdometry::addScan(const LaserScan& scan) {
 void LaserInertialOdometry::addVisualPose(const PoseEstimate& pose, const Matrix6d& solved_world) {
     if (!predictor_.initialized() || !pose.T_world_body.matrix().allFinite()) return;
     if (!visual_.empty() && pose.t_host <= visual_.back().t) return;  // out of order
-    visual_.push_back({pose.t_host, solved_world, pose.T_world_body});
+    visual_.push_back({pose.t_host, solved_world, pose.T_world_body, pose.solved_dof_mask});
     // Long enough for a sweep matched a couple of sweeps after its start (the integrator's too).
     while (!visual_.empty() && visual_.front().t < pose.t_host - 5 * kNsPerSec) visual_.pop_front();
     if (config_.laser_enabled || motion_) return;

@@ -439,5 +439,17 @@ TEST(DisplayVoxelFilter, KeepsTheFirstPointOfEachNewVoxel) {
     EXPECT_EQ(f.add(b).size(), 2u);
 }
 
+TEST(LiveMap, AnIntegratedPoseCarriesTheScanAndCameraColumns) {
+    PoseEstimate p;
+    p.source = PoseSource::kIntegrated;
+    p.solved_dof_mask = 0x3F & ~0x20;         // the laser: a corridor's axis (z translation) open
+    p.visual_solved_dof_mask = 0x3F & ~0x04;  // the camera: yaw open
+    const PoseRecord r = toPoseRecord(p);
+    EXPECT_EQ(r.scan_dof_mask, 0x1F);
+    EXPECT_EQ(r.vio_dof_mask, 0x3B);
+    p.source = PoseSource::kImuPrediction;  // before the first match: nothing solved
+    EXPECT_EQ(toPoseRecord(p).vio_dof_mask, 0);
+}
+
 }  // namespace
 }  // namespace handscan::shm

@@ -148,7 +148,15 @@ Eigen::Isometry3d Simulator::colourCameraPose(double t) const {
 Status Simulator::run(RecordingSink& sink, const std::function<void(double)>& progress) {
     const double T = opt_.duration_s;
     const TimeNs h0 = opt_.host_start_ns;
-    LaserModel laser(dev_.laser, *raycaster_, Rng(opt_.seed, "laser"));
+    std::unique_ptr<LaserHazards> hazards;
+    LaserConfig laser_config = dev_.laser;
+    if (opt_.hazards.any()) {
+        hazards = std::make_unique<LaserHazards>(opt_.hazards, trajectory_, raycaster_->world(),
+                                                 Rng(opt_.seed, "hazards"));
+        laser_config.noise_base_m *= opt_.hazards.range_noise_scale;
+        laser_config.noise_per_m *= opt_.hazards.range_noise_scale;
+    }
+    LaserModel laser(laser_config, *raycaster_, Rng(opt_.seed, "laser"), hazards.get());
     HokuyoStream hokuyo(dev_.hokuyo, dev_.laser, h0, Rng(opt_.seed, "hokuyo-tcp"));
     ImuModel imu(dev_.imu, cal_.tracking.T_cam_imu, dev_.xsens.rate_hz, Rng(opt_.seed, "imu"));
     XsensStream xsens(dev_.xsens, h0, Rng(opt_.seed, "xsens-serial"));

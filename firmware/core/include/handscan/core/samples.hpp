@@ -89,6 +89,10 @@ struct PoseEstimate {
     Eigen::Matrix<double, 6, 6> covariance =
         Eigen::Matrix<double, 6, 6>::Identity();  // (rot, trans)
     std::uint8_t solved_dof_mask = 0x3F;
+    // The directions the visual-inertial odometry solved at this pose (section 8): on the 200 Hz
+    // output the newest camera frame's while frames keep coming, 0 without a camera or while it
+    // is bypassed (the live map's VIO column).
+    std::uint8_t visual_solved_dof_mask = 0;
     PoseSource source = PoseSource::kIntegrated;
     // The pipeline's tracking monitor has lost the map (fusion::TrackingMonitor): the pose is
     // the IMU prediction's guess; nothing placed with it may enter the map or the journal.

@@ -174,6 +174,7 @@ private:
         TimeNs t;
         Matrix6d solved_world;
         Eigen::Isometry3d T_chain;  // the VIO's pose in its own chain
+        std::uint8_t mask;          // its solved directions, world axes (as the VIO reports)
     };
     // The VIO's chain pose at t, interpolated (nullopt outside the kept frames).
     std::optional<Eigen::Isometry3d> visualPoseAt(TimeNs t) const;

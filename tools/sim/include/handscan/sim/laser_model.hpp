@@ -6,10 +6,13 @@
 #pragma once
 
 #include <Eigen/Geometry>
+#include <array>
 #include <cstdint>
 #include <functional>
+#include <optional>
 #include <vector>
 
+#include "handscan/sim/laser_hazards.hpp"
 #include "handscan/sim/random.hpp"
 #include "handscan/sim/raycaster.hpp"
 
@@ -44,21 +47,36 @@ struct LaserScanTruth {
 
 class LaserModel {
 public:
-    LaserModel(const LaserConfig& config, const Raycaster& raycaster, Rng rng);
+    // `hazards` (may be null): people, glass, dark surfaces and mixed pixels (laser_hazards.hpp).
+    LaserModel(const LaserConfig& config, const Raycaster& raycaster, Rng rng,
+               LaserHazards* hazards = nullptr);
 
     double stepPeriod() const { return cfg_.scan_period_s / cfg_.steps_per_rev; }
     // Beam direction of a step in the laser frame {L}: x at the front step, rotating about +z.
-    Eigen::Vector3f beam(int step) const;
+    Eigen::Vector3f beam(double step) const;
     // One scan whose step 0 is measured at simulation time t0. `pose(t)` gives T_world_laser.
     LaserScanTruth scan(double t0, const std::function<Eigen::Isometry3d(double)>& pose);
 
 private:
+    // A mixed pixel: the half-step sub-beams' echoes this far apart merge into one pulse.
+    static constexpr double kMixedMinSpread_m = 0.05;
+    static constexpr double kMixedMaxSpread_m = 1.0;
+    bool mixedPixels() const { return hazards_ != nullptr && hazards_->options().mixed_pixels; }
+    std::optional<LaserEcho> sceneEcho(const RayHit& hit, const Eigen::Vector3f& dir) const;
+    // The centre beam's echo merged with its footprint halves' (step k) at a depth edge.
+    LaserEcho mixedEcho(const LaserEcho& centre, std::size_t k) const;
+
     LaserConfig cfg_;
     const Raycaster& rc_;
     Rng rng_;
+    LaserHazards* hazards_;
     std::vector<Eigen::Vector3f> beams_;
     std::vector<Ray> rays_;
     std::vector<RayHit> hits_;
+    std::array<std::vector<Eigen::Vector3f>, 2> half_beams_;
+    std::array<std::vector<Ray>, 2> half_rays_;
+    std::array<std::vector<RayHit>, 2> half_hits_;
+    std::vector<Eigen::Matrix3f> step_rotations_;  // the laser's orientation at each step
 };
 
 }  // namespace handscan::sim
