@@ -1,7 +1,7 @@
 // Point-cloud file formats surveyors' tools open: PLY (binary little-endian: x y z as float,
 // red green blue as uchar, intensity as ushort, time as double, optionally session as ushort),
 // LAS 1.4 with point data record format 7 (RGB + GPS time, 36 bytes; the point source ID is the
-// session) and ASTM E57 (one Data3D: x y z as double, intensity,
+// session) and ASTM E57 (one Data3D: x y z as double or scaled integers, intensity,
 // RGB with isColorInvalid, timeStamp; the trajectory as extension data). The points stream through
 // once: the count is known up front (from the journal), the bounds are gathered while writing and
 // patched into the header at the end.
@@ -63,6 +63,9 @@ struct E57Options {
     std::string sensor_serial = "unknown";
     std::string software_version;
     std::vector<journal::TrajectoryPose> trajectory;  // written as handscan:trajectory
+    // > 0: cartesianX/Y/Z as ScaledInteger of this many metres per step (32-bit raw values,
+    // half the bytes of doubles; e.g. 1e-4: 0.1 mm steps, ±214 km); 0: Float double.
+    double coordinate_scale = 0.0;
 };
 
 // The one PLY point-cloud writer of the tree (exports, replay's map.ply and --dump-sweeps, the
@@ -82,7 +85,7 @@ std::unique_ptr<PointFileWriter> makeE57Writer(SafeFileWriter& file, E57Options 
 // Sizes, for the free-space check before writing.
 std::uint64_t plyBytes(std::uint64_t points);
 std::uint64_t lasBytes(std::uint64_t points);
-std::uint64_t e57Bytes(std::uint64_t points, std::uint64_t trajectory_poses);
+std::uint64_t e57Bytes(std::uint64_t points, std::uint64_t trajectory_poses, bool scaled = false);
 constexpr std::size_t kPlyPointRecordBytes = 3 * 4 + 3 + 2 + 8;  // x y z, rgb, intensity, time
 constexpr std::size_t kLasHeaderBytes = 375;
 constexpr std::size_t kLasPointRecordBytes = 36;
