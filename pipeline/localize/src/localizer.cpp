@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <numbers>
+#include <utility>
 
 #include "handscan/core/se3.hpp"
 
@@ -43,7 +44,7 @@ Localizer::Localizer(const LocalizerConfig& config, std::shared_ptr<const PriorM
                      std::optional<Eigen::Isometry3d> hint)
     : config_(config),
       prior_(std::move(prior)),
-      hint_(hint),
+      hint_(std::move(hint)),
       matcher_(config.matcher),
       stack_(config.stack) {}
 
