@@ -12,6 +12,7 @@
 #include "handscan/pipeline_daemon/export_job.hpp"
 #include "handscan/pipeline_daemon/pipeline_thread.hpp"
 #include "handscan/pipeline_daemon/systemd_notifier.hpp"
+#include "handscan/shm/export_preview.hpp"
 
 namespace handscan::pipeline_daemon {
 
@@ -66,6 +67,7 @@ Status PipelineDaemon::open() {
     if (!publisher.isOk()) return publisher.status();
 
     parts_ = std::make_unique<Parts>(options_.usb_paths, options_.usb_eject_request);
+    parts_->exports.setPreviewPath(shm::exportPreviewPath(options_.shm_name));
     const std::string metadata =
         jsonText({{"source", "handscan-pipeline"}, {"device_config", device_.source_file}});
     auto session = std::make_unique<ScanSession>(journal_dir, options_.journal, metadata);
