@@ -31,6 +31,9 @@ PipelineDaemon::PipelineDaemon(DaemonOptions options, std::unique_ptr<DeviceLink
 
 PipelineDaemon::~PipelineDaemon() {
     if (!parts_) return;
+    // The last export's picture goes with the live-map region it was named after.
+    std::error_code ec;
+    std::filesystem::remove(shm::exportPreviewPath(options_.shm_name), ec);
     for (auto& s : parts_->sources) s->stop();
     if (parts_->worker) parts_->worker->stop();
 }

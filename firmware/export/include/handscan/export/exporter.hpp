@@ -30,7 +30,7 @@ struct ExportOptions {
     std::string pdf_tool = "weasyprint";
     // Non-empty: the report's map from above (by height, with the trajectory) also as this PNG,
     // e.g. on the device's storage for the UI's export screen (written after the export files).
-    std::string preview_png;
+    std::string preview_png = {};
     // E57 coordinates: 0 doubles; > 0 scaled integers of this many metres (E57Options).
     double e57_scale_m = 0.0;
 };
