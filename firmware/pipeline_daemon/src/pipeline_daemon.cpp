@@ -12,6 +12,7 @@
 #include "handscan/pipeline_daemon/export_job.hpp"
 #include "handscan/pipeline_daemon/pipeline_thread.hpp"
 #include "handscan/pipeline_daemon/systemd_notifier.hpp"
+#include "handscan/prior_map/prior_map_loader.hpp"
 #include "handscan/shm/export_preview.hpp"
 
 namespace handscan::pipeline_daemon {
@@ -85,6 +86,17 @@ Status PipelineDaemon::open() {
         return out;
     };
     inputs.export_status = [this] { return parts_->exports.status(); };
+    if (!options_.prior_map_dir.empty()) {
+        auto prior = prior_map::loadPriorMap(options_.prior_map_dir);
+        if (!prior.isOk()) return prior.status();
+        inputs.prior_map = *prior;
+        if (!options_.initial_pose.empty()) {
+            auto pose = prior_map::parsePose(options_.initial_pose);
+            if (!pose.isOk())
+                return Status(pose.status().code(), "--initial-pose: " + pose.status().message());
+            inputs.initial_pose = *pose;
+        }
+    }
     parts_->worker =
         std::make_unique<PipelineThread>(device_, calibration_, std::move(*publisher),
                                          std::move(session), queues_, std::move(inputs));

@@ -109,6 +109,7 @@ Simulator::Simulator(const SimOptions& options, const DeviceConfig& device,
         opt_.cameras = false;
     }
     scene_ = loadScene(options.scene);
+    moved_ = moveObjects(scene_, options.scene_change, options.seed);
     raycaster_ = std::make_unique<Raycaster>(scene_.world);
     shaft_ = std::make_unique<ShaftModel>(dev_.shaft);
 
@@ -117,6 +118,7 @@ Simulator::Simulator(const SimOptions& options, const DeviceConfig& device,
         w.duration_s = options.duration_s;
         w.style = options.trajectory == "walk" ? MotionStyle::kWalk : MotionStyle::kAggressive;
         w.seed = options.seed;
+        w.start_fraction = options.start_at;
         const auto& loop = scene_.walk_loop.empty() ? fallbackLoop(scene_.world) : scene_.walk_loop;
         WalkPlan plan = makeWalk(loop, w);
         trajectory_ = std::move(plan.trajectory);

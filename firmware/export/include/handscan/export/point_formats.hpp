@@ -1,7 +1,7 @@
 // Point-cloud file formats surveyors' tools open: PLY (binary little-endian: x y z as float,
-// red green blue as uchar, intensity as ushort, time as double), LAS 1.4 with point data record
-// format 7 (RGB + GPS time, 36 bytes) and ASTM E57 (one Data3D: x y z as double or scaled
-// integers, intensity,
+// red green blue as uchar, intensity as ushort, time as double, optionally session as ushort),
+// LAS 1.4 with point data record format 7 (RGB + GPS time, 36 bytes; the point source ID is the
+// session) and ASTM E57 (one Data3D: x y z as double or scaled integers, intensity,
 // RGB with isColorInvalid, timeStamp; the trajectory as extension data). The points stream through
 // once: the count is known up front (from the journal), the bounds are gathered while writing and
 // patched into the header at the end.
@@ -73,8 +73,11 @@ struct E57Options {
 // one per element, without "comment ".
 inline const std::vector<std::string> kPlyWorldComment = {
     "handscan colourised point cloud, metres, world frame"};
+// `with_session`: one more property, `ushort session` (MapPoint::session: a merged
+// multi-session map).
 std::unique_ptr<PointFileWriter> makePlyWriter(SafeFileWriter& file,
-                                               std::vector<std::string> comment = kPlyWorldComment);
+                                               std::vector<std::string> comment = kPlyWorldComment,
+                                               bool with_session = false);
 std::unique_ptr<PointFileWriter> makeLasWriter(SafeFileWriter& file, LasOptions options = {});
 // Installs its per-page CRC-32C check on `file`'s read-back.
 std::unique_ptr<PointFileWriter> makeE57Writer(SafeFileWriter& file, E57Options options);
