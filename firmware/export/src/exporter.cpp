@@ -338,6 +338,16 @@ Result<ExportReport> exportScan(const std::string& source, const std::string& ta
         const std::string html =
             scan_report->html(js, name, count, options.voxel_m, names,
                               readText(fs::path(*journal_path).parent_path() / "stats.json"));
+        if (!options.preview_png.empty()) {
+            // The first view (from above, by height): what the UI's export screen shows.
+            const auto views = scan_report->images(js);
+            if (!views.empty() && writeSmallFile(options.preview_png,
+                                                 std::string(views.front().second.png.begin(),
+                                                             views.front().second.png.end()),
+                                                 {})
+                                      .isOk())
+                report.preview_png = options.preview_png;
+        }
         const std::string path = (out_dir / "report.html").string();
         if (Status s = writeSmallFile(path, html, options.faults); !s.isOk()) return s;
         report.files.push_back(path);

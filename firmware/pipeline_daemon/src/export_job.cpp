@@ -35,6 +35,7 @@ void ExportJob::run(std::string source, std::string target) {
         stage_ = stage;
     };
     const bool usb = target.empty() || target == "usb";
+    options.preview_png = preview_png_;
     log().info("export of {} to {}", source, usb ? "the USB stick" : target);
     auto report = usb ? exporter::exportToUsb(source, options, usb_paths_)
                       : exporter::exportScan(source, target, options);

@@ -13,6 +13,7 @@
 #include "handscan/pipeline_daemon/pipeline_thread.hpp"
 #include "handscan/pipeline_daemon/systemd_notifier.hpp"
 #include "handscan/prior_map/prior_map_loader.hpp"
+#include "handscan/shm/export_preview.hpp"
 
 namespace handscan::pipeline_daemon {
 
@@ -31,6 +32,9 @@ PipelineDaemon::PipelineDaemon(DaemonOptions options, std::unique_ptr<DeviceLink
 
 PipelineDaemon::~PipelineDaemon() {
     if (!parts_) return;
+    // The last export's picture goes with the live-map region it was named after.
+    std::error_code ec;
+    std::filesystem::remove(shm::exportPreviewPath(options_.shm_name), ec);
     for (auto& s : parts_->sources) s->stop();
     if (parts_->worker) parts_->worker->stop();
 }
@@ -67,6 +71,7 @@ Status PipelineDaemon::open() {
     if (!publisher.isOk()) return publisher.status();
 
     parts_ = std::make_unique<Parts>(options_.usb_paths, options_.usb_eject_request);
+    parts_->exports.setPreviewPath(shm::exportPreviewPath(options_.shm_name));
     const std::string metadata =
         jsonText({{"source", "handscan-pipeline"}, {"device_config", device_.source_file}});
     auto session = std::make_unique<ScanSession>(journal_dir, options_.journal, metadata);

@@ -28,6 +28,9 @@ struct ExportOptions {
     // The HTML-to-PDF program that makes report.pdf of report.html (name on PATH or a path);
     // empty: no PDF. When it is missing or fails the export still succeeds, with a note.
     std::string pdf_tool = "weasyprint";
+    // Non-empty: the report's map from above (by height, with the trajectory) also as this PNG,
+    // e.g. on the device's storage for the UI's export screen (written after the export files).
+    std::string preview_png = {};
     // E57 coordinates: 0 doubles; > 0 scaled integers of this many metres (E57Options).
     double e57_scale_m = 0.0;
 };
@@ -46,6 +49,7 @@ struct ExportReport {
     // What the export left out and why (e.g. "no report.pdf: 'weasyprint' is not installed").
     std::vector<std::string> notes;
     double pdf_seconds = 0.0;  // rendering report.pdf
+    std::string preview_png;   // ExportOptions::preview_png when it was written
 };
 
 // `source` is a journal file or a directory holding `journal.hsj`.
