@@ -30,17 +30,6 @@ namespace {
 
 namespace fs = std::filesystem;
 
-std::span<const std::uint8_t> asBytes(const std::string& s) {
-    return {reinterpret_cast<const std::uint8_t*>(s.data()), s.size()};
-}
-
-Status writeSmallFile(const std::string& path, const std::string& text, const WriteFaults& faults) {
-    SafeFileWriter f(path, faults);
-    if (Status s = f.open(); !s.isOk()) return s;
-    if (Status s = f.write(asBytes(text)); !s.isOk()) return s;
-    return f.commit();
-}
-
 // A small text file's content; empty when it is absent or unreadable.
 std::string readText(const fs::path& path) {
     std::ifstream f(path, std::ios::binary);
@@ -341,12 +330,13 @@ Result<ExportReport> exportScan(const std::string& source, const std::string& ta
         if (!options.preview_png.empty()) {
             // The first view (from above, by height): what the UI's export screen shows.
             const auto views = scan_report->images(js);
-            if (!views.empty() && writeSmallFile(options.preview_png,
-                                                 std::string(views.front().second.png.begin(),
-                                                             views.front().second.png.end()),
-                                                 {})
-                                      .isOk())
-                report.preview_png = options.preview_png;
+            if (!views.empty()) {
+                const auto& png = views.front().second.png;
+                if (writeSmallFile(options.preview_png,
+                                   {reinterpret_cast<const char*>(png.data()), png.size()})
+                        .isOk())
+                    report.preview_png = options.preview_png;
+            }
         }
         const std::string path = (out_dir / "report.html").string();
         if (Status s = writeSmallFile(path, html, options.faults); !s.isOk()) return s;

@@ -32,15 +32,6 @@ Result<std::vector<Eigen::Vector3f>> samplePoints(const journal::JournalReader& 
     return out;
 }
 
-Status writeText(const std::string& path, const std::string& text) {
-    exporter::SafeFileWriter f(path);
-    if (Status s = f.open(); !s.isOk()) return s;
-    if (Status s = f.write({reinterpret_cast<const std::uint8_t*>(text.data()), text.size()});
-        !s.isOk())
-        return s;
-    return f.commit();
-}
-
 }  // namespace
 
 Result<MergeReport> mergeSessions(const std::vector<std::string>& dirs,
@@ -149,7 +140,8 @@ Result<MergeReport> mergeSessions(const std::vector<std::string>& dirs,
               {"sessions", sessions},
               {"consistency", consistency}};
     report.sessions_json = (fs::path(out_dir) / "sessions.json").string();
-    if (Status s = writeText(report.sessions_json, jsonText(j, 2) + "\n"); !s.isOk()) return s;
+    if (Status s = exporter::writeSmallFile(report.sessions_json, jsonText(j, 2) + "\n"); !s.isOk())
+        return s;
     return report;
 }
 

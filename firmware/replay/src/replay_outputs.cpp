@@ -15,15 +15,6 @@ namespace {
 
 namespace fs = std::filesystem;
 
-Status writeText(const std::string& path, const std::string& text) {
-    exporter::SafeFileWriter f(path);
-    if (Status s = f.open(); !s.isOk()) return s;
-    if (Status s = f.write({reinterpret_cast<const std::uint8_t*>(text.data()), text.size()});
-        !s.isOk())
-        return s;
-    return f.commit();
-}
-
 Json callsJson(const std::map<std::string, CallStats>& calls) {
     Json j = Json::object();
     for (const auto& [name, c] : calls) {
@@ -282,7 +273,7 @@ Result<std::string> ReplayOutputs::writeStats(const StatsInputs& in) const {
     }
     j["per_sweep"] = std::move(per_sweep);
     const std::string path = (fs::path(dir_) / "stats.json").string();
-    if (Status s = writeText(path, jsonText(j, 2) + "\n"); !s.isOk()) return s;
+    if (Status s = exporter::writeSmallFile(path, jsonText(j, 2) + "\n"); !s.isOk()) return s;
     return path;
 }
 
