@@ -90,6 +90,8 @@ systemd units under handscan.target, udev rules, USB stick mounting and networkd
 # shlibdeps adds the libraries; these are the programs the units and scripts run.
 set(CPACK_DEBIAN_RUNTIME_PACKAGE_DEPENDS
     "adduser, systemd (>= 252), udev, init-system-helpers, mount, cage, xwayland, fonts-dejavu-core, libpam-systemd")
+# report.pdf beside report.html on every export, where weasyprint is installed (heavy: Python).
+set(CPACK_DEBIAN_RUNTIME_PACKAGE_SUGGESTS "weasyprint")
 set(CPACK_DEBIAN_RUNTIME_PACKAGE_CONTROL_EXTRA
     ${CMAKE_SOURCE_DIR}/packaging/debian/postinst ${CMAKE_SOURCE_DIR}/packaging/debian/prerm
     ${CMAKE_SOURCE_DIR}/packaging/debian/postrm ${CMAKE_SOURCE_DIR}/packaging/debian/conffiles)

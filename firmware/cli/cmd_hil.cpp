@@ -47,6 +47,9 @@ const RegisterCommand kHil{
                        "kill -9 the daemon T s into the recording and start it again; the "
                        "recovered scan is exported")
             ->check(CLI::NonNegativeNumber);
+        sub.add_option("--viz", o->viz_path,
+                       "also write the daemon's scan (journal poses and points) with the "
+                       "recording's camera frames and ground truth as a Foxglove MCAP");
         sub.add_flag("--no-hokuyo", *no_hokuyo, "no laser (the daemon finds nothing listening)");
         sub.add_flag("--no-xsens", *no_xsens, "no IMU (the daemon finds no tty)");
         sub.add_flag("--no-motor", *no_motor, "no CAN encoder (the daemon finds no CAN log)");

@@ -60,6 +60,14 @@ const RegisterCommand kReplay{
         sub.add_option("--viz", o->viz_path,
                        "also write this MCAP with standard Foxglove channels (protobuf): /map, "
                        "/sweep, /pose, /tf, /imu, /status, camera images, ground truth");
+        sub.add_option("--prior-map", o->prior_map_dir,
+                       "continue an earlier scan: localize on its output directory's feature map "
+                       "(section 9); the outputs are in its frame once locked, nothing before")
+            ->check(CLI::ExistingDirectory);
+        sub.add_option("--initial-pose", o->initial_pose,
+                       "with --prior-map: where this session starts in the prior's frame, "
+                       "x,y,z,qx,qy,qz,qw (searched a few metres and +-30 deg around; default: "
+                       "where the prior scan started)");
         sub.add_flag("--live", o->live, "publish to the live-map shared memory (the UI shows it)");
         sub.add_flag("--hold", o->hold, "with --live: keep the final state published until Ctrl-C");
         sub.add_option("--shm-name", o->shm_name,
@@ -89,6 +97,12 @@ const RegisterCommand kReplay{
                 log().error("{}", r.status().message());
                 return 1;
             }
+            if (r->prior_map && !r->locked)
+                log().warn(
+                    "replay: never locked on the prior map {}: no trajectory or map "
+                    "written (start nearer the prior scan's start, or give "
+                    "--initial-pose)",
+                    o->prior_map_dir);
             std::cout << "replayed " << r->recording_s << " s in " << r->wall_s << " s ("
                       << r->realtime_factor << "x real time): " << r->poses << " poses, "
                       << r->sweeps << " sweeps, " << r->map_points << " map points -> "

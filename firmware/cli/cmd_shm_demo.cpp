@@ -5,6 +5,7 @@
 
 #include "command_registry.hpp"
 #include "handscan/core/log.hpp"
+#include "handscan/shm/export_preview.hpp"
 #include "handscan/shm/live_map_writer.hpp"
 #include "handscan/shm_demo/demo_pipeline.hpp"
 
@@ -37,6 +38,7 @@ int runShmDemo(const ShmDemoArgs& a) {
     shm_demo::DemoOptions o;
     o.samples_per_second = a.samples_per_second;
     o.export_root = a.export_root;
+    o.preview_png = shm::exportPreviewPath(a.name);
     for (const std::string& f : a.faults) {
         if (f == "camera-dark")
             o.faults.camera_dark = true;

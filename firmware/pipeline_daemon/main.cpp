@@ -26,6 +26,13 @@ int main(int argc, char** argv) {
                    "calibration (default: <config dir>/calibration.yaml)");
     app.add_option("--journal-dir", o.journal_dir,
                    "where scans are journaled (default: storage.journal_dir)");
+    app.add_option("--prior-map", o.prior_map_dir,
+                   "continue an earlier scan: localize every scan on this scan directory "
+                   "(its feature_map.hsf) and journal it in that scan's frame once locked")
+        ->check(CLI::ExistingDirectory);
+    app.add_option("--initial-pose", o.initial_pose,
+                   "with --prior-map: where scanning starts in its frame, x,y,z,qx,qy,qz,qw "
+                   "(default: where the earlier scan started)");
     app.add_option("--shm", o.shm_name, "live-map shared-memory name")->capture_default_str();
     app.add_option("--map-capacity", o.map_capacity_points, "display-map capacity in points")
         ->capture_default_str();

@@ -40,6 +40,10 @@ std::string statusJson(const StatusTexts& t, const FrameFacts& f) {
                  {"framebuffer", {f.framebuffer_w, f.framebuffer_h}},
                  {"viewport", {f.view_px.x, f.view_px.y, f.view_px.w, f.view_px.h}},
                  {"view_proj_col_major", view_proj}};
+    const PreviewFacts& p = f.preview;
+    j["export_preview"] = {{"path", p.path},
+                           {"size", {p.width, p.height}},
+                           {"drawn", {p.drawn[0], p.drawn[1], p.drawn[2], p.drawn[3]}}};
     j["map"] = {
         {"points_drawn", f.points_drawn}, {"track_points", f.track_points}, {"epoch", f.epoch}};
     return jsonText(j, 2) + "\n";

@@ -5,6 +5,7 @@
 #include <Eigen/Core>
 #include <string>
 
+#include "export_preview.hpp"
 #include "handscan/core/status.hpp"
 #include "handscan/ui/map_renderer.hpp"
 #include "handscan/ui/status_texts.hpp"
@@ -23,6 +24,7 @@ struct FrameFacts {
     std::size_t points_drawn = 0;
     std::size_t track_points = 0;
     std::uint64_t epoch = 0;
+    PreviewFacts preview;  // the export screen's picture of the map
 };
 
 std::string statusJson(const StatusTexts& texts, const FrameFacts& facts);

@@ -15,8 +15,10 @@
 #include <limits>
 #include <thread>
 
+#include "export_preview.hpp"
 #include "gl_api.hpp"
 #include "handscan/core/log.hpp"
+#include "handscan/shm/export_preview.hpp"
 #include "handscan/shm/live_map_reader.hpp"
 #include "handscan/shm/text_field.hpp"
 #include "handscan/ui/coverage_grid.hpp"
@@ -69,7 +71,10 @@ struct PendingCommand {
 
 class UiApp {
 public:
-    explicit UiApp(UiOptions o) : o_(std::move(o)), reader_(readerOptions(o_.shm_name)) {
+    explicit UiApp(UiOptions o)
+        : o_(std::move(o)),
+          reader_(readerOptions(o_.shm_name)),
+          preview_(shm::exportPreviewPath(o_.shm_name)) {
         camera_.mode = o_.camera;
         camera_.fov_y_deg = o_.fov_y_deg;
         if (o_.camera_eye && o_.camera_target)
@@ -127,10 +132,12 @@ private:
     FrameFacts facts_;
     bool status_seen_ = false;
     std::size_t draw_budget_ = 2'000'000;
+    ExportPreview preview_;
 };
 
 UiApp::~UiApp() {
     if (coverage_texture_) glDeleteTextures(1, &coverage_texture_);
+    preview_.release();
     if (imgui_ready_) {
         ImGui_ImplOpenGL3_Shutdown();
         ImGui_ImplGlfw_Shutdown();
@@ -387,6 +394,9 @@ void UiApp::drawButtons(const ScreenLayout& l) {
                            texts_.export_line.text.c_str());
         ImGui::PopTextWrapPos();
     }
+    // The exported map as the scan report shows it, once the export is done.
+    preview_.update(status_ ? &status_->export_status : nullptr);
+    preview_.draw(w, 0.3f * l.buttons.h);
     ImGui::Separator();
     // Camera and colouring: three-way toggles in rows of big buttons.
     const float third = (w - 2 * gap) / 3;
@@ -619,6 +629,7 @@ int UiApp::finishScreenshot(bool timed_out) {
     std::string json_path = o_.status_json_path;
     if (json_path.empty())
         json_path = std::filesystem::path(o_.screenshot_path).replace_extension(".json").string();
+    facts_.preview = preview_.facts();
     if (Status s = writeTextFile(json_path, statusJson(texts_, facts_)); !s) {
         log().error("{}", s.message());
         return 1;

@@ -22,6 +22,10 @@ namespace {
 
 struct EvalOptions {
     std::string gt, est, plot, map, mesh;
+    // A second session in the first's frame: the first session's ground truth and estimate,
+    // whose alignment replaces the second's own (issue 14).
+    std::string frame_gt, frame_est;
+    bool start_in_frame = false;
     double max_gap_s = 0.25;
 };
 
@@ -45,8 +49,37 @@ int evalTrajectory(const EvalOptions& o, Eigen::Isometry3d& T_gt_est) {
                         pairs.size(), est->size(), gt->empty() ? 0.0 : gt->front().t_s,
                         gt->empty() ? 0.0 : gt->back().t_s)));
     }
-    const auto ate = eval::computeAte(pairs);
+    Eigen::Isometry3d T_frame = Eigen::Isometry3d::Identity();
+    if (!o.frame_gt.empty()) {
+        auto fgt = eval::readTum(o.frame_gt);
+        if (!fgt) return fail(fgt.status());
+        auto fest = eval::readTum(o.frame_est);
+        if (!fest) return fail(fest.status());
+        const auto frame_pairs = eval::associate(*fgt, *fest, o.max_gap_s);
+        if (frame_pairs.size() < 3)
+            return fail(
+                Status(StatusCode::kInvalidArgument,
+                       o.frame_est + ": fewer than 3 poses within " + o.frame_gt + "'s time span"));
+        T_frame = eval::computeAte(frame_pairs).T_gt_est;
+    }
+    const auto ate =
+        o.frame_gt.empty() ? eval::computeAte(pairs) : eval::computeAteWith(pairs, T_frame);
     T_gt_est = ate.T_gt_est;
+    if (o.start_in_frame) {
+        // Where the ground truth starts, in the estimate's frame (a hint for --initial-pose).
+        const Eigen::Quaterniond qa(T_gt_est.linear());
+        std::cout << fmt::format(
+            "alignment (estimate to ground truth): "
+            "{:.6f},{:.6f},{:.6f},{:.9f},{:.9f},{:.9f},{:.9f}\n",
+            T_gt_est.translation().x(), T_gt_est.translation().y(), T_gt_est.translation().z(),
+            qa.x(), qa.y(), qa.z(), qa.w());
+        const Eigen::Isometry3d S = T_gt_est.inverse() * gt->front().T;
+        const Eigen::Quaterniond q(S.linear());
+        std::cout << fmt::format(
+            "start in the estimate's frame: {:.6f},{:.6f},{:.6f},{:.9f},{:.9f},{:.9f},{:.9f}\n",
+            S.translation().x(), S.translation().y(), S.translation().z(), q.x(), q.y(), q.z(),
+            q.w());
+    }
     const auto drift = eval::computeDrift(pairs);
     const auto end = eval::computeEndPoint(pairs);
     std::cout << fmt::format(
@@ -54,7 +87,8 @@ int evalTrajectory(const EvalOptions& o, Eigen::Isometry3d& T_gt_est) {
         est->size(), drift.path_length_m, pairs.back().t_s - pairs.front().t_s);
     const auto& t = ate.translation_m;
     std::cout << fmt::format(
-        "ATE (SE(3)-aligned) [m]: rmse {:.4f}  mean {:.4f}  median {:.4f}  max {:.4f}\n", t.rmse,
+        "ATE ({}) [m]: rmse {:.4f}  mean {:.4f}  median {:.4f}  max {:.4f}\n",
+        o.frame_gt.empty() ? "SE(3)-aligned" : "in the frame of --frame-est's alignment", t.rmse,
         t.mean, t.median, t.max);
     std::cout << fmt::format("rotation error (aligned) [deg]: rmse {:.3f}  max {:.3f}\n",
                              ate.rotation_deg.rmse, ate.rotation_deg.max);
@@ -158,6 +192,14 @@ const RegisterCommand kEval{
                        "report's map views, <plot>_map_top.png and <plot>_map_side.png)");
         sub.add_option("--max-gap", o->max_gap_s,
                        "do not interpolate ground truth over gaps longer than this (s)");
+        sub.add_option("--frame-gt", o->frame_gt,
+                       "with --frame-est: measure in the frame these two align to (a second "
+                       "session localized on the first: the first's ground truth)");
+        sub.add_option("--frame-est", o->frame_est,
+                       "the first session's estimated trajectory (TUM)");
+        sub.add_flag("--start-in-frame", o->start_in_frame,
+                     "print the alignment and where --gt starts in the estimate's frame "
+                     "(x,y,z,qx,qy,qz,qw: an --initial-pose for replay --prior-map)");
         sub.add_option("--map", o->map, "registered map (PLY)");
         sub.add_option("--mesh", o->mesh, "true scene surfaces (PLY mesh)");
         return std::function<int()>([o] {
@@ -168,6 +210,10 @@ const RegisterCommand kEval{
                 std::cerr << "handscan eval: give --gt and --est (trajectory), --map and --mesh "
                              "(map), or all four "
                              "(map aligned by the trajectory)\n";
+                return 2;
+            }
+            if (o->frame_gt.empty() != o->frame_est.empty()) {
+                std::cerr << "handscan eval: --frame-gt and --frame-est go together\n";
                 return 2;
             }
             Eigen::Isometry3d T_gt_est = Eigen::Isometry3d::Identity();

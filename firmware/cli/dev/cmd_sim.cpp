@@ -10,6 +10,7 @@
 #include "handscan/core/log.hpp"
 #include "handscan/sim/mcap_sink.hpp"
 #include "handscan/sim/ply_export.hpp"
+#include "handscan/sim/scene_change.hpp"
 #include "handscan/sim/scenes.hpp"
 #include "handscan/sim/simulator.hpp"
 
@@ -47,9 +48,9 @@ int runSim(const SimArgs& a) {
     const Calibration cal =
         loadCalibration(a.calibration.empty() ? dir + "/calibration.yaml" : a.calibration);
     if (!a.export_mesh.empty()) {
-        const sim::Scene scene = a.options.scene.ends_with(".obj")
-                                     ? sim::importObj(a.options.scene)
-                                     : sim::buildScene(a.options.scene);
+        sim::Scene scene = a.options.scene.ends_with(".obj") ? sim::importObj(a.options.scene)
+                                                             : sim::buildScene(a.options.scene);
+        (void)sim::moveObjects(scene, a.options.scene_change, a.options.seed);
         if (Status s = sim::writePly(scene.world, a.export_mesh, !a.ascii_ply); !s) {
             log().error("{}", s.message());
             return 1;
@@ -70,6 +71,11 @@ int runSim(const SimArgs& a) {
         o.duration_s, st.path_length_m, st.peak_rate_dps,
         st.loop_closed ? fmt::format("closed loop ({} lap{})", st.laps, st.laps > 1 ? "s" : "")
                        : std::string("open (too short to close the loop)"));
+    // On stdout, for scripts (tests/e2e/localize): what the second session should see changed.
+    for (const sim::MovedObject& m : simulator.movedObjects())
+        std::printf("moved %s from %.3f,%.3f,%.3f to %.3f,%.3f,%.3f, turned %.1f deg\n",
+                    m.name.c_str(), m.centre_before.x(), m.centre_before.y(), m.centre_before.z(),
+                    m.centre_after.x(), m.centre_after.y(), m.centre_after.z(), m.turn_deg);
     auto sink = sim::McapSink::create(a.out, o.cameras);
     if (!sink) {
         log().error("{}", sink.status().message());
@@ -124,6 +130,14 @@ const RegisterCommand kSim{
         sub.add_option("--trajectory", a->options.trajectory,
                        "walk | aggressive | a TUM file (t x y z qx qy qz qw of {C})")
             ->capture_default_str();
+        sub.add_option("--start-at", a->options.start_at,
+                       "start the walk this fraction of the way round the scene's loop (0..1): "
+                       "another session through the same scene")
+            ->check(CLI::Range(0.0, 1.0));
+        sub.add_option("--scene-change", a->options.scene_change,
+                       "move this many of the scene's furniture/benches/bushes first (which and "
+                       "how depends on --seed): a scene changed between sessions")
+            ->check(CLI::NonNegativeNumber);
         sub.add_flag("--no-camera", a->no_camera, "no camera streams (faster, smaller)");
         sub.add_flag("--no-colour", a->no_colour, "no colour camera");
         sub.add_flag("--dark", a->options.dark, "almost no light (camera degeneracy)");

@@ -225,7 +225,9 @@ void loadCamera(const Validator& v, const YAML::Node& root, const std::string& k
                 CameraConfig& c) {
     const YAML::Node n = v.section(root, "", key);
     if (!n.IsDefined()) return;
-    v.onlyKeys(n, key, {"enabled", "device", "width", "height", "fps", "format", "exposure_ms"});
+    v.onlyKeys(
+        n, key,
+        {"enabled", "device", "width", "height", "fps", "format", "exposure_ms", "readout_ms"});
     v.boolean(n, key, "enabled", c.enabled);
     v.text(n, key, "device", c.device);
     v.integer(n, key, "width", c.width, 16, 8192);
@@ -233,6 +235,7 @@ void loadCamera(const Validator& v, const YAML::Node& root, const std::string& k
     v.number(n, key, "fps", c.fps, 0.1, 500.0);
     v.text(n, key, "format", c.format, {"GREY", "YUYV", "MJPEG"});
     v.number(n, key, "exposure_ms", c.exposure_ms, 0.01, 1000.0);
+    v.number(n, key, "readout_ms", c.readout_ms, 0.0, 1000.0);
 }
 
 CameraIntrinsics loadKalibrCamera(const Validator& v, const YAML::Node& n, const std::string& key) {

@@ -9,6 +9,7 @@
 #include <array>
 #include <cstdint>
 #include <span>
+#include <utility>
 #include <vector>
 
 #include "e57_format.hpp"
@@ -25,23 +26,87 @@ constexpr std::size_t packetBytes(std::span<const unsigned> bits, std::size_t re
     return (n + 3) & ~std::size_t{3};
 }
 
-// Logical bytes of a whole section: its header and every packet of `per_packet` records.
-inline std::uint64_t sectionBytes(std::span<const unsigned> bits, std::uint64_t records,
-                                  std::size_t per_packet) {
-    const std::uint64_t full = records / per_packet;
-    const std::size_t rest = static_cast<std::size_t>(records % per_packet);
-    return kSectionHeaderBytes + full * packetBytes(bits, per_packet) +
-           (rest ? packetBytes(bits, rest) : 0);
+// Index packets (E2807 9.3.5): a 16-byte header (type 0, flags, logical length - 1, entry
+// count, index level, 9 reserved bytes) and up to 2048 entries of (first record number, physical
+// offset) of the data packets (level 0) or of the index packets one level down. They follow the
+// data packets, level by level, the single top-level packet last; the section header points at
+// it. A reader seeks a record through them without reading the packets before it.
+constexpr std::size_t kIndexHeaderBytes = 16;
+constexpr std::size_t kIndexEntryBytes = 16;
+constexpr std::size_t kMaxIndexEntries = 2048;
+static_assert(kIndexHeaderBytes + kMaxIndexEntries * kIndexEntryBytes <= kMaxPacketBytes);
+
+// Entries per index level for `data_packets` data packets (level 0 first, the last has one
+// packet's worth); empty when there are none.
+inline std::vector<std::uint64_t> indexLevels(std::uint64_t data_packets) {
+    std::vector<std::uint64_t> entries;
+    for (std::uint64_t n = data_packets; n > 0;) {
+        entries.push_back(n);
+        if (n <= kMaxIndexEntries) break;
+        n = (n + kMaxIndexEntries - 1) / kMaxIndexEntries;  // packets of this level
+    }
+    return entries;
 }
 
-// The 32-byte section header: id, reserved, logical length, first data packet, no index packet.
+inline std::uint64_t indexBytes(std::uint64_t data_packets) {
+    std::uint64_t n = 0;
+    for (std::uint64_t e : indexLevels(data_packets))
+        n += ((e + kMaxIndexEntries - 1) / kMaxIndexEntries) * kIndexHeaderBytes +
+             e * kIndexEntryBytes;
+    return n;
+}
+
+// The index packet of `entries` (first record, physical offset) at `level`.
+inline void indexPacket(std::vector<std::uint8_t>& out,
+                        std::span<const std::pair<std::uint64_t, std::uint64_t>> entries,
+                        std::uint8_t level) {
+    out.assign(kIndexHeaderBytes + entries.size() * kIndexEntryBytes, 0);
+    out[0] = kPacketIndex;
+    putLe<std::uint16_t>(out.data() + 2, static_cast<std::uint16_t>(out.size() - 1));
+    putLe<std::uint16_t>(out.data() + 4, static_cast<std::uint16_t>(entries.size()));
+    out[6] = level;
+    std::uint8_t* e = out.data() + kIndexHeaderBytes;
+    for (const auto& [record, offset] : entries) {
+        putLe<std::uint64_t>(e, record);
+        putLe<std::uint64_t>(e + 8, offset);
+        e += kIndexEntryBytes;
+    }
+}
+
+inline std::uint64_t dataPackets(std::uint64_t records, std::size_t per_packet) {
+    return (records + per_packet - 1) / per_packet;
+}
+
+// Logical bytes of a section's data packets of `per_packet` records each.
+inline std::uint64_t dataBytes(std::span<const unsigned> bits, std::uint64_t records,
+                               std::size_t per_packet) {
+    const std::uint64_t full = records / per_packet;
+    const std::size_t rest = static_cast<std::size_t>(records % per_packet);
+    return full * packetBytes(bits, per_packet) + (rest ? packetBytes(bits, rest) : 0);
+}
+
+// Logical bytes of a whole section: its header, the data packets and their index.
+inline std::uint64_t sectionBytes(std::span<const unsigned> bits, std::uint64_t records,
+                                  std::size_t per_packet) {
+    return kSectionHeaderBytes + dataBytes(bits, records, per_packet) +
+           indexBytes(dataPackets(records, per_packet));
+}
+
+// The 32-byte section header: id, reserved, logical length, first data packet, top index packet
+// (its size is known from the record count, so the header goes first).
 inline std::array<std::uint8_t, kSectionHeaderBytes> sectionHeader(std::uint64_t section_logical,
-                                                                   std::uint64_t logical_length) {
+                                                                   std::span<const unsigned> bits,
+                                                                   std::uint64_t records,
+                                                                   std::size_t per_packet) {
     std::array<std::uint8_t, kSectionHeaderBytes> h{};
+    const std::uint64_t length = sectionBytes(bits, records, per_packet);
+    const auto levels = indexLevels(dataPackets(records, per_packet));
     h[0] = kSectionCompressedVector;
-    putLe<std::uint64_t>(h.data() + 8, logical_length);
+    putLe<std::uint64_t>(h.data() + 8, length);
     putLe<std::uint64_t>(h.data() + 16, physicalOf(section_logical + kSectionHeaderBytes));
-    putLe<std::uint64_t>(h.data() + 24, 0);  // index packets are optional (9.3.5): none
+    const std::uint64_t top =
+        levels.empty() ? 0 : kIndexHeaderBytes + levels.back() * kIndexEntryBytes;
+    putLe<std::uint64_t>(h.data() + 24, top ? physicalOf(section_logical + length - top) : 0);
     return h;
 }
 

@@ -115,8 +115,16 @@ void pointsPrototype(Xml& x, const ScanXml& s) {
            " fileOffset=\"" + std::to_string(s.points_offset) + "\" recordCount=\"" +
                std::to_string(s.points) + '"');
     x.open("prototype", "Structure");
-    for (const char* axis : {"cartesianX", "cartesianY", "cartesianZ"})
-        x.raw(std::string("<") + axis + " type=\"Float\" precision=\"double\"/>");
+    for (const char* axis : {"cartesianX", "cartesianY", "cartesianZ"}) {
+        if (s.coordinate_scale > 0) {
+            x.raw(std::string("<") + axis + " type=\"ScaledInteger\" minimum=\"" +
+                  std::to_string(s.coordinate_raw_min) + "\" maximum=\"" +
+                  std::to_string(s.coordinate_raw_max) + "\" scale=\"" +
+                  number(s.coordinate_scale) + "\" offset=\"0\"/>");
+        } else {
+            x.raw(std::string("<") + axis + " type=\"Float\" precision=\"double\"/>");
+        }
+    }
     x.raw("<intensity type=\"Integer\" minimum=\"0\" maximum=\"65535\"/>");
     for (const char* c : {"colorRed", "colorGreen", "colorBlue"})
         x.raw(std::string("<") + c + " type=\"Integer\" minimum=\"0\" maximum=\"255\"/>");

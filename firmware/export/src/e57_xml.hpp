@@ -20,6 +20,8 @@ struct ScanXml {
     std::uint16_t intensity_min = 0, intensity_max = 0;
     std::uint64_t trajectory_poses = 0;  // 0: no trajectory section
     std::uint64_t trajectory_offset = 0;
+    double coordinate_scale = 0.0;  // > 0: cartesianX/Y/Z are ScaledInteger of this scale
+    std::int64_t coordinate_raw_min = 0, coordinate_raw_max = 0;
 };
 
 std::string scanXml(const ScanXml& scan);

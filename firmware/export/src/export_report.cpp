@@ -56,6 +56,13 @@ std::string ExportReportBuilder::html(const journal::JournalSummary& js,
     in.voxel_m = voxel_m;
     in.facts = facts_.finish(js.trajectory, stats_json);
     in.files = files;
+    in.images = images(js);
+    return report::reportHtml(in);
+}
+
+std::vector<std::pair<std::string, report::MapImage>> ExportReportBuilder::images(
+    const journal::JournalSummary& js) const {
+    std::vector<std::pair<std::string, report::MapImage>> out;
     const struct {
         const report::MapRaster& raster;
         report::Colouring colouring;
@@ -68,9 +75,9 @@ std::string ExportReportBuilder::html(const journal::JournalSummary& js,
     };
     for (const auto& v : views) {
         auto image = report::renderMap(v.raster, v.colouring, js.trajectory, v.caption);
-        if (image.isOk()) in.images.emplace_back(v.caption, std::move(*image));
+        if (image.isOk()) out.emplace_back(v.caption, std::move(*image));
     }
-    return report::reportHtml(in);
+    return out;
 }
 
 }  // namespace handscan::exporter

@@ -5,8 +5,11 @@
 
 #include <span>
 #include <string>
+#include <utility>
+#include <vector>
 
 #include "handscan/journal/journal_reader.hpp"
+#include "handscan/report/map_images.hpp"
 #include "handscan/report/map_raster.hpp"
 #include "handscan/report/scan_facts.hpp"
 
@@ -18,6 +21,10 @@ public:
                         const std::vector<journal::TrajectoryPose>& trajectory);
     void journalPoints(std::span<const journal::MapPoint> points) { facts_.add(points); }
     void exportedPoints(std::span<const journal::MapPoint> points);
+    // The map views report.html shows (caption, PNG): from above by height and by RGB, from the
+    // side by height and by RGB.
+    std::vector<std::pair<std::string, report::MapImage>> images(
+        const journal::JournalSummary& js) const;
     // report.html's text; `files` are the export's other files, `stats_json` a replay's stats.
     std::string html(const journal::JournalSummary& js, const std::string& scan_name,
                      std::uint64_t exported, double voxel_m, const std::vector<std::string>& files,

@@ -19,6 +19,7 @@
 #include "handscan/export/e57_reader.hpp"
 #include "handscan/export/voxel_filter.hpp"
 #include "handscan/journal/journal_reader.hpp"
+#include "report_pdf.hpp"
 
 #ifndef HANDSCAN_VERSION
 #define HANDSCAN_VERSION "0.0.0"
@@ -28,17 +29,6 @@ namespace handscan::exporter {
 namespace {
 
 namespace fs = std::filesystem;
-
-std::span<const std::uint8_t> asBytes(const std::string& s) {
-    return {reinterpret_cast<const std::uint8_t*>(s.data()), s.size()};
-}
-
-Status writeSmallFile(const std::string& path, const std::string& text, const WriteFaults& faults) {
-    SafeFileWriter f(path, faults);
-    if (Status s = f.open(); !s.isOk()) return s;
-    if (Status s = f.write(asBytes(text)); !s.isOk()) return s;
-    return f.commit();
-}
 
 // A small text file's content; empty when it is absent or unreadable.
 std::string readText(const fs::path& path) {
@@ -86,6 +76,8 @@ std::string metadataJson(const journal::JournalSummary& js, const ExportReport& 
                    {"coloured_points", r.coloured_points},
                    {"voxel_m", o.voxel_m},
                    {"formats", formats},
+                   {"e57_coordinates", o.e57_scale_m > 0 ? "scaled integer" : "double"},
+                   {"e57_scale_m", o.e57_scale_m},
                    {"bounds_min", {r.bounds.min[0], r.bounds.min[1], r.bounds.min[2]}},
                    {"bounds_max", {r.bounds.max[0], r.bounds.max[1], r.bounds.max[2]}},
                    {"trajectory_poses", js.trajectory.size()}};
@@ -144,8 +136,10 @@ std::string formatOf(const std::string& path) {
 
 // The scan's sensor and trajectory for the E57 Data3D. The journal's metadata may name the
 // device's serial number ("serial"); the rest is what every handscan is.
-E57Options e57Options(const journal::JournalSummary& js, const std::string& scan_name) {
+E57Options e57Options(const journal::JournalSummary& js, const std::string& scan_name,
+                      const ExportOptions& options) {
     E57Options o;
+    o.coordinate_scale = options.e57_scale_m;
     o.scan_name = scan_name;
     o.software_version = HANDSCAN_VERSION;
     o.trajectory = js.trajectory;
@@ -196,6 +190,11 @@ Result<ExportReport> exportScan(const std::string& source, const std::string& ta
         if (options.progress) options.progress(std::clamp(f, 0.0, 1.0), stage);
     };
     std::vector<std::string> formats;  // in the order given, each once
+    if (!(options.e57_scale_m >= 0.0 && options.e57_scale_m <= 1.0)) {
+        return Status(StatusCode::kInvalidArgument,
+                      "export: E57 coordinate scale " + std::to_string(options.e57_scale_m) +
+                          " m is not in [0, 1] (0: doubles; e.g. 0.0001 for 0.1 mm steps)");
+    }
     for (const std::string& f : options.formats) {
         if (f != "ply" && f != "las" && f != "e57") {
             return Status(StatusCode::kInvalidArgument,
@@ -247,7 +246,7 @@ Result<ExportReport> exportScan(const std::string& source, const std::string& ta
     for (const std::string& f : formats) {
         need += f == "ply"   ? plyBytes(count)
                 : f == "las" ? lasBytes(count)
-                             : e57Bytes(count, js.trajectory.size());
+                             : e57Bytes(count, js.trajectory.size(), options.e57_scale_m > 0);
     }
     const fs::space_info space = fs::space(out_dir, ec);
     if (!ec && space.available < need) {
@@ -273,7 +272,7 @@ Result<ExportReport> exportScan(const std::string& source, const std::string& ta
         if (Status s = c.file->open(); !s.isOk()) return s;
         c.writer = format == "ply"   ? makePlyWriter(*c.file)
                    : format == "las" ? makeLasWriter(*c.file)
-                                     : makeE57Writer(*c.file, e57Options(js, name));
+                                     : makeE57Writer(*c.file, e57Options(js, name, options));
         if (Status s = c.writer->begin(count); !s.isOk()) return s;
         writing += (clouds.empty() ? " " : ", ") + fs::path(c.path).filename().string();
         clouds.push_back(std::move(c));
@@ -328,10 +327,32 @@ Result<ExportReport> exportScan(const std::string& source, const std::string& ta
         const std::string html =
             scan_report->html(js, name, count, options.voxel_m, names,
                               readText(fs::path(*journal_path).parent_path() / "stats.json"));
+        if (!options.preview_png.empty()) {
+            // The first view (from above, by height): what the UI's export screen shows.
+            const auto views = scan_report->images(js);
+            if (!views.empty()) {
+                const auto& png = views.front().second.png;
+                if (writeSmallFile(options.preview_png,
+                                   {reinterpret_cast<const char*>(png.data()), png.size()})
+                        .isOk())
+                    report.preview_png = options.preview_png;
+            }
+        }
         const std::string path = (out_dir / "report.html").string();
         if (Status s = writeSmallFile(path, html, options.faults); !s.isOk()) return s;
         report.files.push_back(path);
         report.bytes += html.size();
+        if (!options.pdf_tool.empty()) progress(0.997, "writing report.pdf");
+        const std::string pdf_path = (out_dir / "report.pdf").string();
+        auto pdf = writeReportPdf(path, pdf_path, options.pdf_tool, options.faults);
+        if (!pdf.isOk()) return pdf.status();
+        if (pdf->written) {
+            report.files.push_back(pdf_path);
+            report.bytes += pdf->bytes;
+            report.pdf_seconds = pdf->seconds;
+        } else if (!pdf->note.empty()) {
+            report.notes.push_back(pdf->note);
+        }
     }
     // Flush the whole filesystem (the stick) so that pulling it now loses nothing.
     if (int fd = ::open(out_dir.c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC); fd >= 0) {

@@ -98,8 +98,9 @@ public:
                             // line
                 o[16] = 0;  // classification: never classified
                 o[17] = 0;  // user data
-                std::memset(o + 18, 0, 4);       // scan angle, point source id
-                std::memcpy(o + 22, &p.t_s, 8);  // GPS time: seconds of the scan clock
+                std::memset(o + 18, 0, 2);           // scan angle
+                std::memcpy(o + 20, &p.session, 2);  // point source ID: the session
+                std::memcpy(o + 22, &p.t_s, 8);      // GPS time: seconds of the scan clock
                 const std::uint16_t rgb[3] = {
                     static_cast<std::uint16_t>(p.r * 257), static_cast<std::uint16_t>(p.g * 257),
                     static_cast<std::uint16_t>(p.b * 257)};  // 8 -> 16 bit colour

@@ -282,4 +282,13 @@ Status SafeFileWriter::verify() {
     return Status::ok();
 }
 
+Status writeSmallFile(const std::string& path, std::string_view text, WriteFaults faults) {
+    SafeFileWriter f(path, std::move(faults));
+    if (Status s = f.open(); !s.isOk()) return s;
+    if (Status s = f.write({reinterpret_cast<const std::uint8_t*>(text.data()), text.size()});
+        !s.isOk())
+        return s;
+    return f.commit();
+}
+
 }  // namespace handscan::exporter

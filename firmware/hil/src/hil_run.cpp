@@ -15,6 +15,7 @@
 #include "handscan/hil/daemon_process.hpp"
 #include "handscan/hil/device_yaml.hpp"
 #include "handscan/shm/text_field.hpp"
+#include "handscan/viz/journal_viz.hpp"
 #include "hil_outputs.hpp"
 
 namespace handscan::hil {
@@ -265,6 +266,27 @@ Result<HilReport> runHil(const HilOptions& o) {
     // 6. What replay writes, from the daemon's journal and export.
     OutputsInputs in{*rec, offset, fakes->counts(), o, log, out};
     if (Status s = writeHilOutputs(in, report); !s.isOk()) return s;
+    if (!o.viz_path.empty()) {
+        viz::JournalVizOptions v;
+        v.journal = report.journal;
+        v.out = o.viz_path;
+        v.recording = o.recording;
+        v.journal_minus_recording_ns = offset;
+        Calibration cal;
+        try {
+            cal = loadCalibration(calibration);
+        } catch (const std::exception& e) {
+            return Status(StatusCode::kInvalidArgument, std::string("--viz: ") + e.what());
+        }
+        auto written = viz::writeJournalViz(v, cal);
+        if (!written.isOk()) return written.status();
+        report.viz_bytes = written->bytes;
+        report.summary += "viz: " + std::to_string(written->poses) + " poses, " +
+                          std::to_string(written->points) + " points, " +
+                          std::to_string(written->recorded_messages) +
+                          " recorded frames and ground-truth poses, " +
+                          std::to_string(written->bytes >> 20) + " MiB -> " + o.viz_path + "\n";
+    }
     fakes.reset();
     fs::remove_all(out / "cameras", ec);  // the played frames: the recording's, large
     return report;

@@ -20,6 +20,7 @@ camera::CameraConfig cameraConfig(const CameraConfig& c) {
     cc.formats.insert(cc.formats.begin(), wanted);
     cc.frame_interval = {1000, static_cast<std::uint32_t>(std::lround(c.fps * 1000.0))};
     cc.exposure = fromSeconds(c.exposure_ms * 1e-3);
+    cc.readout = fromSeconds(c.readout_ms * 1e-3);
     return cc;
 }
 

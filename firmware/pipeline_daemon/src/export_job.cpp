@@ -35,6 +35,7 @@ void ExportJob::run(std::string source, std::string target) {
         stage_ = stage;
     };
     const bool usb = target.empty() || target == "usb";
+    options.preview_png = preview_png_;
     log().info("export of {} to {}", source, usb ? "the USB stick" : target);
     auto report = usb ? exporter::exportToUsb(source, options, usb_paths_)
                       : exporter::exportScan(source, target, options);
@@ -54,8 +55,12 @@ void ExportJob::run(std::string source, std::string target) {
     status_.progress = 1.0f;
     status_.bytes_written = report->bytes;
     shm::setText(status_.target, report->directory);
-    const std::string msg = "exported " + std::to_string(report->points) + " points to " +
-                            report->directory + (usb ? "; safe to remove the USB stick" : "");
+    std::string msg = "exported " + std::to_string(report->points) + " points to " +
+                      report->directory + (usb ? "; safe to remove the USB stick" : "");
+    for (const std::string& note : report->notes) {
+        log().warn("export: {}", note);
+        msg += "; " + note;
+    }
     shm::setText(status_.message, msg);
     result_ = msg;
     log().info("{}", msg);

@@ -12,6 +12,8 @@
 #include "handscan/pipeline_daemon/export_job.hpp"
 #include "handscan/pipeline_daemon/pipeline_thread.hpp"
 #include "handscan/pipeline_daemon/systemd_notifier.hpp"
+#include "handscan/prior_map/prior_map_loader.hpp"
+#include "handscan/shm/export_preview.hpp"
 
 namespace handscan::pipeline_daemon {
 
@@ -30,6 +32,9 @@ PipelineDaemon::PipelineDaemon(DaemonOptions options, std::unique_ptr<DeviceLink
 
 PipelineDaemon::~PipelineDaemon() {
     if (!parts_) return;
+    // The last export's picture goes with the live-map region it was named after.
+    std::error_code ec;
+    std::filesystem::remove(shm::exportPreviewPath(options_.shm_name), ec);
     for (auto& s : parts_->sources) s->stop();
     if (parts_->worker) parts_->worker->stop();
 }
@@ -66,6 +71,7 @@ Status PipelineDaemon::open() {
     if (!publisher.isOk()) return publisher.status();
 
     parts_ = std::make_unique<Parts>(options_.usb_paths, options_.usb_eject_request);
+    parts_->exports.setPreviewPath(shm::exportPreviewPath(options_.shm_name));
     const std::string metadata =
         jsonText({{"source", "handscan-pipeline"}, {"device_config", device_.source_file}});
     auto session = std::make_unique<ScanSession>(journal_dir, options_.journal, metadata);
@@ -80,6 +86,17 @@ Status PipelineDaemon::open() {
         return out;
     };
     inputs.export_status = [this] { return parts_->exports.status(); };
+    if (!options_.prior_map_dir.empty()) {
+        auto prior = prior_map::loadPriorMap(options_.prior_map_dir);
+        if (!prior.isOk()) return prior.status();
+        inputs.prior_map = *prior;
+        if (!options_.initial_pose.empty()) {
+            auto pose = prior_map::parsePose(options_.initial_pose);
+            if (!pose.isOk())
+                return Status(pose.status().code(), "--initial-pose: " + pose.status().message());
+            inputs.initial_pose = *pose;
+        }
+    }
     parts_->worker =
         std::make_unique<PipelineThread>(device_, calibration_, std::move(*publisher),
                                          std::move(session), queues_, std::move(inputs));

@@ -1,10 +1,12 @@
 #include "handscan/pipeline_daemon/pipeline_thread.hpp"
 
 #include <chrono>
+#include <filesystem>
 
 #include "handscan/core/log.hpp"
 #include "handscan/core/realtime.hpp"
 #include "handscan/live_output/sweep_points.hpp"
+#include "handscan/prior_map/feature_map_file.hpp"
 
 namespace handscan::pipeline_daemon {
 namespace {
@@ -13,8 +15,10 @@ constexpr TimeNs kLoopPeriod = 10 * kNsPerMs;
 constexpr TimeNs kStatusPeriod = 100 * kNsPerMs;
 constexpr TimeNs kFinishBudget = 3 * kNsPerSec;  // of systemd's 15 s TimeoutStopSec
 
-worker::WorkerConfig workerConfig(const DeviceConfig& device) {
+worker::WorkerConfig workerConfig(const DeviceConfig& device, const WorkerInputs& inputs) {
     worker::WorkerConfig c;
+    c.prior_map = inputs.prior_map;
+    c.initial_pose = inputs.initial_pose;
     c.lio = worker::lioConfigFor(device);
     // As in replay: scan-matching feedback corrects the IMU prediction (section 4.2).
     c.lio.imu_feedback = true;
@@ -62,7 +66,8 @@ PipelineThread::PipelineThread(const DeviceConfig& device, const Calibration& ca
       inputs_(std::move(inputs)),
       source_(queues),
       sink_(std::make_unique<Sink>(*publisher_, *session_)),
-      worker_(std::make_unique<worker::PipelineWorker>(workerConfig(device), calibration, *sink_)) {
+      worker_(std::make_unique<worker::PipelineWorker>(workerConfig(device, inputs_), calibration,
+                                                       *sink_)) {
     publisher_->setScanning(false);
     scan_state_.store(session_->state(), std::memory_order_release);
     journal_path_ = session_->journalPath();
@@ -140,6 +145,7 @@ void PipelineThread::handle(Request& r) {
             // The trajectory of the last sweeps, which no match has closed yet, is the scan's.
             check(worker_->flushTrajectory());
             out = session_->stop();
+            if (out.isOk()) writeFeatureMap();
             break;
         case ScanControl::kNewScan:
             out = session_->newScan();
@@ -154,6 +160,7 @@ void PipelineThread::handle(Request& r) {
             // that this would outlast systemd's stop timeout (then the backlog is dropped).
             (void)pull();
             check(worker_->finish(monotonicNow() + kFinishBudget));
+            writeFeatureMap();
             if (Status s = session_->finish(); !s.isOk())
                 out = s;
             else
@@ -168,6 +175,16 @@ void PipelineThread::handle(Request& r) {
     }
     publishStatus();
     r.done.set_value(std::move(out));
+}
+
+void PipelineThread::writeFeatureMap() {
+    // Beside the journal: what a later scan continuing this one localizes on (section 9).
+    const std::string& journal = session_->journalPath();
+    if (journal.empty()) return;
+    const std::string path =
+        (std::filesystem::path(journal).parent_path() / prior_map::kFeatureMapFile).string();
+    if (Status s = prior_map::writeFeatureMap(path, worker_->featureMap()); !s.isOk())
+        log().warn("{} (a later scan cannot continue this one)", s.message());
 }
 
 TimeNs PipelineThread::pull() {
@@ -213,6 +230,8 @@ void PipelineThread::publishStatus() {
         s.message = session_->problem();
     } else if (!worker_->lio().aligned()) {
         s.message = "hold still: aligning with gravity";
+    } else if (worker_->localizer() != nullptr && !worker_->localizer()->locked()) {
+        s.message = "finding the earlier scan: walk where it went";
     } else if (worker_->lio().tracking().lost()) {
         s.message = fusion::TrackingMonitor::kLostMessage;
     } else if (session_->scanning()) {

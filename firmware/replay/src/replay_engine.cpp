@@ -17,6 +17,8 @@
 #include "handscan/lio/laser_inertial_odometry.hpp"
 #include "handscan/live_output/live_publisher.hpp"
 #include "handscan/live_output/sweep_points.hpp"
+#include "handscan/prior_map/feature_map_file.hpp"
+#include "handscan/prior_map/prior_map_loader.hpp"
 #include "handscan/replay/reference_motion.hpp"
 #include "handscan/replay/sweep_ply.hpp"
 #include "handscan/sources/recorded_source.hpp"
@@ -57,6 +59,17 @@ Result<worker::WorkerConfig> workerConfig(const ReplayOptions& o, const DeviceCo
     }
     c.colourise = colour;
     c.visual = o.use_vision;
+    if (!o.prior_map_dir.empty()) {
+        auto prior = prior_map::loadPriorMap(o.prior_map_dir);
+        if (!prior.isOk()) return prior.status();
+        c.prior_map = *prior;
+        if (!o.initial_pose.empty()) {
+            auto pose = prior_map::parsePose(o.initial_pose);
+            if (!pose.isOk())
+                return Status(pose.status().code(), "--initial-pose: " + pose.status().message());
+            c.initial_pose = *pose;
+        }
+    }
     return c;
 }
 
@@ -178,8 +191,10 @@ Result<ReplayReport> runReplay(const ReplayOptions& o) {
     if (o.write_journal) {
         const std::string path = (fs::path(o.out_dir) / "journal.hsj").string();
         fs::remove(path, ec);
-        auto j = journal::JournalWriter::create(
-            path, jsonText({{"source", "replay"}, {"recording", o.recording}}));
+        Json meta = {{"source", "replay"}, {"recording", o.recording}};
+        // A session localized on an earlier scan is in that scan's frame (handscan merge).
+        if (!o.prior_map_dir.empty()) meta["prior_map"] = o.prior_map_dir;
+        auto j = journal::JournalWriter::create(path, jsonText(meta));
         if (!j.isOk()) return j.status();
         journal = std::move(*j);
     }
@@ -235,6 +250,15 @@ Result<ReplayReport> runReplay(const ReplayOptions& o) {
     report.poses = pipeline.stats().poses_out;
     report.sweeps = pipeline.stats().sweeps;
     if (Status st = outputs.writeTrajectory(); !st.isOk()) return st;
+    // The feature map a later session localizes on (in this scan's output frame).
+    if (o.use_laser) {
+        if (Status st = prior_map::writeFeatureMap(
+                (fs::path(o.out_dir) / prior_map::kFeatureMapFile).string(), worker.featureMap());
+            !st.isOk())
+            return st;
+    }
+    report.prior_map = worker.localizer() != nullptr;
+    report.locked = report.prior_map && worker.localizer()->locked();
     auto map_points = outputs.writeMap();
     if (!map_points.isOk()) return map_points.status();
     report.map_points = *map_points;
@@ -247,7 +271,9 @@ Result<ReplayReport> runReplay(const ReplayOptions& o) {
                    source.encoder(),
                    peakRssMiB(),
                    source.reader().truncated(),
-                   source.reader().dropped().size()};
+                   source.reader().dropped().size(),
+                   worker.localizer(),
+                   worker.sweepsBeforeLock()};
     auto stats_path = outputs.writeStats(in);
     if (!stats_path.isOk()) return stats_path.status();
     report.stats_json_path = *stats_path;

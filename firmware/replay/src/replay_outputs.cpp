@@ -15,15 +15,6 @@ namespace {
 
 namespace fs = std::filesystem;
 
-Status writeText(const std::string& path, const std::string& text) {
-    exporter::SafeFileWriter f(path);
-    if (Status s = f.open(); !s.isOk()) return s;
-    if (Status s = f.write({reinterpret_cast<const std::uint8_t*>(text.data()), text.size()});
-        !s.isOk())
-        return s;
-    return f.commit();
-}
-
 Json callsJson(const std::map<std::string, CallStats>& calls) {
     Json j = Json::object();
     for (const auto& [name, c] : calls) {
@@ -86,6 +77,45 @@ Json visualJson(const worker::VisualStage& v) {
             {"mean_with_laser_depth", static_cast<double>(s.laser_depth_sum) / n},
             {"mean_triangulated", static_cast<double>(s.triangulated_sum) / n},
             {"bypassed", bypassed}};
+}
+
+// The localization on a prior map (section 9): the lock, the matches to the prior at 0.5 Hz,
+// their cost, and where the scene changed (cells with points far from the prior map).
+Json localizationJson(const localize::Localizer& l, std::uint64_t sweeps_before_lock,
+                      double recording_s) {
+    const localize::LocalizerStats& s = l.stats();
+    Json changes = Json::array();
+    for (const localize::ChangeCell& c : l.changes())
+        changes.push_back(
+            {{"x", c.centre.x()}, {"y", c.centre.y()}, {"z", c.centre.z()}, {"points", c.points}});
+    const Eigen::Isometry3d& T = l.priorFromOdom();
+    const Eigen::Quaterniond q(T.linear());
+    return {{"locked", l.locked()},
+            {"lock_s", s.t_lock != 0 ? Json(toSeconds(s.t_lock)) : Json(nullptr)},
+            {"lock_on_map", s.lock_on_map},
+            {"lock_runner_up", s.lock_runner_up},
+            {"attempts", s.attempts},
+            {"lock_attempts", s.lock_attempts},
+            {"updates", s.updates},
+            {"rejected_updates", s.rejected_updates},
+            {"last_on_map", s.last_on_map},
+            {"max_correction_m", s.max_correction_m},
+            {"mean_correction_m",
+             s.updates > 0 ? s.sum_correction_m / static_cast<double>(s.updates) : 0.0},
+            {"sweeps_before_lock", sweeps_before_lock},
+            {"cpu_ms", s.cpu_ms},
+            {"max_attempt_ms", s.max_attempt_ms},
+            {"cpu_share_of_core", recording_s > 0 ? s.cpu_ms * 1e-3 / recording_s : 0.0},
+            {"prior_from_odom_xyz_qxyzw",
+             {T.translation().x(), T.translation().y(), T.translation().z(), q.x(), q.y(), q.z(),
+              q.w()}},
+            {"change_check",
+             {{"points", s.points_checked},
+              {"changed", s.changed_points},
+              {"new", s.new_points},
+              {"cell_m", l.config().change_cell_m},
+              {"far_m", l.config().change_m}}},
+            {"changes", changes}};
 }
 
 }  // namespace
@@ -208,6 +238,8 @@ Result<std::string> ReplayOutputs::writeStats(const StatsInputs& in) const {
                       {"dropped_regions", in.recording_dropped_regions}};
     j["tracking"] = trackingJson(in.pipeline.tracking());
     if (in.visual != nullptr && in.visual->stats().frames > 0) j["vio"] = visualJson(*in.visual);
+    if (in.localizer != nullptr)
+        j["localization"] = localizationJson(*in.localizer, in.sweeps_before_lock, r.recording_s);
     // Degenerate directions per sweep (section 8): 6 minus the DOFs the matcher solved.
     const auto degenerate = [](const SweepSummary& s) {
         return 6 - std::popcount(static_cast<unsigned>(s.solved_mask & 0x3F));
@@ -241,7 +273,7 @@ Result<std::string> ReplayOutputs::writeStats(const StatsInputs& in) const {
     }
     j["per_sweep"] = std::move(per_sweep);
     const std::string path = (fs::path(dir_) / "stats.json").string();
-    if (Status s = writeText(path, jsonText(j, 2) + "\n"); !s.isOk()) return s;
+    if (Status s = exporter::writeSmallFile(path, jsonText(j, 2) + "\n"); !s.isOk()) return s;
     return path;
 }
 

@@ -12,6 +12,7 @@
 #include "handscan/core/stream_counters.hpp"
 #include "handscan/export/safe_file.hpp"
 #include "handscan/lio/laser_inertial_odometry.hpp"
+#include "handscan/localize/localizer.hpp"
 #include "handscan/replay/replay_engine.hpp"
 #include "handscan/replay/tiled_voxel_map.hpp"
 #include "handscan/worker/visual_stage.hpp"
@@ -43,6 +44,8 @@ struct StatsInputs {
     double peak_rss_mib = 0.0;
     bool recording_truncated = false;
     std::size_t recording_dropped_regions = 0;
+    const localize::Localizer* localizer = nullptr;  // null: not continuing a prior scan
+    std::uint64_t sweeps_before_lock = 0;
 };
 
 class ReplayOutputs {

@@ -5,6 +5,8 @@
 #include <cstdio>
 #include <sstream>
 
+#include "module_timeline.hpp"
+
 namespace handscan::report {
 namespace {
 
@@ -82,13 +84,17 @@ std::string chart(const std::string& title, const std::vector<std::pair<double, 
 
 std::string intervalsTable(const std::vector<Interval>& in, bool directions) {
     if (in.empty()) return "<p>none</p>\n";
+    const bool reasons =
+        std::any_of(in.begin(), in.end(), [](const Interval& i) { return !i.what.empty(); });
     std::ostringstream os;
     os << "<table><tr><th>from</th><th>to</th><th>length</th>"
-       << (directions ? "<th>degenerate directions</th>" : "") << "</tr>\n";
+       << (directions ? "<th>degenerate directions</th>" : "") << (reasons ? "<th>reason</th>" : "")
+       << "</tr>\n";
     for (const Interval& i : in) {
         os << "<tr><td>" << fmt("%.1f s", i.from_s) << "</td><td>" << fmt("%.1f s", i.to_s)
            << "</td><td>" << fmt("%.1f s", i.to_s - i.from_s) << "</td>";
         if (directions) os << "<td>" << i.directions << "</td>";
+        if (reasons) os << "<td>" << esc(i.what) << "</td>";
         os << "</tr>\n";
     }
     os << "</table>\n";
@@ -124,7 +130,13 @@ std::string reportHtml(const ReportInputs& in) {
           "10px;"
           "text-align:left}img{max-width:100%;border:1px solid #ccc;margin:6px 0}"
           ".views{display:flex;flex-wrap:wrap;gap:12px}.views figure{margin:0}"
-          "figcaption{font-size:13px;color:#555}.warn{color:#a00}</style>\n</head><body>\n";
+          "figcaption{font-size:13px;color:#555}.warn{color:#a00}"
+          // On paper (report.pdf, a browser's print): A4, two map views a row, charts to width.
+          "@page{size:A4;margin:12mm}@media print{body{margin:0;font-size:10pt}"
+          ".views{display:block}.views figure{display:inline-block;width:49%;"
+          "vertical-align:top;break-inside:avoid}svg.chart{width:100%;height:auto;"
+          "break-inside:avoid}h2,h3{break-after:avoid}table{break-inside:avoid}}"
+          "</style>\n</head><body>\n";
     os << "<h1>Scan report: " << esc(in.scan_name) << "</h1>\n";
     if (!in.journal_damage.empty())
         os << "<p class=\"warn\">The journal was recovered after a crash: "
@@ -164,6 +176,23 @@ std::string reportHtml(const ReportInputs& in) {
         std::vector<std::pair<double, double>> deg;
         for (const auto& [t, d] : f.sweep_degenerate) deg.emplace_back(t, d);
         os << chart("matcher: degenerate directions per sweep", deg, f.duration_s, "dirs", shades);
+    }
+    os << "<h2>Modules and directions over time</h2>\n";
+    if (f.have_sweep_stats) {
+        os << "<p>Per sweep, each direction (rotation rx ry rz, translation tx ty tz) in the "
+              "colour of the module that solved it: <b style=\"color:#3c78eb\">scan "
+              "matching</b>, <b style=\"color:#46c85a\">visual-inertial odometry</b>, or <b "
+              "style=\"color:#f59628\">the IMU prediction</b> where neither did (degenerate). "
+              "VIO: green running, grey bypassed. Tracking: orange a sweep kept out of the map, "
+              "red tracking lost. Laser, poses: red dropouts.</p>\n"
+           << moduleTimelineSvg(f);
+        os << "<h3>Tracking lost</h3>\n" << intervalsTable(f.tracking_lost, false);
+        os << "<h3>Visual-inertial odometry bypassed</h3>\n"
+           << (f.have_vio ? intervalsTable(f.vio_bypassed, false)
+                          : std::string("<p>the VIO did not run (laser + IMU only)</p>\n"));
+    } else {
+        os << "<p>not recorded: the journal of a live scan holds no per-sweep module "
+              "statistics (a replay writes them to stats.json beside its journal)</p>\n";
     }
     os << "<h3>Laser dropouts</h3>\n" << intervalsTable(f.laser_dropouts, false);
     os << "<h3>Trajectory dropouts</h3>\n" << intervalsTable(f.pose_dropouts, false);

@@ -17,7 +17,7 @@ void trajectoryFacts(std::span<const journal::TrajectoryPose> tr, double t0, Sca
         const double dt = tr[k].t_s - tr[k - 1].t_s;
         f.distance_m +=
             std::hypot(tr[k].x - tr[k - 1].x, tr[k].y - tr[k - 1].y, tr[k].z - tr[k - 1].z);
-        if (dt > kDropoutS) f.pose_dropouts.push_back({tr[k - 1].t_s - t0, tr[k].t_s - t0, 0});
+        if (dt > kDropoutS) f.pose_dropouts.push_back({tr[k - 1].t_s - t0, tr[k].t_s - t0, 0, {}});
     }
     if (tr.size() < 2) {
         f.loop_note = "no trajectory to close a loop";
@@ -43,6 +43,33 @@ void trajectoryFacts(std::span<const journal::TrajectoryPose> tr, double t0, Sca
     f.loop_note = note;
 }
 
+using nlohmann::json;
+
+bool number(const json& j, const char* key) { return j.contains(key) && j[key].is_number(); }
+
+std::string text(const json& j, const char* key) {
+    return j.contains(key) && j[key].is_string() ? j[key].get<std::string>() : std::string();
+}
+
+// stats.json's [{begin_s, end_s (null: open at the end), reason?}] under block.key, from the
+// scan's start.
+std::vector<Interval> intervals(const json& stats, const char* block, const char* key, double t0,
+                                double t_end) {
+    std::vector<Interval> out;
+    if (!stats.contains(block) || !stats[block].is_object()) return out;
+    const json& list = stats[block].contains(key) ? stats[block][key] : json();
+    if (!list.is_array()) return out;
+    for (const json& i : list) {
+        if (!number(i, "begin_s")) continue;
+        Interval in;
+        in.from_s = i["begin_s"].get<double>() - t0;
+        in.to_s = (number(i, "end_s") ? i["end_s"].get<double>() : t_end) - t0;
+        in.what = text(i, "reason");
+        out.push_back(in);
+    }
+    return out;
+}
+
 void sweepFacts(const std::string& stats_json, double t0, double t_end, ScanFacts& f) {
     if (stats_json.empty()) return;
     const auto stats = nlohmann::json::parse(stats_json, nullptr, false);
@@ -50,15 +77,35 @@ void sweepFacts(const std::string& stats_json, double t0, double t_end, ScanFact
         return;
     f.have_sweep_stats = true;
     for (const auto& s : stats["per_sweep"]) {
-        if (!s.contains("t_start_s") || !s.contains("degenerate_directions")) continue;
-        f.sweep_degenerate.emplace_back(s["t_start_s"].get<double>() - t0,
-                                        s["degenerate_directions"].get<int>());
+        if (!number(s, "t_start_s") || !number(s, "degenerate_directions")) continue;
+        const double t = s["t_start_s"].get<double>() - t0;
+        const int degenerate = s["degenerate_directions"].get<int>();
+        f.sweep_degenerate.emplace_back(t, degenerate);
+        SweepModules m;
+        m.t_s = t;
+        // Older stats.json without the masks: the degenerate count is all there is.
+        m.scan_mask = number(s, "solved_dof_mask")
+                          ? static_cast<std::uint8_t>(s["solved_dof_mask"].get<int>() & 0x3F)
+                          : static_cast<std::uint8_t>(degenerate == 0 ? 0x3F : 0);
+        if (number(s, "vio_solved_dof_mask"))
+            m.vio_mask = static_cast<std::uint8_t>(s["vio_solved_dof_mask"].get<int>() & 0x3F);
+        const std::string tracking = text(s, "tracking");
+        m.tracking = tracking == "lost" ? 'l' : tracking == "rejected" ? 'r' : 'o';
+        f.sweep_modules.push_back(m);
+    }
+    f.tracking_lost = intervals(stats, "tracking", "lost_intervals", t0, t_end);
+    if (stats.contains("vio") && stats["vio"].is_object()) {
+        f.have_vio = true;
+        f.vio_from_s = number(stats["vio"], "first_frame_s")
+                           ? stats["vio"]["first_frame_s"].get<double>() - t0
+                           : 0.0;
+        f.vio_bypassed = intervals(stats, "vio", "bypassed", t0, t_end);
     }
     // Consecutive degenerate sweeps make one interval, to the start of the next good sweep.
     const auto& sw = f.sweep_degenerate;
     for (std::size_t k = 0; k < sw.size(); ++k) {
         if (sw[k].second == 0) continue;
-        Interval in{sw[k].first, sw[k].first, 0};
+        Interval in{sw[k].first, sw[k].first, 0, {}};
         for (; k < sw.size() && sw[k].second > 0; ++k)
             in.directions = std::max(in.directions, sw[k].second);
         in.to_s = k < sw.size() ? sw[k].first : t_end - t0;
@@ -101,7 +148,8 @@ ScanFacts ScanFactsBuilder::finish(std::span<const journal::TrajectoryPose> tr,
     for (auto it = seconds_.begin(); it != seconds_.end(); ++it) {
         const auto next = std::next(it);
         if (next != seconds_.end() && next->first - it->first > 1)
-            f.laser_dropouts.push_back({double(it->first + 1) - t0, double(next->first) - t0, 0});
+            f.laser_dropouts.push_back(
+                {double(it->first + 1) - t0, double(next->first) - t0, 0, {}});
     }
     // Health bins of a whole number of seconds, at most kMaxBins of them.
     const auto seconds = static_cast<std::size_t>(std::ceil(f.duration_s));

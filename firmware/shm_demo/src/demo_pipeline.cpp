@@ -6,6 +6,8 @@
 
 #include "handscan/core/log.hpp"
 #include "handscan/export/point_formats.hpp"
+#include "handscan/report/map_images.hpp"
+#include "handscan/report/map_raster.hpp"
 #include "handscan/shm/text_field.hpp"
 
 namespace handscan::shm_demo {
@@ -178,6 +180,7 @@ void DemoPipeline::exportMap(const shm::Command& cmd) {
         publishStatus(monotonicNow());
     }
     if (Status st = ply->end(); !st.isOk()) return fail(st.message() + " (stick full or removed?)");
+    writePreview();
     const auto size = fs::file_size(file, ec);
     export_.state = static_cast<std::uint8_t>(shm::ExportState::kDone);
     export_.progress = 1.0f;
@@ -187,6 +190,22 @@ void DemoPipeline::exportMap(const shm::Command& cmd) {
                  "exported " + std::to_string(map_.size()) + " points: safe to remove");
     writer_.ack(cmd.seq, CommandState::kDone, "safe to remove: " + file.string(), 1.0f);
     publishStatus(monotonicNow());
+}
+
+// The map from above by height with the walk, as the export's report draws it (handscan::report).
+void DemoPipeline::writePreview() const {
+    if (o_.preview_png.empty() || map_.empty()) return;
+    report::MapRaster top(report::View::kTop);
+    std::vector<journal::MapPoint> points(map_.size());
+    for (std::size_t i = 0; i < map_.size(); ++i) {
+        points[i].x = map_[i].x_m;
+        points[i].y = map_[i].y_m;
+        points[i].z = map_[i].z_m;
+    }
+    top.add(points);
+    auto image = report::renderMap(top, report::Colouring::kHeight, {}, "the exported map");
+    if (!image.isOk() || !report::writePng(o_.preview_png, *image).isOk())
+        log().warn("export preview {}: not written", o_.preview_png);
 }
 
 void DemoPipeline::publishStatus(TimeNs now) {

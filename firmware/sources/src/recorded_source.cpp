@@ -60,6 +60,9 @@ RecordedSource::RecordedSource(std::unique_ptr<recording::McapReader> reader,
       hokuyo_(hokuyoTiming(device)),
       xsens_("Xsens", xsensTiming(device)),
       encoder_(encoderStreamConfig(device)),
+      // Frames are stamped at mid-exposure by the live camera's rule, with its readout.
+      colour_decoder_(fromSeconds(device.colour_camera.readout_ms * 1e-3)),
+      tracking_decoder_(fromSeconds(device.tracking_camera.readout_ms * 1e-3)),
       wall_start_(std::chrono::steady_clock::now()) {}
 
 double RecordedSource::durationHint() const {

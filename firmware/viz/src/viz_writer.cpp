@@ -141,6 +141,8 @@ struct VizWriter::Impl {
     std::deque<EncoderSample> encoder;  // the samples around the poses still to come
     TimeNs last_pose_t = 0;
     TimeNs last_track_t = 0;              // the last tracking-camera frame written
+    TimeNs last_map_t = 0;                // the last /map snapshot written
+    bool map_pending = false;             // points added since (map_every_s)
     std::vector<Eigen::Isometry3d> path;  // the trajectory's poses 10 cm or 10 deg apart
     std::deque<std::pair<TimeNs, Eigen::Isometry3d>> ground_truth;  // until the first pose
     std::optional<Eigen::Isometry3d> T_world_gtworld;
@@ -257,6 +259,46 @@ struct VizWriter::Impl {
                 return;
         }
         path.push_back(T);
+    }
+
+    // /sweep (the points as they are) and /map (the display map with them added), in world.
+    Status writeClouds(TimeNs t, std::span<const journal::MapPoint> points) {
+        if (points.empty()) return Status::ok();
+        cloud.Clear();
+        setTime(cloud.mutable_timestamp(), t);
+        cloud.set_frame_id(kWorld);
+        // The identity, written out: the cloud's points are in world coordinates.
+        cloud.mutable_pose()->mutable_position()->set_x(0.0);
+        cloud.mutable_pose()->mutable_orientation()->set_w(1.0);
+        cloud.set_point_stride(kPointStride);
+        for (const PointField& f : kPointFields) {
+            foxglove::PackedElementField* field = cloud.add_fields();
+            field->set_name(f.name);
+            field->set_offset(f.offset);
+            field->set_type(static_cast<foxglove::PackedElementField::NumericType>(f.type));
+        }
+        std::string* data = cloud.mutable_data();
+        data->reserve(points.size() * kPointStride);
+        for (const journal::MapPoint& p : points) appendPointRecord(p, *data);
+        if (Status st = write(sweep_ch, t, cloud); !st.isOk()) return st;
+
+        // The same header; the display map's records as the data.
+        map.add(points);
+        map_pending = true;  // the last cloud's header: close() writes the final map with it
+        if (last_map_t != 0 && toSeconds(t - last_map_t) < config.map_every_s) return Status::ok();
+        last_map_t = t;
+        map_pending = false;
+        map.snapshot(*cloud.mutable_data());
+        if (Status st = write(map_ch, t, cloud); !st.isOk()) return st;
+        return Status::ok();
+    }
+
+    // /path and the camchain's frames again, so a viewer that seeks finds them near.
+    Status writePathAndStatic(TimeNs t) {
+        if (Status st = writePath(t); !st.isOk()) return st;
+        tf.Clear();
+        addStaticTransforms(t);
+        return write(tf_ch, t, tf);
     }
 
     Status writePath(TimeNs t) {
@@ -461,30 +503,7 @@ Status VizWriter::groundTruth(const recording::GroundTruthPose& gt) {
 Status VizWriter::sweep(const lio::RegisteredSweep& s, std::span<const journal::MapPoint> points) {
     Impl& m = *impl_;
     const TimeNs t = s.times.empty() ? s.result.pose.t_host : s.times.back();  // sweep complete
-    if (!points.empty()) {
-        m.cloud.Clear();
-        setTime(m.cloud.mutable_timestamp(), t);
-        m.cloud.set_frame_id(kWorld);
-        // The identity, written out: the cloud's points are in world coordinates.
-        m.cloud.mutable_pose()->mutable_position()->set_x(0.0);
-        m.cloud.mutable_pose()->mutable_orientation()->set_w(1.0);
-        m.cloud.set_point_stride(kPointStride);
-        for (const PointField& f : kPointFields) {
-            foxglove::PackedElementField* field = m.cloud.add_fields();
-            field->set_name(f.name);
-            field->set_offset(f.offset);
-            field->set_type(static_cast<foxglove::PackedElementField::NumericType>(f.type));
-        }
-        std::string* data = m.cloud.mutable_data();
-        data->reserve(points.size() * kPointStride);
-        for (const journal::MapPoint& p : points) appendPointRecord(p, *data);
-        if (Status st = m.write(m.sweep_ch, t, m.cloud); !st.isOk()) return st;
-
-        // The same header; the display map's records as the data.
-        m.map.add(points);
-        m.map.snapshot(*m.cloud.mutable_data());
-        if (Status st = m.write(m.map_ch, t, m.cloud); !st.isOk()) return st;
-    }
+    if (Status st = m.writeClouds(t, points); !st.isOk()) return st;
 
     msgs::PipelineStatus status;
     setTime(status.mutable_timestamp(), t);
@@ -517,15 +536,25 @@ Status VizWriter::sweep(const lio::RegisteredSweep& s, std::span<const journal::
     m.imu_n = m.scan_n = m.encoder_n = m.image_n[0] = m.image_n[1] = 0;
     m.rates_since = t;
     if (Status st = m.write(m.status_ch, t, status); !st.isOk()) return st;
-    if (Status st = m.writePath(std::max(t, m.last_pose_t)); !st.isOk()) return st;
-
-    // The camchain's frames again once per sweep, so a viewer that seeks finds them near.
-    m.tf.Clear();
-    m.addStaticTransforms(std::max(t, m.last_pose_t));
-    return m.write(m.tf_ch, std::max(t, m.last_pose_t), m.tf);
+    return m.writePathAndStatic(std::max(t, m.last_pose_t));
 }
 
-Status VizWriter::close() { return impl_->mcap->close(); }
+Status VizWriter::mapPoints(TimeNs t, std::span<const journal::MapPoint> points) {
+    Impl& m = *impl_;
+    if (Status st = m.writeClouds(t, points); !st.isOk()) return st;
+    return m.writePathAndStatic(std::max(t, m.last_pose_t));
+}
+
+Status VizWriter::close() {
+    Impl& m = *impl_;
+    if (m.map_pending) {  // the whole map at the end, whatever map_every_s
+        m.map.snapshot(*m.cloud.mutable_data());
+        const TimeNs t = m.cloud.timestamp().seconds() * kNsPerSec + m.cloud.timestamp().nanos();
+        if (Status s = m.write(m.map_ch, t, m.cloud); !s.isOk()) return s;
+        m.map_pending = false;
+    }
+    return m.mcap->close();
+}
 
 std::uint64_t VizWriter::bytesWritten() const { return impl_->mcap->bytesWritten(); }
 std::uint64_t VizWriter::messageCount() const { return impl_->mcap->messageCount(); }

@@ -31,6 +31,12 @@ void PipelineWorker::reset() {
     lio_ = std::make_unique<lio::LaserInertialOdometry>(config_.lio, calibration_,
                                                         config_.motion_override);
     visual_.reset();  // made at the first tracking-camera frame
+    localizer_.reset();
+    poses_before_lock_.clear();
+    sweeps_before_lock_ = 0;
+    if (config_.prior_map)
+        localizer_ = std::make_unique<localize::Localizer>(config_.localizer, config_.prior_map,
+                                                           config_.initial_pose);
 }
 
 Status PipelineWorker::advance(TimeNs source_clock, TimeNs deadline) {
@@ -94,6 +100,8 @@ void PipelineWorker::process(sources::Sample& sample) {
 }
 
 Status PipelineWorker::consume() {
+    if (localizer_)
+        return consumeLocalized(lio_->takePoses(), lio_->takeTrajectory(), lio_->takeSweeps());
     for (const PoseEstimate& p : lio_->takePoses()) {
         if (Status s = sink_.pose(p); !s.isOk()) return s;
     }
@@ -101,15 +109,70 @@ Status PipelineWorker::consume() {
         if (Status s = sink_.trajectoryPose(p); !s.isOk()) return s;
     }
     for (const lio::RegisteredSweep& s : lio_->takeSweeps()) {
-        if (timer_ != nullptr) timer_->add("scan_matching", s.result.total_ms * 1e3);
-        if (visual_) visual_->sweep(s);      // laser depth for the camera (5.3)
-        if (!sink_.wantsSweeps()) continue;  // between scans the map does not grow
-        // A sweep the tracking monitor kept out of the map reaches the sink with no points:
-        // the sink counts it, but nothing of it is coloured, journaled or shown.
-        if (!s.tracking.enters_map) {
-            if (Status st = sink_.sweep(s, {}); !st.isOk()) return st;
-            continue;
+        if (Status st = handOn(s); !st.isOk()) return st;
+    }
+    return Status::ok();
+}
+
+namespace {
+
+PoseEstimate moved(const Eigen::Isometry3d& T, PoseEstimate p) {
+    p.T_world_body = T * p.T_world_body;
+    return p;
+}
+
+}  // namespace
+
+Status PipelineWorker::consumeLocalized(std::vector<PoseEstimate> poses,
+                                        std::vector<PoseEstimate> trajectory,
+                                        std::vector<lio::RegisteredSweep> sweeps) {
+    // Section 9: the odometry's sweeps (those it trusts) go to the localizer first, so that the
+    // outputs of this batch use the newest estimate of the odometry's place in the prior map.
+    for (const lio::RegisteredSweep& s : sweeps) {
+        if (!s.tracking.enters_map || !s.result.features) continue;
+        timed("localization", [&] {
+            return localizer_->addSweep(s.sweep.t_start, s.result.pose.T_world_body,
+                                        s.result.features);
+        });
+    }
+    const Eigen::Isometry3d& T = localizer_->priorFromOdom();
+    if (!localizer_->locked()) {
+        // Nothing is merged before the lock: the real-time poses have no place on the prior map
+        // yet, the trajectory's wait to be moved into the prior's frame.
+        for (PoseEstimate& p : trajectory) poses_before_lock_.push_back(std::move(p));
+        while (poses_before_lock_.size() > config_.max_poses_before_lock)
+            poses_before_lock_.pop_front();
+        for (const lio::RegisteredSweep& s : sweeps) {
+            if (timer_ != nullptr) timer_->add("scan_matching", s.result.total_ms * 1e3);
+            if (visual_) visual_->sweep(s);
+            ++sweeps_before_lock_;
         }
+        return Status::ok();
+    }
+    for (const PoseEstimate& p : poses) {
+        if (Status st = sink_.pose(moved(T, p)); !st.isOk()) return st;
+    }
+    for (; !poses_before_lock_.empty(); poses_before_lock_.pop_front()) {
+        const PoseEstimate p = moved(T, poses_before_lock_.front());
+        if (Status st = sink_.trajectoryPose(p); !st.isOk()) return st;
+    }
+    for (const PoseEstimate& p : trajectory) {
+        if (Status st = sink_.trajectoryPose(moved(T, p)); !st.isOk()) return st;
+    }
+    for (const lio::RegisteredSweep& s : sweeps) {
+        if (Status st = handOn(s); !st.isOk()) return st;
+    }
+    return Status::ok();
+}
+
+Status PipelineWorker::handOn(const lio::RegisteredSweep& s) {
+    if (timer_ != nullptr) timer_->add("scan_matching", s.result.total_ms * 1e3);
+    if (visual_) visual_->sweep(s);                 // laser depth for the camera (5.3)
+    if (!sink_.wantsSweeps()) return Status::ok();  // between scans the map does not grow
+    // A sweep the tracking monitor kept out of the map reaches the sink with no points:
+    // the sink counts it, but nothing of it is coloured, journaled or shown.
+    std::vector<journal::MapPoint> pts;
+    if (s.tracking.enters_map) {
         std::optional<colour::ColourResult> colours;
         if (colouriser_ && colouriser_->imageCount() > 0) {
             const colour::PoseAtFn pose_at = [&](TimeNs t) {
@@ -120,11 +183,49 @@ Status PipelineWorker::consume() {
                 return colouriser_->colourise(s.points_world, s.times, pose_at);
             });
         }
-        const std::vector<journal::MapPoint> pts =
-            live_output::sweepMapPoints(s, colours ? &*colours : nullptr);
-        if (Status st = sink_.sweep(s, pts); !st.isOk()) return st;
+        pts = live_output::sweepMapPoints(s, colours ? &*colours : nullptr);
     }
-    return Status::ok();
+    if (!localizer_) return sink_.sweep(s, pts);
+    // Coloured in the odometry's frame (its poses), handed on in the prior map's.
+    const Eigen::Isometry3d& T = localizer_->priorFromOdom();
+    lio::RegisteredSweep in_prior = s;
+    in_prior.result.pose.T_world_body = T * s.result.pose.T_world_body;
+    in_prior.result.T_world_prior = T * s.result.T_world_prior;
+    const Eigen::Isometry3f Tf = T.cast<float>();
+    for (Eigen::Vector3f& p : in_prior.points_world) p = Tf * p;
+    for (journal::MapPoint& p : pts) {
+        const Eigen::Vector3f q = Tf * Eigen::Vector3f(p.x, p.y, p.z);
+        p.x = q.x();
+        p.y = q.y();
+        p.z = q.z();
+    }
+    return sink_.sweep(in_prior, pts);
+}
+
+scan::FeatureMapPoints PipelineWorker::featureMap() const {
+    scan::FeatureMapPoints own = lio_->odometry().featureMap();
+    if (!localizer_ || !localizer_->locked())
+        return localizer_ ? localizer_->prior().points() : own;
+    // The prior's points first; this session's only where they fill an empty leaf (the voxel
+    // map's constant density), moved into the prior's frame.
+    scan::VoxelMap merged(config_.lio.odometry.map);
+    const scan::FeatureMapPoints& prior = localizer_->prior().points();
+    const Eigen::Isometry3d& T = localizer_->priorFromOdom();
+    merged.recenter(localizer_->prior().start().translation());
+    auto toDouble = [](const std::vector<Eigen::Vector3f>& v, const Eigen::Isometry3d& M) {
+        std::vector<Eigen::Vector3d> out;
+        out.reserve(v.size());
+        for (const Eigen::Vector3f& p : v) out.push_back(M * p.cast<double>());
+        return out;
+    };
+    const Eigen::Isometry3d I = Eigen::Isometry3d::Identity();
+    merged.insert(scan::FeatureKind::kEdge, toDouble(prior.edges, I));
+    merged.insert(scan::FeatureKind::kPlanar, toDouble(prior.planars, I),
+                  toDouble(prior.planar_origins, I));
+    merged.insert(scan::FeatureKind::kEdge, toDouble(own.edges, T));
+    merged.insert(scan::FeatureKind::kPlanar, toDouble(own.planars, T),
+                  toDouble(own.planar_origins, T));
+    return merged.featurePoints();
 }
 
 }  // namespace handscan::worker

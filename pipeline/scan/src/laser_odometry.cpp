@@ -49,7 +49,10 @@ SweepResult LaserOdometry::run(const Sweep& sweep,
     out.matcher_thread = thread;
 
     auto t0 = std::chrono::steady_clock::now();
-    const FeatureCloud features = extractFeatures(sweep, config_.features);
+    const auto shared_features =
+        std::make_shared<const FeatureCloud>(extractFeatures(sweep, config_.features));
+    const FeatureCloud& features = *shared_features;
+    out.features = shared_features;
     out.edges = features.edges.size();
     out.planars = features.planars.size();
     out.features_ms = msSince(t0);
@@ -221,6 +224,11 @@ std::vector<Eigen::Vector3f> LaserOdometry::mapPoints() const {
     const std::vector<Eigen::Vector3f> planars = map_.points(FeatureKind::kPlanar);
     pts.insert(pts.end(), planars.begin(), planars.end());
     return pts;
+}
+
+FeatureMapPoints LaserOdometry::featureMap() const {
+    std::lock_guard<std::mutex> lock(map_mutex_);
+    return map_.featurePoints();
 }
 
 VoxelMapStats LaserOdometry::mapStats() const {

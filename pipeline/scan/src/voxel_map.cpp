@@ -217,6 +217,31 @@ std::vector<Eigen::Vector3f> VoxelMap::points(FeatureKind kind) const {
     return out;
 }
 
+FeatureMapPoints VoxelMap::featurePoints() const {
+    FeatureMapPoints out;
+    out.edges = points(FeatureKind::kEdge);
+    out.planars = points(FeatureKind::kPlanar);
+    out.planar_origins.reserve(out.planars.size());
+    for (const CoarseVoxel& v : slots_) {
+        if (!v.used) continue;
+        std::vector<std::uint32_t> keys;
+        keys.reserve(v.cells.size());
+        for (const auto& [idx, cell] : v.cells) keys.push_back(idx);
+        std::sort(keys.begin(), keys.end());
+        for (std::uint32_t idx : keys) {
+            const FineCell& cell = v.cells.at(idx);
+            const auto k = static_cast<int>(FeatureKind::kPlanar);
+            for (std::size_t i = 0; i < cell.pts[k].size(); ++i) {
+                out.planar_origins.push_back(
+                    i < cell.origins[k].size()
+                        ? cell.origins[k][i]
+                        : Eigen::Vector3f::Constant(std::numeric_limits<float>::quiet_NaN()));
+            }
+        }
+    }
+    return out;
+}
+
 VoxelMapStats VoxelMap::stats() const {
     VoxelMapStats s;
     s.points[0] = stats_points_[0];

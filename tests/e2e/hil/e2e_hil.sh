@@ -22,7 +22,8 @@ grep -A6 '^tracking_camera:' "$work/device.yaml" | grep -q 'fps: 10' || fail "co
 json_number() { grep -o "\"$2\": [0-9.eE+-]*" "$1" | head -1 | awk '{print $2}'; }
 
 # 1. The recording as recorded: trajectory and map against the truth, nothing dropped.
-"$bin" -q hil "$work/office.mcap" --out "$work/run" --daemon "$daemon" --device "$work/device.yaml"
+"$bin" -q hil "$work/office.mcap" --out "$work/run" --daemon "$daemon" --device "$work/device.yaml" \
+  --viz "$work/run/scan.viz.mcap"
 for f in trajectory.tum trajectory.host.tum stats.json map.ply daemon.log device.yaml; do
   [ -s "$work/run/$f" ] || fail "hil wrote no $f"
 done
@@ -55,6 +56,16 @@ coloured=$(json_number "$work/run/stats.json" coloured_points)
 journal_points=$(json_number "$work/run/stats.json" points)
 share=$(awk -v c="$coloured" -v n="$journal_points" 'BEGIN {print c / n}')
 at_most 0.10 "$share" || fail "only $coloured of $journal_points points coloured by the camera"
+# --viz: the daemon's journal with the recording's frames and ground truth, read by @mcap/core and
+# protobufjs (tests/interop/viz): /pose = trajectory.tum (the recording's clock), every journal
+# point on /sweep, camera sizes as the camchain's, the ground truth aligned at the first pose.
+viz_check=$(cd "$(dirname "$0")/../../interop/viz" && pwd)
+if command -v node > /dev/null && [ -d "$viz_check/node_modules/protobufjs" ]; then
+  node "$viz_check/check_viz.mjs" "$work/run/scan.viz.mcap" "$work/run" 640x512 1600x1200 \
+    "$viz_check/../../../tools/foxglove/handscan-layout.json" --journal "$journal_points" \
+    || fail "hil's viz file does not read back as the daemon's scan"
+  echo "hil --viz: $(stat -c %s "$work/run/scan.viz.mcap") bytes for a $(stat -c %s "$work/office.mcap") byte recording"
+fi
 
 # 2. The laser's TCP connection dropped at 8 s: the driver reconnects, the scan goes on.
 "$bin" -q hil "$work/office.mcap" --out "$work/disconnect" --daemon "$daemon" --device "$work/device.yaml" --no-camera --fault-hokuyo-disconnect 8

@@ -55,6 +55,10 @@ mkdir -p "$work/stick"
 for f in cloud.ply cloud.las cloud.e57 trajectory.tum trajectory.csv scan.json report.html; do
   [ -s "$work/stick/scan/$f" ] || fail "export wrote no $f"
 done
+if command -v weasyprint > /dev/null; then
+  [ "$(head -c 5 "$work/stick/scan/report.pdf" 2>/dev/null)" = "%PDF-" ] \
+    || fail "weasyprint is installed but the export wrote no report.pdf"
+fi
 "$bin" info "$work/stick/scan/cloud.e57" > "$work/e57info.txt" || fail "handscan info cannot read cloud.e57"
 # The independent E57 reader (npm web-e57, installed by tools/test) on the replay's export.
 interop=$(cd "$(dirname "$0")/../../interop/export" && pwd)

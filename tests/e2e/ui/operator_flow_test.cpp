@@ -7,12 +7,15 @@
 
 #include <filesystem>
 #include <fstream>
+#include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
 #include <sstream>
 #include <thread>
 
 #include "child_process.hpp"
 #include "handscan/core/json.hpp"
 #include "handscan/export/point_formats.hpp"
+#include "handscan/shm/export_preview.hpp"
 #include "handscan/shm/live_map_reader.hpp"
 #include "handscan/shm/text_field.hpp"
 
@@ -136,6 +139,10 @@ TEST(OperatorFlow, StartScanStopExportSafeToRemove) {
     EXPECT_NE(header.find("element vertex " + std::to_string(points) + "\n"), std::string::npos)
         << header;
     EXPECT_EQ(fs::file_size(ply), header.size() + points * exporter::kPlyPointRecordBytes);
+    // ... and left the map's picture (the report's view from above) for the export screen.
+    const std::string preview = shm::exportPreviewPath(name);
+    const cv::Mat preview_png = cv::imread(preview, cv::IMREAD_COLOR);
+    ASSERT_FALSE(preview_png.empty()) << preview;
 
     // The UI shows the finished export and the whole map.
     if (ensureDisplay().empty() && fs::exists(kUi)) {
@@ -156,6 +163,28 @@ TEST(OperatorFlow, StartScanStopExportSafeToRemove) {
             << json;
         EXPECT_EQ(doc["scan_state"], "STOPPED") << json;
         EXPECT_EQ(doc["map"]["points_drawn"], points) << json;
+        // The export screen shows that picture: drawn where the status says, and the screenshot
+        // there is the PNG scaled down (both blurred a little: the GPU's and OpenCV's filters
+        // differ pixel by pixel).
+        EXPECT_EQ(doc["export_preview"]["path"], preview) << json;
+        EXPECT_EQ(doc["export_preview"]["size"], Json::array({preview_png.cols, preview_png.rows}));
+        const auto& d = doc["export_preview"]["drawn"];
+        const cv::Rect at(static_cast<int>(std::lround(d[0].get<double>())),
+                          static_cast<int>(std::lround(d[1].get<double>())),
+                          static_cast<int>(d[2].get<double>()),
+                          static_cast<int>(d[3].get<double>()));
+        const cv::Mat shot = cv::imread(png.string(), cv::IMREAD_COLOR);
+        ASSERT_GT(at.width, 100) << json;
+        ASSERT_TRUE((cv::Rect(0, 0, shot.cols, shot.rows) & at) == at) << json;
+        cv::Mat expected, diff;
+        cv::resize(preview_png, expected, at.size(), 0, 0, cv::INTER_AREA);
+        cv::Mat shown;
+        cv::GaussianBlur(shot(at), shown, cv::Size(5, 5), 0);
+        cv::GaussianBlur(expected, expected, cv::Size(5, 5), 0);
+        cv::absdiff(shown, expected, diff);
+        const cv::Scalar mean = cv::mean(diff);
+        EXPECT_LT((mean[0] + mean[1] + mean[2]) / 3, 12.0)
+            << "the export screen's picture is not " << preview;
     }
 
     // Shutdown ends the pipeline process cleanly.
@@ -164,6 +193,7 @@ TEST(OperatorFlow, StartScanStopExportSafeToRemove) {
     const ChildResult r = pipeline.wait(10);
     EXPECT_EQ(r.exit_code, 0) << r.output;
     std::error_code ec;
+    fs::remove(shm::exportPreviewPath(name), ec);
     if (!::testing::Test::HasFailure()) fs::remove_all(dir, ec);
 }
 

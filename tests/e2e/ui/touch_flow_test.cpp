@@ -8,6 +8,7 @@
 #include <thread>
 
 #include "child_process.hpp"
+#include "handscan/shm/export_preview.hpp"
 #include "handscan/shm/live_map_reader.hpp"
 
 namespace handscan::e2e {
@@ -101,6 +102,7 @@ TEST(TouchFlow, OperatorTapsStartStopExport) {
     ui.terminate();
     pipeline.terminate();
     std::error_code ec;
+    fs::remove(shm::exportPreviewPath(name), ec);  // the export's picture, left by shm-demo
     if (!::testing::Test::HasFailure()) fs::remove_all(dir, ec);
 }
 

@@ -1,5 +1,6 @@
 // Writes a journal of deterministic pseudo-random coloured points, exports it with handscan's
-// exporter, and writes expected.json (count, bounds, colour sums) for the independent readers.
+// exporter (E57 with double and with ScaledInteger coordinates), and writes expected.json (count,
+// bounds, colour sums) for the independent readers.
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -53,12 +54,21 @@ int main(int argc, char** argv) {
     opt.scan_name = "scan";
     auto report = exporter::exportScan(journal_path, (out / "target").string(), opt);
     if (!report.isOk()) return std::fprintf(stderr, "%s\n", report.status().message().c_str()), 1;
+    // The same with E57 ScaledInteger coordinates of 0.1 mm (and its PLY to compare with).
+    constexpr double kScale = 1e-4;
+    opt.scan_name = "scan-scaled";
+    opt.formats = {"ply", "e57"};
+    opt.e57_scale_m = kScale;
+    opt.report = false;
+    auto scaled = exporter::exportScan(journal_path, (out / "target").string(), opt);
+    if (!scaled.isOk()) return std::fprintf(stderr, "%s\n", scaled.status().message().c_str()), 1;
     std::ofstream js(out / "expected.json");
     js.precision(9);
     js << "{\"count\": " << n << ", \"min\": [" << bounds.min[0] << ", " << bounds.min[1] << ", "
        << bounds.min[2] << "], \"max\": [" << bounds.max[0] << ", " << bounds.max[1] << ", "
        << bounds.max[2] << "], \"sum_rgb\": [" << sum_r << ", " << sum_g << ", " << sum_b
        << "], \"first_rgb\": [" << int(pts[0].r) << ", " << int(pts[0].g) << ", " << int(pts[0].b)
-       << "], \"dir\": \"" << report->directory << "\"}\n";
+       << "], \"dir\": \"" << report->directory << "\", \"scaled_dir\": \"" << scaled->directory
+       << "\", \"scale\": " << kScale << "}\n";
     return 0;
 }

@@ -1,8 +1,9 @@
 // A synthetic walk for the report: a 12 x 8 m room (floor, four walls 2.5 m high, a table and a
-// shelf) walked once
-// around a loop for 60 s, coloured by the "camera" except for the first 10 s, with the laser silent
-// from 20 to 22 s, and a replay-style stats.json saying the matcher was degenerate from 30 to 35 s.
-// Exports it (E57 + report.html) into OUT_DIR/target/walk.
+// shelf) walked once around a loop for 60 s, coloured by the "camera" except for the first 10 s,
+// with the laser silent from 20 to 22 s, and a replay-style stats.json saying the matcher was
+// degenerate in tx from 30 to 35 s (the VIO solving it from 32 s), the VIO bypassed from 40 to
+// 45 s and tracking lost from 50 to 52 s.
+// Exports it (E57 + report.html + report.pdf) into OUT_DIR/target/walk.
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -67,11 +68,13 @@ int main(int argc, char** argv) {
                     p.z = uz(rng);
                     break;
             }
+            // Unseen by the camera, a point keeps its laser grey, as the worker journals it.
             const bool coloured = t >= kT0 + 10.0;
-            p.r = coloured ? static_cast<std::uint8_t>(120 + 40 * (p.z > 0)) : 0;
-            p.g = coloured ? static_cast<std::uint8_t>(80 + 100 * (p.x > 0)) : 0;
-            p.b = coloured ? 60 : 0;
             p.intensity = 1000;
+            const std::uint8_t grey = journal::laserGrey(p.intensity);
+            p.r = coloured ? static_cast<std::uint8_t>(120 + 40 * (p.z > 0)) : grey;
+            p.g = coloured ? static_cast<std::uint8_t>(80 + 100 * (p.x > 0)) : grey;
+            p.b = coloured ? 60 : grey;
             batch.push_back(p);
         }
         if (!(*w)->appendPoints(batch).isOk()) return 1;
@@ -86,12 +89,23 @@ int main(int argc, char** argv) {
     if (!(*w)->finish().isOk()) return 1;
     w->reset();
     std::ofstream stats(out / "walk" / "stats.json");
-    stats << "{\"per_sweep\": [";
+    // tx degenerate from 30 to 35 s (the VIO solves it from 32 s), the VIO bypassed from 40 to
+    // 45 s, tracking lost from 50 to 52 s.
+    stats << "{\"vio\": {\"first_frame_s\": " << kT0 + 0.5
+          << ", \"bypassed\": [{\"begin_s\": " << kT0 + 40.0 << ", \"end_s\": " << kT0 + 45.0
+          << ", \"frames\": 50}]}, "
+          << "\"tracking\": {\"lost_intervals\": [{\"begin_s\": " << kT0 + 50.0
+          << ", \"end_s\": " << kT0 + 52.0 << ", \"reason\": \"too_few_correspondences\"}]}, "
+          << "\"per_sweep\": [";
     for (int s = 0; s < 600; ++s) {
         const double t = kT0 + s * 0.1;
+        const bool degenerate = t >= kT0 + 30.0 && t < kT0 + 35.0;
+        const bool lost = t >= kT0 + 50.0 && t < kT0 + 52.0;
         stats << (s ? ", " : "") << "{\"t_start_s\": " << t
-              << ", \"degenerate_directions\": " << (t >= kT0 + 30.0 && t < kT0 + 35.0 ? 1 : 0)
-              << "}";
+              << ", \"degenerate_directions\": " << (degenerate ? 1 : 0)
+              << ", \"solved_dof_mask\": " << (degenerate ? 0x37 : 0x3F)
+              << ", \"vio_solved_dof_mask\": " << (t >= kT0 + 32.0 && t < kT0 + 40.0 ? 0x3F : 0)
+              << ", \"tracking\": \"" << (lost ? "lost" : "ok") << "\"}";
     }
     stats << "]}\n";
     stats.close();

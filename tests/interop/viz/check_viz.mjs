@@ -11,15 +11,19 @@
 //
 //   the Foxglove layout (tools/foxglove/handscan-layout.json) names only topics the file has and
 //   plots only fields its messages carry.
+// With --journal N, a viz file written from a journal (`handscan export --format mcap`, `handscan
+// hil --viz`): /pose against DIR/trajectory.tum, /sweep's points add up to N, no /imu, /status or
+// body->laser (the journal keeps none), cameras and ground truth checked where present (hil).
 //
-// usage: node check_viz.mjs VIZ.mcap REPLAY_DIR TRACK_WxH COLOUR_WxH LAYOUT.json
+// usage: node check_viz.mjs VIZ.mcap REPLAY_DIR TRACK_WxH COLOUR_WxH LAYOUT.json [--journal N]
 import { readFile } from "node:fs/promises";
 import { McapIndexedReader } from "@mcap/core";
 import { decompress } from "fzstd";
 import protobuf from "protobufjs";
 import descriptor from "protobufjs/ext/descriptor/index.js";
 
-const [file, replayDir, trackSize, colourSize, layoutFile] = process.argv.slice(2);
+const [file, replayDir, trackSize, colourSize, layoutFile, journalFlag, journalPoints] = process.argv.slice(2);
+const journal = journalFlag === "--journal";
 const failures = [];
 const check = (ok, what) => {
   if (!ok) failures.push(what);
@@ -62,7 +66,11 @@ for (const channel of reader.channelsById.values()) {
   const root = protobuf.Root.fromDescriptor(set);
   typeOf.set(channel.id, root.lookupType(schema.name));
 }
-for (const topic of Object.keys(expectedTypes)) {
+// A journal holds poses and points only; the cameras and the ground truth come with hil's recording.
+const journalOptional = ["/imu", "/status", "/camera/track", "/camera/track/calibration", "/camera/colour",
+  "/camera/colour/calibration", "/groundtruth/pose"];
+const required = Object.keys(expectedTypes).filter((t) => !journal || !journalOptional.includes(t));
+for (const topic of required) {
   check([...topicOf.values()].includes(topic), `no ${topic} channel`);
 }
 
@@ -81,7 +89,8 @@ for await (const m of reader.readMessages({ validateCrcs: true })) {
   (byTopic[topic] ??= []).push({ logTime: m.logTime, msg });
 }
 const count = (t) => (byTopic[t] ?? []).length;
-for (const t of Object.keys(expectedTypes)) check(count(t) > 0, `${t}: no messages`);
+for (const t of required) check(count(t) > 0, `${t}: no messages`);
+if (journal) check(count("/imu") === 0 && count("/status") === 0, "a journal's viz has /imu or /status messages");
 const stamp = (ts) => BigInt(ts.seconds) * 1000000000n + BigInt(ts.nanos);
 for (const [t, msgs] of Object.entries(byTopic)) {
   if (t === "/tf") continue;
@@ -139,14 +148,18 @@ for (const { logTime, msg } of byTopic["/tf"] ?? []) {
 }
 check(tfWithPose === poses.length, `/tf: ${tfWithPose} world->body transforms for ${poses.length} poses`);
 // The encoder covers the poses but the first few (before its first sample).
-check(tfWithLaser >= 0.95 * poses.length, `/tf: body->laser with only ${tfWithLaser} of ${poses.length} poses`);
-for (const f of ["world->body", "body->laser", "body->imu", "body->camera_track", "body->camera_colour", "world->groundtruth_world"]) {
+if (!journal) check(tfWithLaser >= 0.95 * poses.length, `/tf: body->laser with only ${tfWithLaser} of ${poses.length} poses`);
+const wantedFrames = ["world->body", "body->imu", "body->camera_track", "body->camera_colour"];
+if (!journal) wantedFrames.push("body->laser");
+if (count("/groundtruth/pose") > 0) wantedFrames.push("world->groundtruth_world");
+for (const f of wantedFrames) {
   check(frames.has(f), `/tf has no ${f}`);
 }
 
 // /path once per sweep: the trajectory so far, each pose one of /pose's, the newest last.
 const paths = byTopic["/path"] ?? [];
-check(paths.length === count("/status"), `/path: ${paths.length} messages for ${count("/status")} sweeps`);
+const sweepsOrWindows = journal ? count("/sweep") : count("/status");
+check(paths.length === sweepsOrWindows, `/path: ${paths.length} messages for ${sweepsOrWindows} sweeps`);
 const key = (p) => `${p.position.x},${p.position.y},${p.position.z}`;
 const poseKeys = new Set(poses.map(({ msg }) => key(msg.pose)));
 for (const { msg } of paths) {
@@ -178,9 +191,10 @@ const cloudPoints = (topic, msg) => {
   }
   return n;
 };
-const stats = JSON.parse(await readFile(`${replayDir}/stats.json`, "utf8"));
+const stats = journal ? {} : JSON.parse(await readFile(`${replayDir}/stats.json`, "utf8"));
+const expectedPoints = journal ? Number(journalPoints) : stats.registered_points;
 const sweepPoints = (byTopic["/sweep"] ?? []).reduce((sum, { msg }) => sum + cloudPoints("/sweep", msg), 0);
-check(sweepPoints === stats.registered_points, `/sweep: ${sweepPoints} points, stats.json registered ${stats.registered_points}`);
+check(sweepPoints === expectedPoints, `/sweep: ${sweepPoints} points, expected ${expectedPoints} (${journal ? "the journal's" : "stats.json registered"})`);
 let mapBefore = 0;
 let mapPoints = 0;
 for (const { msg } of byTopic["/map"] ?? []) {
@@ -189,7 +203,9 @@ for (const { msg } of byTopic["/map"] ?? []) {
   mapBefore = Math.max(mapBefore, mapPoints);
 }
 check(mapPoints > 0 && mapPoints < sweepPoints, `/map: ${mapPoints} points for ${sweepPoints} registered (5 cm voxels)`);
-check(count("/map") === count("/sweep"), "/map once per sweep");
+// A journal's viz shows /map every 2 s of its 0.5 s windows.
+if (journal) check(count("/map") >= 1 && count("/map") <= count("/sweep"), "/map at most once per window");
+else check(count("/map") === count("/sweep"), "/map once per sweep");
 
 // ---- Images and their calibration --------------------------------------------------------------
 const imageSize = (data, format) => {
@@ -230,6 +246,7 @@ function calibrationCount(camera) {
 }
 
 // ---- IMU, status, ground truth ----------------------------------------------------------------
+if (!journal) {
 check(count("/imu") === stats.imu.samples, `/imu: ${count("/imu")} samples, stats.json ${stats.imu.samples}`);
 const g = (byTopic["/imu"] ?? []).map(({ msg }) => Math.hypot(msg.linear_acceleration_mps2.x, msg.linear_acceleration_mps2.y, msg.linear_acceleration_mps2.z));
 const meanG = g.reduce((a, b) => a + b, 0) / Math.max(1, g.length);
@@ -241,6 +258,7 @@ for (const { msg } of (byTopic["/status"] ?? []).slice(1, -1)) {
   check(solved.every((v) => v === 0 || v === 1) && solved.reduce((a, b) => a + b) === msg.solved_count, `/status: solved ${solved} vs count ${msg.solved_count}`);
   check(msg.degeneracy_eigenvalues.length === 6, `/status: ${msg.degeneracy_eigenvalues.length} eigenvalues`);
   check(Math.abs(msg.imu_hz - 200) < 40 && Math.abs(msg.laser_scans_hz - 40) < 10, `/status: rates imu ${msg.imu_hz} laser ${msg.laser_scans_hz}`);
+}
 }
 const gt = byTopic["/groundtruth/pose"] ?? [];
 check(gt.every(({ msg }) => msg.frame_id === "groundtruth_world"), "/groundtruth/pose frame");
@@ -269,7 +287,7 @@ if (gtAlignment && poses.length > 0) {
 
 // ---- The layout: its topics exist, its plot paths resolve in the decoded messages -------------
 const foxgloveLayout = JSON.parse(await readFile(layoutFile, "utf8"));
-for (const [panel, config] of Object.entries(foxgloveLayout.configById)) {
+for (const [panel, config] of journal ? [] : Object.entries(foxgloveLayout.configById)) {
   const topics = [...Object.keys(config.topics ?? {})];
   if (config.imageMode?.imageTopic) topics.push(config.imageMode.imageTopic, config.imageMode.calibrationTopic);
   for (const t of topics) check(count(t) > 0, `layout ${panel}: topic ${t} is not in the file`);
@@ -288,4 +306,4 @@ if (failures.length) {
   process.exit(1);
 }
 console.log(`check_viz: ${file}: every message decodes from its embedded descriptors (${summary}); ` +
-  `${sweepPoints} sweep points = stats.json; /map ${mapPoints} points; /pose = trajectory.tum (${worstPos.toExponential(1)} m)`);
+  `${sweepPoints} sweep points = ${journal ? "the journal's" : "stats.json"}; /map ${mapPoints} points; /pose = trajectory.tum (${worstPos.toExponential(1)} m)`);

@@ -1,6 +1,7 @@
 #!/bin/sh
 # CTest driver: a short simulated recording, `handscan replay --viz`, and the viz file read back by
-# @mcap/core + protobufjs from its embedded descriptors (check_viz.mjs).
+# @mcap/core + protobufjs from its embedded descriptors (check_viz.mjs); then the replay's journal
+# exported with `--format mcap` and that file checked the same way against the export.
 # usage: run.sh HANDSCAN OUT_DIR. Exits 77 (skip) when node or the npm packages are missing.
 set -eu
 here=$(cd "$(dirname "$0")" && pwd)
@@ -22,3 +23,13 @@ rec=$(stat -c %s "$work/office.mcap")
 viz=$(stat -c %s "$work/office.viz.mcap")
 echo "recording $rec bytes, viz $viz bytes"
 [ "$viz" -le $((2 * rec)) ] || { echo "viz file $viz bytes > 2x the recording's $rec"; exit 1; }
+
+# The journal's viz (export --format mcap): the same writer, poses and points from the journal.
+mkdir -p "$work/stick"
+"$bin" -q export "$work/replay" --to "$work/stick" --format mcap --name scan > "$work/export.txt"
+points=$(node -e "console.log(JSON.parse(require('fs').readFileSync('$work/stick/scan/scan.json')).journal.points)")
+node "$here/check_viz.mjs" "$work/stick/scan/scan.viz.mcap" "$work/stick/scan" 640x512 1600x1200 \
+  "$here/../../../tools/foxglove/handscan-layout.json" --journal "$points"
+journal=$(stat -c %s "$work/replay/journal.hsj")
+jviz=$(stat -c %s "$work/stick/scan/scan.viz.mcap")
+echo "journal $journal bytes, its viz $jviz bytes"

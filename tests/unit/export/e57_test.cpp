@@ -133,7 +133,7 @@ TEST_F(ExportTest, E57RoundTrip) {
                 (*w)->appendPose({100.0 + k * 0.005, k * 0.1, 0, 1.5, 0, 0, 0.6, 0.8}).isOk());
         ASSERT_TRUE((*w)->finish().isOk());
     }
-    auto report = exportScan(journal, dir_.string(), {{"e57"}, 0.0, "out", {}, {}});
+    auto report = exportScan(journal, dir_.string(), {{"e57"}, 0.0, "out", {}, {}, true, ""});
     ASSERT_TRUE(report.isOk()) << report.status().message();
     const std::string path = (dir_ / "out" / "cloud.e57").string();
     ASSERT_EQ(fs::file_size(path) % 1024, 0u);
@@ -168,11 +168,47 @@ TEST_F(ExportTest, E57RoundTrip) {
     EXPECT_DOUBLE_EQ(traj.columns[scan.trajectory->field("handscan:qw")][3], 0.8);
 }
 
+// ScaledInteger coordinates (0.1 mm, 32-bit raw values): read back within half a step, the
+// prototype says so, the file is smaller; a point beyond the 32-bit range refuses the export.
+TEST_F(ExportTest, E57ScaledIntegerCoordinates) {
+    const std::string journal = makeJournal(5000);
+    ExportOptions opt{{"e57"}, 0.0, "doubles", {}, {}, true, ""};
+    ASSERT_TRUE(exportScan(journal, dir_.string(), opt).isOk());
+    opt.scan_name = "scaled";
+    opt.e57_scale_m = 1e-4;
+    auto report = exportScan(journal, dir_.string(), opt);
+    ASSERT_TRUE(report.isOk()) << report.status().message();
+    const std::string path = (dir_ / "scaled" / "cloud.e57").string();
+    EXPECT_LT(fs::file_size(path), fs::file_size(dir_ / "doubles" / "cloud.e57"));
+    auto r = E57Reader::open(path);
+    ASSERT_TRUE(r.isOk()) << r.status().message();
+    const E57CompressedVector& v = r->file().scans[0].points;
+    const E57Field& fx = v.fields[v.field("cartesianX")];
+    EXPECT_EQ(fx.kind, E57Field::Kind::kScaledInteger);
+    EXPECT_EQ(fx.bits, 32u);
+    EXPECT_DOUBLE_EQ(fx.scale, 1e-4);
+    const Decoded d = decodeAll(*r, v);
+    ASSERT_EQ(d.records, 5000u);
+    const auto& x = d.columns[v.field("cartesianX")];
+    const auto& z = d.columns[v.field("cartesianZ")];
+    for (std::size_t i = 0; i < d.records; ++i) {
+        ASSERT_NEAR(x[i], static_cast<double>(static_cast<float>(i)), 0.5e-4 + 1e-9) << i;
+        ASSERT_NEAR(z[i], -1.0, 0.5e-4 + 1e-9) << i;
+    }
+    opt.scan_name = "far";
+    opt.e57_scale_m = 1e-6;  // ±2.1 km: the 5000 m point does not fit
+    auto far = exportScan(journal, dir_.string(), opt);
+    ASSERT_FALSE(far.isOk());
+    EXPECT_NE(far.status().message().find("beyond the 32-bit range"), std::string::npos)
+        << far.status().message();
+    EXPECT_FALSE(fs::exists(dir_ / "far" / "cloud.e57"));
+}
+
 // A medium that flips a bit after the write: the read-back's per-page CRC-32C names the page, and
 // no cloud.e57 is left that looks complete.
 TEST_F(ExportTest, E57ReadBackNamesADamagedPage) {
     const std::string journal = makeJournal(5000);
-    ExportOptions opt{{"e57"}, 0.0, "out", {}, {}};
+    ExportOptions opt{{"e57"}, 0.0, "out", {}, {}, true, ""};
     opt.faults.before_verify = [](const std::string& partial) {
         std::fstream f(partial, std::ios::in | std::ios::out | std::ios::binary);
         f.seekp(3 * 1024 + 100);

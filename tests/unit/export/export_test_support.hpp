@@ -13,6 +13,8 @@ namespace handscan::exporter::testing {
 // The whole file's bytes (empty when it cannot be read).
 std::vector<std::uint8_t> readFile(const std::string& path);
 
+// Tests that are not about report.pdf give ExportOptions{formats, voxel, name, {}, {}, true, ""}:
+// report.html, no PDF (its program runs for a second; report_pdf_test.cpp covers it).
 class ExportTest : public ::testing::Test {
 protected:
     void SetUp() override;

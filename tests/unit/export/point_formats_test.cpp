@@ -24,7 +24,7 @@ T at(const std::vector<std::uint8_t>& b, std::size_t off) {
 
 TEST_F(ExportTest, PlyHeaderAndRecords) {
     const std::string journal = makeJournal(10);
-    auto r = exportScan(journal, dir_.string(), {{"ply"}, 0.0, "out", {}, {}});
+    auto r = exportScan(journal, dir_.string(), {{"ply"}, 0.0, "out", {}, {}, true, ""});
     ASSERT_TRUE(r.isOk()) << r.status().message();
     const auto bytes = readFile((dir_ / "out" / "cloud.ply").string());
     const std::string text(bytes.begin(), bytes.end());
@@ -49,7 +49,7 @@ TEST_F(ExportTest, CountsThePointsTheCameraColoured) {
     // Points 0, 256 and 512 carry their laser grey (never seen by the camera), the rest colours
     // (i, 2i, 3i) mod 256.
     const std::string journal = makeJournal(600);
-    auto r = exportScan(journal, dir_.string(), {{"ply"}, 0.0, "out", {}, {}});
+    auto r = exportScan(journal, dir_.string(), {{"ply"}, 0.0, "out", {}, {}, true, ""});
     ASSERT_TRUE(r.isOk()) << r.status().message();
     EXPECT_EQ(r->points, 600u);
     EXPECT_EQ(r->coloured_points, 597u);
@@ -60,7 +60,7 @@ TEST_F(ExportTest, CountsThePointsTheCameraColoured) {
 
 TEST_F(ExportTest, LasHeaderFields) {
     const std::string journal = makeJournal(100);
-    auto r = exportScan(journal, dir_.string(), {{"las"}, 0.0, "out", {}, {}});
+    auto r = exportScan(journal, dir_.string(), {{"las"}, 0.0, "out", {}, {}, true, ""});
     ASSERT_TRUE(r.isOk()) << r.status().message();
     const auto b = readFile((dir_ / "out" / "cloud.las").string());
     ASSERT_EQ(b.size(), 375u + 100u * 36u);
@@ -100,7 +100,7 @@ TEST_F(ExportTest, VoxelFilterKeepsOnePointPerVoxelAtTheCentroid) {
         ASSERT_TRUE((*w)->appendPoints(pts).isOk());
         ASSERT_TRUE((*w)->finish().isOk());
     }
-    auto r = exportScan(path, dir_.string(), {{"ply"}, 0.1, "out", {}, {}});
+    auto r = exportScan(path, dir_.string(), {{"ply"}, 0.1, "out", {}, {}, true, ""});
     ASSERT_TRUE(r.isOk()) << r.status().message();
     EXPECT_EQ(r->points, 2u);
     EXPECT_EQ(r->journal_points, 3u);
@@ -110,7 +110,7 @@ TEST_F(ExportTest, VoxelFilterKeepsOnePointPerVoxelAtTheCentroid) {
 
 TEST_F(ExportTest, TrajectoryAndMetadataFiles) {
     const std::string journal = makeJournal(5);
-    auto r = exportScan(journal, dir_.string(), {{"ply", "las"}, 0.0, "out", {}, {}});
+    auto r = exportScan(journal, dir_.string(), {{"ply", "las"}, 0.0, "out", {}, {}, true, ""});
     ASSERT_TRUE(r.isOk()) << r.status().message();
     ASSERT_EQ(r->files.size(), 6u);
     const auto tum = readFile((dir_ / "out" / "trajectory.tum").string());
@@ -128,7 +128,7 @@ TEST_F(ExportTest, TrajectoryAndMetadataFiles) {
 
 TEST_F(ExportTest, EmptyScanExportsValidEmptyFiles) {
     const std::string journal = makeJournal(0);
-    auto r = exportScan(journal, dir_.string(), {{"ply", "las"}, 0.0, "out", {}, {}});
+    auto r = exportScan(journal, dir_.string(), {{"ply", "las"}, 0.0, "out", {}, {}, true, ""});
     ASSERT_TRUE(r.isOk()) << r.status().message();
     EXPECT_EQ(r->points, 0u);
     const auto las = readFile((dir_ / "out" / "cloud.las").string());
@@ -138,7 +138,7 @@ TEST_F(ExportTest, EmptyScanExportsValidEmptyFiles) {
 
 TEST_F(ExportTest, UnknownFormatRejected) {
     const std::string journal = makeJournal(1);
-    auto r = exportScan(journal, dir_.string(), {{"ply", "xyz"}, 0.0, "out", {}, {}});
+    auto r = exportScan(journal, dir_.string(), {{"ply", "xyz"}, 0.0, "out", {}, {}, true, ""});
     ASSERT_FALSE(r.isOk());
     EXPECT_EQ(r.status().message(), "export: unknown format 'xyz' (expected ply, las, e57)");
     EXPECT_FALSE(fs::exists(dir_ / "out" / "cloud.ply"));
@@ -174,7 +174,7 @@ TEST_F(ExportTest, ProgressGrowsThroughTheStagesToDone) {
         ASSERT_TRUE((*w)->finish().isOk());
     }
     std::vector<std::pair<double, std::string>> seen;
-    ExportOptions opt{{"ply", "las", "ply"}, 0.0, "out", {}, {}};
+    ExportOptions opt{{"ply", "las", "ply"}, 0.0, "out", {}, {}, true, ""};
     opt.progress = [&](double f, const std::string& stage) { seen.emplace_back(f, stage); };
     auto r = exportScan(journal, dir_.string(), opt);
     ASSERT_TRUE(r.isOk()) << r.status().message();

@@ -28,7 +28,7 @@ TEST_F(ExportTest, StickPulledMidWriteThenRetry) {
     const std::string journal = makeJournal(300'000);
     const auto before = fs::file_size(journal);
     fs::create_directories(dir_ / "stick");
-    ExportOptions opt{{"ply"}, 0.0, "scan", {}, {}};
+    ExportOptions opt{{"ply"}, 0.0, "scan", {}, {}, true, ""};
     opt.faults.before_write = [](std::uint64_t written) { return written >= (4u << 20) ? EIO : 0; };
     auto r = exportScan(journal, (dir_ / "stick").string(), opt);
     ASSERT_FALSE(r.isOk());
@@ -76,7 +76,7 @@ TEST_F(ExportTest, TargetFillsUpDuringWrite) {
     const std::string stick = mountTmpfs("8m");
     if (stick.empty()) GTEST_SKIP() << "mounting a tmpfs is not permitted here";
     const std::string journal = makeJournal(100'000);
-    ExportOptions opt{{"ply", "las"}, 0.0, "scan", {}, {}};
+    ExportOptions opt{{"ply", "las"}, 0.0, "scan", {}, {}, true, ""};
     opt.faults.before_write = [&](std::uint64_t written) {
         if (written == 0) {  // first write of a file: fill the stick behind our back
             std::FILE* f = std::fopen((stick + "/other.bin").c_str(), "ab");

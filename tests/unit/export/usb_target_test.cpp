@@ -83,7 +83,7 @@ TEST_F(UsbTargetTest, NoStickMeansAClearErrorAndNoExport) {
 TEST_F(UsbTargetTest, ExportToUsbWritesOntoTheStick) {
     const SystemPaths paths = fakeSystem(true, false);
     const std::string journal = makeJournal(50);
-    auto r = exportToUsb(journal, {{"las"}, 0.0, "scan1", {}, {}}, paths);
+    auto r = exportToUsb(journal, {{"las"}, 0.0, "scan1", {}, {}, true, ""}, paths);
     ASSERT_TRUE(r.isOk()) << r.status().message();
     EXPECT_EQ(r->directory, (dir_ / "media" / "stick" / "scan1").string());
     EXPECT_TRUE(fs::exists(dir_ / "media" / "stick" / "scan1" / "cloud.las"));

@@ -1,6 +1,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdio>
 
 #include "handscan/report/map_images.hpp"
 #include "handscan/report/map_raster.hpp"
@@ -108,6 +109,54 @@ TEST(ScanFacts, AnOpenWalkHasNoLoopGap) {
     EXPECT_NE(f.loop_note.find("no closed loop"), std::string::npos);
     EXPECT_FALSE(f.have_sweep_stats);
     ASSERT_EQ(f.pose_dropouts.size(), 1u);  // 10 s without a pose
+}
+
+// stats.json's per-sweep masks, the tracking monitor's lost intervals and the VIO's bypassed
+// stretches become the module timeline: tx degenerate at 20 s and solved by the VIO at 21 s.
+TEST(ScanFacts, ModulesTrackingAndVioBypassOverTime) {
+    const std::vector<journal::TrajectoryPose> tr = {{100, 0, 0, 0}, {130, 1, 0, 0}};
+    const std::string stats = R"({
+        "vio": {"first_frame_s": 101.0, "bypassed": [{"begin_s": 110.0, "end_s": 112.5},
+                                                     {"begin_s": 125.0, "end_s": null}]},
+        "tracking": {"lost_intervals": [{"begin_s": 115.0, "end_s": 117.0,
+                                         "reason": "poor_fit"}]},
+        "per_sweep": [
+          {"t_start_s": 119.0, "degenerate_directions": 0, "solved_dof_mask": 63,
+           "vio_solved_dof_mask": 0, "tracking": "ok"},
+          {"t_start_s": 120.0, "degenerate_directions": 1, "solved_dof_mask": 55,
+           "vio_solved_dof_mask": 0, "tracking": "rejected"},
+          {"t_start_s": 121.0, "degenerate_directions": 1, "solved_dof_mask": 55,
+           "vio_solved_dof_mask": 8, "tracking": "lost"}]})";
+    const ScanFacts f = ScanFactsBuilder().finish(tr, stats);
+    ASSERT_EQ(f.sweep_modules.size(), 3u);
+    EXPECT_EQ(f.sweep_modules[1].scan_mask, 55);
+    EXPECT_EQ(f.sweep_modules[1].tracking, 'r');
+    EXPECT_EQ(f.sweep_modules[2].vio_mask, 8);
+    EXPECT_EQ(f.sweep_modules[2].tracking, 'l');
+    ASSERT_EQ(f.tracking_lost.size(), 1u);
+    EXPECT_DOUBLE_EQ(f.tracking_lost[0].from_s, 15.0);
+    EXPECT_EQ(f.tracking_lost[0].what, "poor_fit");
+    ASSERT_TRUE(f.have_vio);
+    EXPECT_DOUBLE_EQ(f.vio_from_s, 1.0);
+    ASSERT_EQ(f.vio_bypassed.size(), 2u);
+    EXPECT_DOUBLE_EQ(f.vio_bypassed[0].to_s, 12.5);
+    EXPECT_DOUBLE_EQ(f.vio_bypassed[1].to_s, 30.0);  // still bypassed at the end
+    ReportInputs in;
+    in.facts = f;
+    const std::string html = reportHtml(in);
+    EXPECT_NE(html.find("Modules and directions over time"), std::string::npos);
+    EXPECT_NE(html.find("<td>poor_fit</td>"), std::string::npos);
+    // tx (lane 3) from 21 s to the end in the VIO's green, from 20 s in the IMU's orange.
+    const auto lane_rect = [&](double t, const char* colour) {
+        const double x = 80 + (900 - 80 - 10) * t / 30.0;
+        char needle[96];
+        std::snprintf(needle, sizeof needle, "<rect x=\"%g\" y=\"68\"", x);
+        const auto at = html.find(needle);
+        return at != std::string::npos && html.find(colour, at) < html.find("/>", at);
+    };
+    EXPECT_TRUE(lane_rect(20.0, "#f59628"));
+    EXPECT_TRUE(lane_rect(21.0, "#46c85a"));
+    EXPECT_FALSE(lane_rect(21.0, "#3c78eb"));
 }
 
 TEST(ReportHtml, SelfContained) {

@@ -116,11 +116,16 @@ ErrorStats computeStats(std::vector<double> e) {
 }
 
 AteResult computeAte(const std::vector<PosePair>& pairs) {
-    AteResult r;
     const Alignment a = alignTrajectories(pairs);
-    r.T_gt_est = a.T_gt_est;
+    AteResult r = computeAteWith(pairs, a.T_gt_est);
     r.planar_path = a.planar;
     r.orientation_chose_branch = a.took_other_branch;
+    return r;
+}
+
+AteResult computeAteWith(const std::vector<PosePair>& pairs, const Eigen::Isometry3d& T_gt_est) {
+    AteResult r;
+    r.T_gt_est = T_gt_est;
     std::vector<double> et, er;
     et.reserve(pairs.size());
     er.reserve(pairs.size());

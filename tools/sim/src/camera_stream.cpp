@@ -91,7 +91,7 @@ void CameraStream::frame(std::int64_t k, const std::vector<std::uint8_t>& pixels
         rgbToMjpeg(pixels, cfg_.width, cfg_.height, cfg_.mjpeg_quality, packed_);
     }
     // Readout of a frame takes most of a frame period; UVC stamps the end of the transfer.
-    const double readout = 0.7 / cfg_.fps;
+    const double readout = cfg_.readout_s;
     const double t_stamp = cfg_.start_of_exposure ? t0 : t0 + cfg_.exposure_s + readout;
     V4l2FrameInfo info;
     info.sequence = seq;

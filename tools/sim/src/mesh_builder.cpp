@@ -5,6 +5,7 @@
 #include <cmath>
 #include <numbers>
 #include <stdexcept>
+#include <utility>
 
 namespace handscan::sim {
 
@@ -13,6 +14,17 @@ std::uint16_t MeshBuilder::addMaterial(const Material& m) {
         throw std::length_error("MeshBuilder: more than 65535 materials");
     w_.materials.push_back(m);
     return static_cast<std::uint16_t>(w_.materials.size() - 1);
+}
+
+void MeshBuilder::beginObject(std::string name) {
+    object_name_ = std::move(name);
+    object_first_ = static_cast<std::uint32_t>(w_.vertices.size());
+}
+
+void MeshBuilder::endObject() {
+    const auto end = static_cast<std::uint32_t>(w_.vertices.size());
+    if (end > object_first_) w_.objects.push_back({object_name_, object_first_, end});
+    object_name_.clear();
 }
 
 std::uint32_t MeshBuilder::vertex(const Eigen::Vector3d& p) {

@@ -55,6 +55,14 @@ void poster(MeshBuilder& b, const Vector3d& c, const Vector3d& n, double w, doub
               p + side * w / 2 + up * h / 2, p - side * w / 2 + up * h / 2, m);
 }
 
+// Whatever `build` adds is one movable object of the scene (scene_change.hpp).
+template <typename Build>
+void object(MeshBuilder& b, const char* name, Build&& build) {
+    b.beginObject(name);
+    build();
+    b.endObject();
+}
+
 // A table: top plus four legs.
 void table(MeshBuilder& b, const Vector2d& lo, const Vector2d& hi, double z0, double height,
            std::uint16_t top, std::uint16_t legs) {
@@ -162,26 +170,39 @@ Scene office() {
     poster(b, {7.0 + T / 2, 9.5, 1.5}, {1, 0, 0}, 1.4, 0.9, p.poster);
     // South-west room (0..10 x 0..5): desks with monitors, chairs, a cabinet, a bookshelf.
     for (double x : {1.0, 6.5}) {
-        table(b, {x, 0.2}, {x + 1.6, 1.0}, 0, 0.75, p.wood, p.metal);
-        b.addBox(Vector3d(x + 0.5, 0.35, 0.75), Vector3d(x + 1.1, 0.4, 1.15), p.black);  // monitor
-        chair(b, {x + 0.8, 1.4}, 0.1, 0, p.black, p.metal);
+        object(b, "desk", [&] {
+            table(b, {x, 0.2}, {x + 1.6, 1.0}, 0, 0.75, p.wood, p.metal);
+            b.addBox(Vector3d(x + 0.5, 0.35, 0.75), Vector3d(x + 1.1, 0.4, 1.15),
+                     p.black);  // monitor
+        });
+        object(b, "chair", [&] { chair(b, {x + 0.8, 1.4}, 0.1, 0, p.black, p.metal); });
     }
-    b.addBox(Vector3d(0.2, 3.3, 0), Vector3d(0.65, 4.8, 1.9), p.shelf);
-    b.addBox(Vector3d(8.5, 4.2, 0), Vector3d(9.8, 4.8, 1.1), p.metal);
+    object(b, "bookshelf",
+           [&] { b.addBox(Vector3d(0.2, 3.3, 0), Vector3d(0.65, 4.8, 1.9), p.shelf); });
+    object(b, "cabinet",
+           [&] { b.addBox(Vector3d(8.5, 4.2, 0), Vector3d(9.8, 4.8, 1.1), p.metal); });
     // South-east room (10..20 x 0..5): meeting table and chairs south of the walking line.
-    table(b, {12.5, 0.4}, {17.0, 1.5}, 0, 0.74, p.wood, p.metal);
+    object(b, "meeting table", [&] {
+        table(b, {12.5, 0.4}, {17.0, 1.5}, 0, 0.74, p.wood, p.metal);
+    });
     for (double x = 13.0; x < 17.0; x += 0.9)
-        chair(b, {x, 1.75}, std::numbers::pi, 0, p.black, p.metal);
-    b.addBox(Vector3d(19.3, 3.4, 0), Vector3d(19.8, 4.8, 2.0), p.shelf);
-    b.addBox(Vector3d(10.2, 3.8, 0), Vector3d(11.5, 4.8, 0.9), p.wood);
+        object(b, "chair", [&] { chair(b, {x, 1.75}, std::numbers::pi, 0, p.black, p.metal); });
+    object(b, "bookshelf",
+           [&] { b.addBox(Vector3d(19.3, 3.4, 0), Vector3d(19.8, 4.8, 2.0), p.shelf); });
+    object(b, "sideboard",
+           [&] { b.addBox(Vector3d(10.2, 3.8, 0), Vector3d(11.5, 4.8, 0.9), p.wood); });
     // North rooms: a central table in the middle one (walked around), desks in the others.
-    table(b, {9.9, 9.25}, {11.1, 9.95}, 0, 0.75, p.wood, p.metal);
-    chair(b, {10.5, 9.0}, 0.0, 0, p.black, p.metal);
-    table(b, {0.3, 10.8}, {2.3, 11.7}, 0, 0.75, p.wood, p.metal);
-    b.addBox(Vector3d(4.0, 11.3, 0), Vector3d(6.5, 11.8, 2.1), p.shelf);
-    table(b, {15.5, 10.9}, {18.5, 11.7}, 0, 0.75, p.wood, p.metal);
-    b.addBox(Vector3d(16.5, 11.35, 0.75), Vector3d(17.2, 11.4, 1.15), p.black);
-    b.addBox(Vector3d(19.2, 7.3, 0), Vector3d(19.8, 8.8, 1.2), p.metal);
+    object(b, "table", [&] { table(b, {9.9, 9.25}, {11.1, 9.95}, 0, 0.75, p.wood, p.metal); });
+    object(b, "chair", [&] { chair(b, {10.5, 9.0}, 0.0, 0, p.black, p.metal); });
+    object(b, "desk", [&] { table(b, {0.3, 10.8}, {2.3, 11.7}, 0, 0.75, p.wood, p.metal); });
+    object(b, "bookshelf",
+           [&] { b.addBox(Vector3d(4.0, 11.3, 0), Vector3d(6.5, 11.8, 2.1), p.shelf); });
+    object(b, "desk", [&] {
+        table(b, {15.5, 10.9}, {18.5, 11.7}, 0, 0.75, p.wood, p.metal);
+        b.addBox(Vector3d(16.5, 11.35, 0.75), Vector3d(17.2, 11.4, 1.15), p.black);
+    });
+    object(b, "cabinet",
+           [&] { b.addBox(Vector3d(19.2, 7.3, 0), Vector3d(19.8, 8.8, 1.2), p.metal); });
     // Walking loop: corridor west, room SW through door A, door C into SE, door B back into the
     // corridor, north into the middle room around its table, back out and west to the start.
     for (const Vector2d& q :
@@ -222,10 +243,11 @@ Scene house() {
     }
     // Ground floor: a partition with a door, sofa, table, shelf.
     b.addWall({2.0, 4.5}, {9.8, 4.5}, T, 0, storey - slab, {{3.0, 4.0}}, p.wall);
-    b.addBox(Vector3d(7.0, 0.3, 0), Vector3d(9.0, 1.1, 0.8), p.black);
-    table(b, {2.5, 6.0}, {3.7, 7.0}, 0, 0.75, p.wood, p.metal);
-    chair(b, {3.1, 7.35}, 0, 0, p.wood, p.metal);
-    b.addBox(Vector3d(0.2, 7.3, 0), Vector3d(0.6, 8.8, 2.0), p.shelf);
+    object(b, "sofa", [&] { b.addBox(Vector3d(7.0, 0.3, 0), Vector3d(9.0, 1.1, 0.8), p.black); });
+    object(b, "table", [&] { table(b, {2.5, 6.0}, {3.7, 7.0}, 0, 0.75, p.wood, p.metal); });
+    object(b, "chair", [&] { chair(b, {3.1, 7.35}, 0, 0, p.wood, p.metal); });
+    object(b, "bookshelf",
+           [&] { b.addBox(Vector3d(0.2, 7.3, 0), Vector3d(0.6, 8.8, 2.0), p.shelf); });
     poster(b, {7.5, 4.5 - T / 2, 1.5}, {0, -1, 0}, 0.8, 0.6, p.poster);
     poster(b, {8.5, 4.5 + T / 2, 1.5}, {0, 1, 0}, 0.8, 0.6, p.poster);
     poster(b, {W - T / 2, 2.5, 1.5}, {-1, 0, 0}, 1.0, 0.7, p.checker);
@@ -234,17 +256,25 @@ Scene house() {
     b.addStairs({11.0, 7.0, 0.0}, {0, -1}, 1.0, 15, 0.2, 0.28, p.wood);
     // First floor: partition, bed, desk, posters.
     b.addWall({6.0, 0}, {6.0, 5.5}, T, storey, storey - slab, {}, p.wall);
-    b.addBox(Vector3d(2.5, 0.4, storey), Vector3d(4.5, 2.4, storey + 0.5), p.poster);
-    table(b, {7.0, 0.3}, {8.4, 1.0}, storey, 0.75, p.wood, p.metal);
-    b.addBox(Vector3d(7.4, 0.45, storey + 0.75), Vector3d(8.0, 0.5, storey + 1.15), p.black);
+    object(b, "bed", [&] {
+        b.addBox(Vector3d(2.5, 0.4, storey), Vector3d(4.5, 2.4, storey + 0.5), p.poster);
+    });
+    object(b, "desk", [&] {
+        table(b, {7.0, 0.3}, {8.4, 1.0}, storey, 0.75, p.wood, p.metal);
+        b.addBox(Vector3d(7.4, 0.45, storey + 0.75), Vector3d(8.0, 0.5, storey + 1.15), p.black);
+    });
     poster(b, {3.0, D - T / 2, storey + 1.5}, {0, -1, 0}, 1.2, 0.8, p.poster);
     poster(b, {6.0 + T / 2, 3.0, storey + 1.5}, {1, 0, 0}, 0.9, 0.7, p.poster);
     // Stairs C from the first to the second floor along the north wall, climbing -x.
     b.addStairs({8.2, 8.45, storey}, {-1, 0}, 0.9, 15, 0.2, 0.28, p.wood);
     // Second floor (under the roof): a partition, a table, a shelf, posters.
     b.addWall({0, 4.0}, {7.0, 4.0}, T, 2 * storey, storey - slab, {{2.0, 3.0}}, p.wall);
-    table(b, {8.5, 2.0}, {10.0, 3.0}, 2 * storey, 0.75, p.wood, p.metal);
-    b.addBox(Vector3d(11.4, 4.0, 2 * storey), Vector3d(11.8, 6.0, 2 * storey + 1.9), p.shelf);
+    object(b, "table", [&] {
+        table(b, {8.5, 2.0}, {10.0, 3.0}, 2 * storey, 0.75, p.wood, p.metal);
+    });
+    object(b, "bookshelf", [&] {
+        b.addBox(Vector3d(11.4, 4.0, 2 * storey), Vector3d(11.8, 6.0, 2 * storey + 1.9), p.shelf);
+    });
     poster(b, {W - T / 2, 7.0, 2 * storey + 1.5}, {-1, 0, 0}, 1.0, 0.8, p.poster);
     poster(b, {3.5, 4.0 + T / 2, 2 * storey + 1.5}, {0, 1, 0}, 0.8, 0.8, p.poster);
     // Loop: up stairs A, across the first floor, down stairs B, back through the partition door.
@@ -408,10 +438,11 @@ Scene courtyard() {
     for (const Vector2d& q :
          {Vector2d(10, 13), Vector2d(20, 13.5), Vector2d(14, 10), Vector2d(2.5, 12), Vector2d(8, 2),
           Vector2d(22, 22.5), Vector2d(22, 2)}) {
-        bush(b, rng, Vector3d(q.x(), q.y(), 0.5), bark, leaf);
+        object(b, "bush", [&] { bush(b, rng, Vector3d(q.x(), q.y(), 0.5), bark, leaf); });
     }
     for (double x = 9.5; x < 21; x += 2.5)
-        b.addBox(Vector3d(x, 8.2, 0), Vector3d(x + 1.6, 8.6, 0.45), p.wood);
+        object(b, "bench",
+               [&] { b.addBox(Vector3d(x, 8.2, 0), Vector3d(x + 1.6, 8.6, 0.45), p.wood); });
     // Loop around the lawn.
     for (const Vector2d& q :
          {Vector2d(12, 6.5), Vector2d(24, 6.5), Vector2d(24.5, 12), Vector2d(24, 17.5),

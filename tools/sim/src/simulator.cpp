@@ -68,6 +68,7 @@ Simulator::Simulator(const SimOptions& options, const DeviceConfig& device,
     dev_.can.encoder_zero_offset_rad = calibration.encoder_zero_offset_rad;
     dev_.tracking.fps = device.tracking_camera.fps;
     dev_.tracking.exposure_s = device.tracking_camera.exposure_ms * 1e-3;
+    dev_.tracking.readout_s = device.tracking_camera.readout_ms * 1e-3;
     dev_.tracking.format = device.tracking_camera.format;
     dev_.tracking.width = calibration.tracking.resolution[0];
     dev_.tracking.height = calibration.tracking.resolution[1];
@@ -76,6 +77,7 @@ Simulator::Simulator(const SimOptions& options, const DeviceConfig& device,
     dev_.tracking_render.reference_exposure_s = dev_.tracking.exposure_s;
     dev_.colour.fps = device.colour_camera.fps;
     dev_.colour.exposure_s = device.colour_camera.exposure_ms * 1e-3;
+    dev_.colour.readout_s = device.colour_camera.readout_ms * 1e-3;
     // The colour camera's UVC MJPEG mode by default: 1600x1200 YUYV is 19 MB/s of incompressible
     // noise, which would make a one-minute recording over a gigabyte (--colour-format YUYV).
     dev_.colour.format = options.colour_format.empty() ? "MJPEG" : options.colour_format;
@@ -107,6 +109,7 @@ Simulator::Simulator(const SimOptions& options, const DeviceConfig& device,
         opt_.cameras = false;
     }
     scene_ = loadScene(options.scene);
+    moved_ = moveObjects(scene_, options.scene_change, options.seed);
     raycaster_ = std::make_unique<Raycaster>(scene_.world);
     shaft_ = std::make_unique<ShaftModel>(dev_.shaft);
 
@@ -115,6 +118,7 @@ Simulator::Simulator(const SimOptions& options, const DeviceConfig& device,
         w.duration_s = options.duration_s;
         w.style = options.trajectory == "walk" ? MotionStyle::kWalk : MotionStyle::kAggressive;
         w.seed = options.seed;
+        w.start_fraction = options.start_at;
         const auto& loop = scene_.walk_loop.empty() ? fallbackLoop(scene_.world) : scene_.walk_loop;
         WalkPlan plan = makeWalk(loop, w);
         trajectory_ = std::move(plan.trajectory);

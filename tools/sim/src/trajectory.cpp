@@ -172,6 +172,13 @@ WalkPlan makeWalk(const std::vector<Eigen::Vector3d>& loop, const WalkOptions& o
             carry = len - (at - ds);
         }
     }
+    // Another start on the same loop: the resampled lap turned by the fraction.
+    if (const double f = o.start_fraction - std::floor(o.start_fraction); f > 0.0) {
+        const auto k =
+            static_cast<std::ptrdiff_t>(std::llround(f * static_cast<double>(pts.size())));
+        std::rotate(pts.begin(), pts.begin() + std::min<std::ptrdiff_t>(k, std::ssize(pts) - 1),
+                    pts.end());
+    }
     const std::size_t m = pts.size();
     const double L = ds * static_cast<double>(m);
     auto P = [&](double s) {  // position at arc length s (periodic), linear between samples

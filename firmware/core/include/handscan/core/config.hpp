@@ -65,6 +65,11 @@ struct CameraConfig {
     double fps = 50.0;
     std::string format = "GREY";  // GREY | YUYV | MJPEG
     double exposure_ms = 5.0;
+    // End of exposure to end of frame: how much earlier than an end-of-frame buffer timestamp
+    // (UVC) the exposure ended. The frame's time is its mid-exposure; a camera that stamps the
+    // start of exposure needs none. A property of the sensor and its link (rolling readout, USB
+    // transfer), measured once per camera model.
+    double readout_ms = 0.0;
 };
 
 struct GpioConfig {

@@ -1,6 +1,6 @@
 // Exports a scan from its journal into a directory: colourised point cloud (PLY, LAS 1.4, E57),
 // trajectory (TUM and CSV), a JSON with device, calibration, software version and statistics, and
-// report.html (handscan::report).
+// report.html (handscan::report) and, where Debian's weasyprint is installed, report.pdf of it.
 // Every file is written safely (see SafeFileWriter); free space is checked first; progress is
 // reported. `exportToUsb` picks the removable stick, refuses anything else, and ends with a sync
 // so the caller can say "safe to remove". The CLI, the UI and the GPIO export button all call this.
@@ -25,6 +25,14 @@ struct ExportOptions {
     std::function<void(double fraction, const std::string& stage)> progress;
     WriteFaults faults;  // test hook
     bool report = true;  // report.html: map views, health over time, loop-closure gap
+    // The HTML-to-PDF program that makes report.pdf of report.html (name on PATH or a path);
+    // empty: no PDF. When it is missing or fails the export still succeeds, with a note.
+    std::string pdf_tool = "weasyprint";
+    // Non-empty: the report's map from above (by height, with the trajectory) also as this PNG,
+    // e.g. on the device's storage for the UI's export screen (written after the export files).
+    std::string preview_png = {};
+    // E57 coordinates: 0 doubles; > 0 scaled integers of this many metres (E57Options).
+    double e57_scale_m = 0.0;
 };
 
 struct ExportReport {
@@ -38,6 +46,10 @@ struct ExportReport {
     Bounds bounds;
     double seconds = 0.0;
     std::string journal_damage;  // non-empty when the journal was recovered after a crash
+    // What the export left out and why (e.g. "no report.pdf: 'weasyprint' is not installed").
+    std::vector<std::string> notes;
+    double pdf_seconds = 0.0;  // rendering report.pdf
+    std::string preview_png;   // ExportOptions::preview_png when it was written
 };
 
 // `source` is a journal file or a directory holding `journal.hsj`.

@@ -17,6 +17,7 @@
 #include <memory>
 #include <span>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "handscan/core/status.hpp"
@@ -84,5 +85,10 @@ private:
     bool committed_ = false;
     ReadBackCheck read_back_check_;
 };
+
+// A whole small file (a JSON, a TUM, a report) through a SafeFileWriter: written, verified,
+// renamed into place, or not there at all.
+[[nodiscard]] Status writeSmallFile(const std::string& path, std::string_view text,
+                                    WriteFaults faults = {});
 
 }  // namespace handscan::exporter

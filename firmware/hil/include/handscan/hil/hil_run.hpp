@@ -37,6 +37,9 @@ struct HilOptions {
     std::optional<double> kill_at_s;
     // Seconds the daemon gets to open its devices and start the scan before the recording plays.
     double startup_s = 4.0;
+    // Non-empty: the daemon's journal (poses, map points) with the recording's camera frames and
+    // ground truth as a viz file (viz::writeJournalViz), on the recording's clock.
+    std::string viz_path;
 };
 
 struct HilReport {
@@ -51,6 +54,7 @@ struct HilReport {
     bool recovered_after_kill = false;
     std::uint64_t recovered_points = 0;         // after --kill-at: the recovered scan's journal
     std::uint64_t recovered_export_points = 0;  // and its export
+    std::uint64_t viz_bytes = 0;                // --viz: the file's size
     std::string summary;                        // one line per figure, for the console
 };
 

@@ -10,6 +10,9 @@ struct MapPoint {
     float x = 0, y = 0, z = 0;  // metres, world frame of the scan (gravity aligned)
     std::uint8_t r = 0, g = 0, b = 0;
     std::uint16_t intensity = 0;
+    // Which scan session the point comes from (handscan merge; 0 in a single scan). Not
+    // journaled: a journal is one session.
+    std::uint16_t session = 0;
 };
 
 // The grey a point the colour camera did not see is journaled, shown and exported in: its laser

@@ -25,6 +25,9 @@ public:
     ExportJob(const ExportJob&) = delete;
     ExportJob& operator=(const ExportJob&) = delete;
 
+    // Where each export also leaves the map's picture for the UI (shm::exportPreviewPath of the
+    // daemon's region; "" writes none). Call before the first start().
+    void setPreviewPath(std::string path) { preview_png_ = std::move(path); }
     // Exports journal `source` to `target`: "" or "usb" = the removable stick, else a directory.
     // Refused (kInvalidArgument) while another export runs.
     Status start(const std::string& source, const std::string& target);
@@ -43,6 +46,7 @@ private:
 
     exporter::SystemPaths usb_paths_;
     std::string eject_request_;
+    std::string preview_png_;
     mutable std::mutex mutex_;
     shm::ExportStatus status_{};
     std::string stage_;

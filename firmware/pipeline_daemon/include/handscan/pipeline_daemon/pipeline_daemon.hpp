@@ -34,6 +34,10 @@ struct DaemonOptions {
     // Written after a verified export to the stick: handscan-usb-eject.path unmounts it.
     std::string usb_eject_request = "/run/handscan/usb-eject";
     journal::JournalOptions journal;
+    // "Continue scan" (section 9): every scan localizes on this earlier scan's directory and is
+    // journaled in its frame once locked; "": every scan starts its own frame.
+    std::string prior_map_dir;
+    std::string initial_pose;  // "x,y,z,qx,qy,qz,qw" in the prior's frame; "": its start
 };
 
 class PipelineDaemon {

@@ -14,6 +14,7 @@
 #include <limits>
 #include <memory>
 #include <mutex>
+#include <optional>
 #include <thread>
 
 #include "handscan/live_output/live_publisher.hpp"
@@ -30,6 +31,9 @@ struct WorkerInputs {
     // Status of every device (thread-safe snapshots), for the status block.
     std::function<std::vector<live_output::LiveSensor>()> sensors;
     std::function<shm::ExportStatus()> export_status;
+    // Continue an earlier scan: the worker localizes on it (null: a scan of its own).
+    std::shared_ptr<const localize::PriorMap> prior_map;
+    std::optional<Eigen::Isometry3d> initial_pose;
 };
 
 class PipelineThread {
@@ -64,6 +68,8 @@ private:
     void handle(Request& r);
     // Everything the drivers queued, into the worker; the live source's clock.
     TimeNs pull();
+    // The scan's feature map beside its journal (feature_map.hsf), for a later "continue scan".
+    void writeFeatureMap();
     void check(const Status& s);
     void syncScanState();
     void publishStatus();

@@ -51,9 +51,13 @@ struct ReplayOptions {
     // A second MCAP with standard Foxglove channels (viz::VizSink: map, sweeps, poses, tf,
     // images, IMU, status, ground truth) for viewers; "" writes none.
     std::string viz_path;
-    bool live = false;     // publish to shared memory
-    bool hold = false;     // keep the final state published until interrupted
-    std::string shm_name;  // default: the daemon's region
+    // Continue an earlier scan (section 9): its output directory (feature_map.hsf + journal or
+    // trajectory.tum); the outputs are in its frame once the localizer locks, nothing before.
+    std::string prior_map_dir;
+    std::string initial_pose;  // "x,y,z,qx,qy,qz,qw" in the prior's frame; "": its start
+    bool live = false;         // publish to shared memory
+    bool hold = false;         // keep the final state published until interrupted
+    std::string shm_name;      // default: the daemon's region
     std::function<void(double fraction)> progress;
     std::function<bool()> interrupted;  // polled while holding
 };
@@ -67,6 +71,8 @@ struct ReplayReport {
     std::uint64_t map_points = 0;
     std::string stats_json_path;
     std::uint64_t viz_bytes = 0;  // --viz file size
+    bool prior_map = false;       // localized on a prior map (--prior-map)
+    bool locked = false;          // ... and locked on it
 };
 
 Result<ReplayReport> runReplay(const ReplayOptions& options);

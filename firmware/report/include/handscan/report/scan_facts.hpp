@@ -1,8 +1,9 @@
 // What the report says about a scan, gathered while the export streams its points once: duration,
 // walked distance, point count and coloured share, the sensors' health over time from the journal
 // (laser points per second, the camera's coloured share, the pose rate, and the dropouts where
-// either stopped), the intervals where the matcher left a direction degenerate (from the
-// replay's stats.json beside the journal, when there is one: the live journal does not hold
+// either stopped), the intervals where the matcher left a direction degenerate, which module solved
+// each direction per sweep, where tracking was lost and where the camera's VIO was bypassed (from
+// the replay's stats.json beside the journal, when there is one: the live journal does not hold
 // them), and the loop-closure gap when the walk came back to where it started.
 #pragma once
 
@@ -25,6 +26,16 @@ struct HealthBin {
 struct Interval {
     double from_s = 0.0, to_s = 0.0;  // seconds from the scan's start
     int directions = 0;               // degenerate directions (most in the interval)
+    std::string what;                 // why (tracking lost: the monitor's reason)
+};
+
+// Which module solved each direction in one sweep (section 8, figure 14): the scan matcher's
+// solved mask, the visual-inertial odometry's, and the tracking monitor's verdict. A direction
+// neither solved was held from the IMU prediction.
+struct SweepModules {
+    double t_s = 0.0;                             // sweep start, seconds from the scan's start
+    std::uint8_t scan_mask = 0x3F, vio_mask = 0;  // bit k: direction k (rx ry rz tx ty tz)
+    char tracking = 'o';                          // 'o' ok, 'r' rejected, 'l' lost
 };
 
 struct ScanFacts {
@@ -38,8 +49,13 @@ struct ScanFacts {
     bool have_sweep_stats = false;
     std::vector<std::pair<double, int>> sweep_degenerate;  // (t from start, directions)
     std::vector<Interval> degenerate;
-    std::optional<double> loop_gap_m;  // end-to-start distance when the walk closed a loop
-    std::string loop_note;             // why there is, or is not, a gap
+    std::vector<SweepModules> sweep_modules;  // from stats.json's per_sweep
+    std::vector<Interval> tracking_lost;      // stats.json tracking.lost_intervals
+    bool have_vio = false;                    // stats.json has a vio block (the VIO ran)
+    double vio_from_s = 0.0;                  // its first frame
+    std::vector<Interval> vio_bypassed;       // stats.json vio.bypassed
+    std::optional<double> loop_gap_m;         // end-to-start distance when the walk closed a loop
+    std::string loop_note;                    // why there is, or is not, a gap
 };
 
 class ScanFactsBuilder {

@@ -25,6 +25,7 @@ struct DemoOptions {
     RoomOptions room;
     int samples_per_second = 40000;    // surface samples drawn per second (before voxel filter)
     std::string export_root = "/tmp";  // where an export without a target argument goes
+    std::string preview_png;  // the map's picture for the UI after an export ("" writes none)
     DemoFaults faults;
 };
 
@@ -41,6 +42,7 @@ public:
 private:
     void handle(const shm::Command& cmd, TimeNs now);
     void exportMap(const shm::Command& cmd);
+    void writePreview() const;
     void publishStatus(TimeNs now);
 
     shm::LiveMapWriter& writer_;

@@ -39,6 +39,9 @@ struct VizConfig {
     float map_voxel_m = 0.05f;            // the display map's voxel, as the touch screen's
     std::size_t map_max_points = 100000;  // a /map snapshot beyond this is thinned (DisplayMap)
     std::size_t path_max_poses = 2000;    // a longer /path is thinned evenly
+    // /map at most this often (0: with every sweep). Beyond map_max_points each snapshot is the
+    // largest message; a journal's viz (one per 0.5 s window) sets 2 s to stay small.
+    double map_every_s = 0.0;
     int jpeg_quality = 80;
     // Frames that must be encoded (not already JPEG or PNG) and are wider than this are halved
     // until they fit (encoding a 1600 px frame whole costs replay time a viewer does not need).
@@ -81,6 +84,9 @@ public:
     // sweep out of the map: then only its status is written).
     [[nodiscard]] Status sweep(const lio::RegisteredSweep& sweep,
                                std::span<const journal::MapPoint> points);
+    // Map points without the matcher's sweep (a journal's): /sweep, /map and /path at `t`, no
+    // /status.
+    [[nodiscard]] Status mapPoints(TimeNs t, std::span<const journal::MapPoint> points);
     [[nodiscard]] Status close();
 
     std::uint64_t bytesWritten() const;

@@ -9,9 +9,11 @@
 #pragma once
 
 #include <cstdint>
+#include <deque>
 #include <functional>
 #include <limits>
 #include <memory>
+#include <optional>
 #include <span>
 #include <vector>
 
@@ -20,6 +22,7 @@
 #include "handscan/core/config.hpp"
 #include "handscan/journal/map_point.hpp"
 #include "handscan/lio/laser_inertial_odometry.hpp"
+#include "handscan/localize/localizer.hpp"
 #include "handscan/sources/sample_source.hpp"
 #include "handscan/worker/sample_merger.hpp"
 #include "handscan/worker/visual_stage.hpp"
@@ -56,6 +59,16 @@ struct WorkerConfig {
     // Ordering window behind the source's clock (see SampleMerger): longer than any device's
     // delivery delay (a scan's ~30 ms from its first step, a camera frame's exposure).
     TimeNs hold_back = 100 * kNsPerMs;
+    // A session continuing an earlier scan (section 9): localized on its feature map, the
+    // outputs in its frame once locked and nothing before. Null: a scan of its own.
+    std::shared_ptr<const localize::PriorMap> prior_map;
+    // The body pose at the session's start in the prior map's frame (the operator's tap);
+    // none: the prior scan's start.
+    std::optional<Eigen::Isometry3d> initial_pose;
+    localize::LocalizerConfig localizer;
+    // Trajectory poses kept while not locked, handed on in the prior map's frame at the lock
+    // (beyond this many the oldest are dropped: 60 s at 200 Hz).
+    std::size_t max_poses_before_lock = 12000;
 };
 
 // The odometry's settings for this device (the sweep boundary of the motor), everything else the
@@ -88,11 +101,23 @@ public:
     bool colourising() const { return colouriser_ != nullptr; }
     // The visual-inertial odometry (null: not configured or cam0 unusable).
     const VisualStage* visual() const { return visual_.get(); }
+    // The localizer on the prior map (null without one).
+    const localize::Localizer* localizer() const { return localizer_.get(); }
+    // Sweeps left out of the outputs because the localizer had not locked yet.
+    std::uint64_t sweepsBeforeLock() const { return sweeps_before_lock_; }
+    // The scan's feature map in its output frame (the prior map's, when continuing one: the
+    // prior's points plus this session's where they add to it), for a later session.
+    scan::FeatureMapPoints featureMap() const;
 
 private:
     [[nodiscard]] Status run(TimeNs horizon, TimeNs deadline);
     void process(sources::Sample& sample);
     [[nodiscard]] Status consume();
+    // consume() of a session localized on a prior map: outputs in its frame, none before lock.
+    [[nodiscard]] Status consumeLocalized(std::vector<PoseEstimate> poses,
+                                          std::vector<PoseEstimate> trajectory,
+                                          std::vector<lio::RegisteredSweep> sweeps);
+    [[nodiscard]] Status handOn(const lio::RegisteredSweep& s);
     template <typename Fn>
     auto timed(const char* module, Fn&& fn) {
         if (timer_ != nullptr) return timer_->time(module, fn);
@@ -108,6 +133,9 @@ private:
     std::unique_ptr<colour::Colouriser> colouriser_;
     std::unique_ptr<VisualStage> visual_;
     std::uint64_t colour_errors_ = 0;
+    std::unique_ptr<localize::Localizer> localizer_;
+    std::deque<PoseEstimate> poses_before_lock_;
+    std::uint64_t sweeps_before_lock_ = 0;
 };
 
 }  // namespace handscan::worker

@@ -51,7 +51,10 @@ struct SweepResult {
     MatchResult match;
     bool first_sweep = false;  // no map yet: pose = prior, nothing solved
     bool merged = false;       // merged into the map (the merge gate let it in)
-    std::size_t edges = 0;     // features extracted
+    // The sweep's features (body frame at its start): a localizer on a prior map (section 9)
+    // stacks them; shared, so copying the result stays cheap.
+    std::shared_ptr<const FeatureCloud> features;
+    std::size_t edges = 0;  // features extracted
     std::size_t planars = 0;
     std::size_t local_map_points = 0;  // |Q_{m-1}|
     std::uint64_t map_sweeps = 0;      // sweeps merged into the map this one was matched against
@@ -89,6 +92,8 @@ public:
 
     // The registered map (edge and planar points, world frame) and its size.
     std::vector<Eigen::Vector3f> mapPoints() const;
+    // The map's points by kind, with the planar points' origins (a later session's prior map).
+    FeatureMapPoints featureMap() const;
     VoxelMapStats mapStats() const;
     const LaserOdometryConfig& config() const { return config_; }
 

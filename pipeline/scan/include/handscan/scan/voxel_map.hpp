@@ -28,6 +28,14 @@ struct VoxelMapConfig {
     int green_dilation = 1;                    // fine voxels around each green one extracted
 };
 
+// Every point of the map by kind, with the laser centre that saw each planar point (NaN when
+// unknown): what a later session localizes on (section 9).
+struct FeatureMapPoints {
+    std::vector<Eigen::Vector3f> edges;
+    std::vector<Eigen::Vector3f> planars;
+    std::vector<Eigen::Vector3f> planar_origins;  // one per planar point
+};
+
 struct VoxelMapStats {
     std::size_t points[2] = {0, 0};  // edge, planar points stored
     std::size_t fine_cells = 0;
@@ -58,6 +66,8 @@ public:
                      const std::vector<Eigen::Vector3d>& planars_world) const;
 
     std::vector<Eigen::Vector3f> points(FeatureKind kind) const;
+    // Both kinds with the planar points' origins, in the same order as points().
+    FeatureMapPoints featurePoints() const;
     VoxelMapStats stats() const;
     // The most points the window can ever hold (every leaf of every fine voxel filled).
     std::size_t capacityBound() const;

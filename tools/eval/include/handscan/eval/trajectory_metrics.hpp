@@ -54,6 +54,9 @@ struct AteResult {
     bool orientation_chose_branch = false;  // see alignTrajectories
 };
 AteResult computeAte(const std::vector<PosePair>& pairs);
+// The errors with a given alignment instead of the pairs' own: a second session localized in the
+// first session's frame is measured against its ground truth moved by the first's alignment.
+AteResult computeAteWith(const std::vector<PosePair>& pairs, const Eigen::Isometry3d& T_gt_est);
 
 struct SegmentDrift {
     double length_m = 0.0;

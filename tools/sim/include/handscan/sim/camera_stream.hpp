@@ -24,6 +24,9 @@ struct CameraStreamConfig {
     int height = 512;
     int mjpeg_quality = 85;
     bool start_of_exposure = true;  // timestamp source: SOE (tracking camera) or EOF (UVC)
+    // End of exposure to the last line transferred (device.yaml readout_ms): an EOF stamp is
+    // this much after the exposure's end.
+    double readout_s = 0.014;
     SimChannel channel = SimChannel::kTrackingCamera;
 };
 

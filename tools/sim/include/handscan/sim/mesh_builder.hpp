@@ -23,6 +23,9 @@ public:
     explicit MeshBuilder(World& world) : w_(world) {}
 
     std::uint16_t addMaterial(const Material& m);
+    // Everything added between these two is one movable object (World::objects).
+    void beginObject(std::string name);
+    void endObject();
 
     void addTriangle(const Eigen::Vector3d& a, const Eigen::Vector3d& b, const Eigen::Vector3d& c,
                      std::uint16_t mat);
@@ -49,6 +52,8 @@ public:
 private:
     std::uint32_t vertex(const Eigen::Vector3d& p);
     World& w_;
+    std::string object_name_;
+    std::uint32_t object_first_ = 0;
 };
 
 }  // namespace handscan::sim

@@ -20,6 +20,7 @@
 #include "handscan/sim/imu_model.hpp"
 #include "handscan/sim/laser_model.hpp"
 #include "handscan/sim/raycaster.hpp"
+#include "handscan/sim/scene_change.hpp"
 #include "handscan/sim/scenes.hpp"
 #include "handscan/sim/shaft_model.hpp"
 #include "handscan/sim/stream_message.hpp"
@@ -41,6 +42,11 @@ struct SimOptions {
     std::uint64_t seed = 1;
     double duration_s = 60.0;
     std::string trajectory = "walk";  // walk | aggressive | a TUM file
+    // A second session through the same scene (issue 14): the walk starts this fraction of the
+    // way round the scene's loop (0: where it always starts), and this many of the scene's
+    // movable objects are moved first (scene_change.hpp; which and how depends on the seed).
+    double start_at = 0.0;
+    int scene_change = 0;
     bool cameras = true;
     bool colour_camera = true;
     bool dark = false;
@@ -92,6 +98,8 @@ public:
 
     SimDevices& devices() { return dev_; }
     const Scene& scene() const { return scene_; }
+    // The objects SimOptions::scene_change moved (empty without one).
+    const std::vector<MovedObject>& movedObjects() const { return moved_; }
     const Trajectory& trajectory() const { return trajectory_; }
     const Calibration& calibration() const { return cal_; }
     const SimOptions& options() const { return opt_; }
@@ -112,6 +120,7 @@ private:
     Calibration cal_;
     SimDevices dev_;
     Scene scene_;
+    std::vector<MovedObject> moved_;
     Trajectory trajectory_;
     std::unique_ptr<Raycaster> raycaster_;
     std::unique_ptr<ShaftModel> shaft_;

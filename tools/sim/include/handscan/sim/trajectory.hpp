@@ -65,6 +65,9 @@ struct WalkOptions {
     double peak_rate_dps = 370.0;     // aggressive only: paper Figure 30
     MotionStyle style = MotionStyle::kWalk;
     std::uint64_t seed = 1;
+    // Where on the loop the walk starts, as a fraction of one lap from the loop's first point
+    // (another session through the same scene).
+    double start_fraction = 0.0;
 };
 
 struct WalkPlan {

@@ -36,6 +36,14 @@ struct Material {
     float texture_scale_m = 1.0f;  // metres per texture tile
 };
 
+// A movable thing of the scene (furniture, a bench, a bush): its vertices, which no other
+// primitive shares, so it can be moved between sessions (scene_change.hpp).
+struct SceneObject {
+    std::string name;
+    std::uint32_t first_vertex = 0;
+    std::uint32_t end_vertex = 0;  // one past the last
+};
+
 struct World {
     std::string name;
     std::string description;
@@ -43,6 +51,7 @@ struct World {
     std::vector<std::array<std::uint32_t, 3>> triangles;
     std::vector<std::uint16_t> triangle_material;  // index into materials, one per triangle
     std::vector<Material> materials;
+    std::vector<SceneObject> objects;  // the movable ones; walls, floors and stairs are not
 
     std::size_t triangleCount() const { return triangles.size(); }
     // Unit normal of triangle i (right-handed winding).

@@ -1,0 +1,144 @@
+// The localizer of section 9 on a synthetic room: the lock from a hint 1 m and 15 deg off, no
+// lock where the prior map has nothing to match, a moved object that neither breaks the lock nor
+// goes unreported, odometry drift corrected at each match; the sweep stack and the prior map's
+// voxels.
+#include "handscan/localize/localizer.hpp"
+
+#include <gtest/gtest.h>
+
+#include <memory>
+
+#include "handscan/core/se3.hpp"
+#include "synthetic_room.hpp"
+
+namespace handscan::localize {
+namespace {
+
+using test::pose;
+
+constexpr TimeNs kHalfSecond = kNsPerSec / 2;
+
+std::shared_ptr<const PriorMap> roomPrior() {
+    return std::make_shared<PriorMap>(test::roomWorld(0.2, 0.0), pose(5, 3.5, 1.3, 0));
+}
+
+double angleDeg(const Eigen::Isometry3d& a, const Eigen::Isometry3d& b) {
+    return rotationAngle(a.linear(), b.linear()) * 180.0 / M_PI;
+}
+
+// Feeds `n` sweeps half a second apart seen at T_true, the odometry saying T_odom; returns
+// whether the estimate changed at any of them.
+bool feed(Localizer& l, int n, TimeNs& t, const Eigen::Isometry3d& T_true,
+          const Eigen::Isometry3d& T_odom, const Eigen::Vector3d& moved = Eigen::Vector3d::Zero()) {
+    const auto f = std::make_shared<const scan::FeatureCloud>(test::sweepAt(T_true, moved));
+    bool changed = false;
+    for (int i = 0; i < n; ++i, t += kHalfSecond) changed = l.addSweep(t, T_odom, f) || changed;
+    return changed;
+}
+
+TEST(LocalizerTest, LocksFromAHintOneMetreAndFifteenDegreesOff) {
+    const Eigen::Isometry3d truth = pose(3.2, 2.4, 1.3, 40);
+    const Eigen::Isometry3d hint = pose(3.2 + 0.8, 2.4 + 0.6, 1.3, 55);
+    Localizer l({}, roomPrior(), hint);
+    TimeNs t = 1000 * kNsPerSec;
+    // The odometry's own world: the session started at its origin.
+    const Eigen::Isometry3d odom = Eigen::Isometry3d::Identity();
+    EXPECT_FALSE(feed(l, 4, t, truth, odom));  // no match before a full stack (2 s)
+    EXPECT_FALSE(l.locked());
+    EXPECT_TRUE(feed(l, 1, t, truth, odom));
+    ASSERT_TRUE(l.locked());
+    const Eigen::Isometry3d est = l.priorFromOdom() * odom;
+    EXPECT_LT((est.translation() - truth.translation()).norm(), 0.01);
+    EXPECT_LT(angleDeg(est, truth), 0.2);
+    EXPECT_GT(l.stats().lock_on_map, 0.9);
+    EXPECT_EQ(l.stats().lock_attempts, 1u);
+    EXPECT_TRUE(l.changes().empty());
+}
+
+TEST(LocalizerTest, NoLockWhereThePriorMapHasNothingNearTheHint) {
+    // The hint 12 m outside the room: nothing within the search radius matches.
+    Localizer l({}, roomPrior(), pose(-12, 3.5, 1.3, 0));
+    TimeNs t = 1000 * kNsPerSec;
+    feed(l, 9, t, pose(3.2, 2.4, 1.3, 40), Eigen::Isometry3d::Identity());
+    EXPECT_EQ(l.stats().lock_attempts, 2u);
+    EXPECT_FALSE(l.locked());
+    EXPECT_LT(l.stats().lock_on_map, 0.6);
+}
+
+TEST(LocalizerTest, AMovedObjectKeepsTheLockAndIsReportedWhereItNowStands) {
+    const Eigen::Vector3d moved(-0.6, -0.5, 0.0);  // the cabinet, 0.78 m
+    const Eigen::Isometry3d truth = pose(6.5, 3.0, 1.3, -20);
+    Localizer l({}, roomPrior(), pose(7.3, 3.6, 1.3, -5));
+    TimeNs t = 1000 * kNsPerSec;
+    feed(l, 5, t, truth, Eigen::Isometry3d::Identity(), moved);
+    ASSERT_TRUE(l.locked());
+    const Eigen::Isometry3d est = l.priorFromOdom();
+    EXPECT_LT((est.translation() - truth.translation()).norm(), 0.01);
+    EXPECT_LT(angleDeg(est, truth), 0.2);
+    const std::vector<ChangeCell> changes = l.changes();
+    ASSERT_FALSE(changes.empty());
+    // Every change cell lies at the cabinet's new place (x 6.9..9.0, y 5.3..6.2, z 0..1.1),
+    // within a cell.
+    for (const ChangeCell& c : changes) {
+        EXPECT_GT(c.centre.x(), 6.9 - 0.5) << c.centre.transpose();
+        EXPECT_LT(c.centre.y(), 6.2 + 0.5) << c.centre.transpose();
+        EXPECT_GT(c.centre.y(), 5.3 - 0.5) << c.centre.transpose();
+        EXPECT_LT(c.centre.z(), 1.1 + 0.5) << c.centre.transpose();
+    }
+}
+
+TEST(LocalizerTest, EachMatchTakesOutTheOdometrysDrift) {
+    const Eigen::Isometry3d start = pose(3.2, 2.4, 1.3, 40);
+    Localizer l({}, roomPrior(), start);
+    TimeNs t = 1000 * kNsPerSec;
+    feed(l, 5, t, start, Eigen::Isometry3d::Identity());
+    ASSERT_TRUE(l.locked());
+    // Walking 2 m along x; the odometry drifted 2 cm and 0.3 deg by then.
+    const Eigen::Isometry3d truth = pose(5.2, 2.4, 1.3, 40);
+    const Eigen::Isometry3d odom = start.inverse() * truth * pose(0.02, -0.01, 0.0, 0.3);
+    feed(l, 4, t, truth, odom);
+    EXPECT_EQ(l.stats().updates, 1u);
+    const Eigen::Isometry3d est = l.priorFromOdom() * odom;
+    EXPECT_LT((est.translation() - truth.translation()).norm(), 0.005);
+    EXPECT_LT(angleDeg(est, truth), 0.05);
+    EXPECT_GT(l.stats().max_correction_m, 0.015);
+}
+
+TEST(SweepStackTest, StacksIntoTheNewestSweepsFrameThinnedAndWithinItsSpan) {
+    SweepStack stack({.span_s = 2.0, .edge_leaf_m = 0.1, .planar_leaf_m = 0.2});
+    auto cloud = [](const Eigen::Vector3d& p) {
+        auto c = std::make_shared<scan::FeatureCloud>();
+        c->planars = {p, p + Eigen::Vector3d(0.01, 0, 0)};  // the second shares the leaf
+        c->planar_origins = {Eigen::Vector3d::Zero(), Eigen::Vector3d::Zero()};
+        c->edges = {p};
+        return c;
+    };
+    const TimeNs t0 = 100 * kNsPerSec;
+    stack.add(t0, pose(0, 0, 0, 0), cloud({5.05, 0.05, 0.05}));
+    stack.add(t0 + kNsPerSec, pose(1, 0, 0, 90), cloud({0.05, 5.05, 0.05}));
+    const scan::FeatureCloud s = stack.stack();
+    ASSERT_EQ(s.planars.size(), 2u);
+    ASSERT_EQ(s.planar_origins.size(), 2u);
+    // The newest first, as it is; the older one's point (world 5.05,0.05) in the newest frame
+    // (at 1,0,0 turned 90 deg): x' = y, y' = -(x - 1). Leaves are not cut by the points.
+    EXPECT_TRUE(s.planars[0].isApprox(Eigen::Vector3d(0.05, 5.05, 0.05)));
+    EXPECT_TRUE(s.planars[1].isApprox(Eigen::Vector3d(0.05, -4.05, 0.05), 1e-9));
+    EXPECT_TRUE(s.planar_origins[1].isApprox(Eigen::Vector3d(0, 1, 0), 1e-9));
+    stack.add(t0 + 3 * kNsPerSec + kHalfSecond, pose(0, 0, 0, 0), cloud({1, 1, 1}));
+    EXPECT_EQ(stack.size(), 1u);  // the others are more than 2 s older
+}
+
+TEST(PriorMapTest, QueriesSeeNeighboursAcrossACoarseVoxelsFace) {
+    scan::FeatureMapPoints m;
+    m.planars = {{9.95f, 1.0f, 1.0f}};
+    m.planar_origins = {Eigen::Vector3f::Zero()};
+    m.edges = {{-5.0f, 1.0f, 1.0f}};
+    const PriorMap prior(m, Eigen::Isometry3d::Identity());
+    EXPECT_NEAR(prior.nearestDistance({10.05, 1.0, 1.0}), 0.1, 1e-5);  // the next voxel over
+    EXPECT_NEAR(prior.nearestDistance({-5.0, 1.5, 1.0}), 0.5, 1e-5);
+    EXPECT_TRUE(std::isinf(prior.nearestDistance({40.0, 40.0, 40.0})));
+    EXPECT_EQ(prior.size(), 2u);
+}
+
+}  // namespace
+}  // namespace handscan::localize
