@@ -1,5 +1,7 @@
 #include "handscan/pipeline_daemon/command_handler.hpp"
 
+#include <filesystem>
+
 #include "handscan/core/log.hpp"
 
 namespace handscan::pipeline_daemon {
@@ -56,6 +58,10 @@ CommandHandler::Outcome CommandHandler::execute(CommandType type, const std::str
             export_seq_ = seq;
             return {CommandState::kInProgress, "exporting"};
         }
+        case CommandType::kContinueScan:
+            if (exports_.running())
+                return {CommandState::kRejected, "an export is running; wait for it to finish"};
+            return fromResult(continueScan(argument));
         case CommandType::kShutdown:
             shutdown_ = true;
             return {CommandState::kDone, "shutting down: the scan is saved"};
@@ -63,6 +69,31 @@ CommandHandler::Outcome CommandHandler::execute(CommandType type, const std::str
             break;
     }
     return {CommandState::kRejected, "unknown command " + std::to_string(static_cast<int>(type))};
+}
+
+Result<std::string> CommandHandler::continueScan(const std::string& argument) {
+    if (worker_.scanState() == shm::ScanState::kScanning)
+        return Status(StatusCode::kInvalidArgument, "stop the scan before continuing another");
+    auto request = parseContinueArgument(argument);
+    if (!request.isOk()) return request.status();
+    // Which scan: the one named, else the one just stopped, else the newest on the device.
+    std::string dir;
+    if (!request->scan.empty()) {
+        dir = (std::filesystem::path(worker_.journalRoot()) / request->scan).string();
+    } else if (worker_.scanState() == shm::ScanState::kStopped && !worker_.journalPath().empty()) {
+        dir = std::filesystem::path(worker_.journalPath()).parent_path().string();
+    } else {
+        auto newest = newestContinuableScan(worker_.journalRoot());
+        if (!newest.isOk()) return Status(StatusCode::kInvalidArgument, newest.status().message());
+        dir = *newest;
+    }
+    if (!canContinue(dir))
+        return Status(StatusCode::kInvalidArgument,
+                      dir + " cannot be continued: it has no journal and feature map");
+    // Read here, not on the pipeline thread: the scan goes on meanwhile.
+    auto earlier = loadEarlierScan(dir);
+    if (!earlier.isOk()) return earlier.status();
+    return worker_.continueScan(*earlier, request->initial_pose);
 }
 
 void CommandHandler::tick() {

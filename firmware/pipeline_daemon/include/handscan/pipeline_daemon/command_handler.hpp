@@ -1,6 +1,8 @@
 // CommandHandler: executes the operator's commands, from the touch screen (the shared-memory
 // command channel, answered with acks) or from the panel's buttons (same actions, no ack):
 //   start / stop scan, new scan (new journal, new map epoch) -> the pipeline thread's ScanSession
+//   continue [scan=NAME] [pose=...] -> an earlier scan loaded here (EarlierScan), then a new scan
+//                        localized on it (PipelineThread::continueScan)
 //   export [DIR|usb]  -> ExportJob (the code path of `handscan export`), acked kInProgress with
 //                        progress until it ends kDone ("safe to remove") or kFailed
 //   shutdown          -> acked, then the daemon ends the scan cleanly and exits
@@ -33,6 +35,7 @@ private:
         std::string message;
     };
     Outcome execute(shm::CommandType type, const std::string& argument, std::uint64_t seq);
+    Result<std::string> continueScan(const std::string& argument);
 
     PipelineThread& worker_;
     ExportJob& exports_;
