@@ -1,5 +1,6 @@
 #include "handscan/pipeline_daemon/command_handler.hpp"
 
+#include <chrono>
 #include <filesystem>
 
 #include "handscan/core/log.hpp"
@@ -61,7 +62,10 @@ CommandHandler::Outcome CommandHandler::execute(CommandType type, const std::str
         case CommandType::kContinueScan:
             if (exports_.running())
                 return {CommandState::kRejected, "an export is running; wait for it to finish"};
-            return fromResult(continueScan(argument));
+            if (auto loading = continueScan(argument, seq); !loading.isOk())
+                return fromResult(loading);
+            else
+                return {CommandState::kInProgress, *loading};
         case CommandType::kShutdown:
             shutdown_ = true;
             return {CommandState::kDone, "shutting down: the scan is saved"};
@@ -71,7 +75,8 @@ CommandHandler::Outcome CommandHandler::execute(CommandType type, const std::str
     return {CommandState::kRejected, "unknown command " + std::to_string(static_cast<int>(type))};
 }
 
-Result<std::string> CommandHandler::continueScan(const std::string& argument) {
+Result<std::string> CommandHandler::continueScan(const std::string& argument, std::uint64_t seq) {
+    if (continuing_) return Status(StatusCode::kInvalidArgument, "already continuing a scan");
     if (worker_.scanState() == shm::ScanState::kScanning)
         return Status(StatusCode::kInvalidArgument, "stop the scan before continuing another");
     auto request = parseContinueArgument(argument);
@@ -90,13 +95,31 @@ Result<std::string> CommandHandler::continueScan(const std::string& argument) {
     if (!canContinue(dir))
         return Status(StatusCode::kInvalidArgument,
                       dir + " cannot be continued: it has no journal and feature map");
-    // Read here, not on the pipeline thread: the scan goes on meanwhile.
-    auto earlier = loadEarlierScan(dir);
-    if (!earlier.isOk()) return earlier.status();
-    return worker_.continueScan(*earlier, request->initial_pose);
+    continuing_ = Continuing{seq, request->initial_pose,
+                             std::async(std::launch::async, loadEarlierScan, dir)};
+    return "loading " + std::filesystem::path(dir).filename().string();
+}
+
+void CommandHandler::finishContinue() {
+    if (!continuing_ ||
+        continuing_->loaded.wait_for(std::chrono::seconds(0)) != std::future_status::ready)
+        return;
+    auto earlier = continuing_->loaded.get();
+    Result<std::string> out = earlier.isOk()
+                                  ? worker_.continueScan(*earlier, continuing_->initial_pose)
+                                  : Result<std::string>(earlier.status());
+    const CommandState state = out.isOk() ? CommandState::kDone
+                               : out.status().code() == StatusCode::kInvalidArgument
+                                   ? CommandState::kRejected
+                                   : CommandState::kFailed;
+    const std::string message = out.isOk() ? *out : out.status().message();
+    log().info("command #{} continue-scan: {} {}", continuing_->seq, shm::toString(state), message);
+    if (continuing_->seq != 0) channel_.ack(continuing_->seq, state, message, 1.0f);
+    continuing_.reset();
 }
 
 void CommandHandler::tick() {
+    finishContinue();
     if (auto result = exports_.takeResult()) {
         if (export_seq_ != 0) {
             if (result->isOk())
