@@ -121,8 +121,10 @@ void DemoPipeline::handle(const shm::Command& cmd, TimeNs now) {
             shutdown_ = true;
             writer_.ack(cmd.seq, CommandState::kDone, "shutting down");
             break;
+        case CommandType::kContinueScan:  // the demo has no localizer
         case CommandType::kNone:
-            writer_.ack(cmd.seq, CommandState::kRejected, "unknown command");
+            writer_.ack(cmd.seq, CommandState::kRejected,
+                        std::string(shm::toString(cmd.type)) + ": not in the demo pipeline");
             break;
     }
     publishStatus(now);
