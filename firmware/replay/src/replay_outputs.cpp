@@ -86,8 +86,11 @@ Json localizationJson(const localize::Localizer& l, std::uint64_t sweeps_before_
     const localize::LocalizerStats& s = l.stats();
     Json changes = Json::array();
     for (const localize::ChangeCell& c : l.changes())
-        changes.push_back(
-            {{"x", c.centre.x()}, {"y", c.centre.y()}, {"z", c.centre.z()}, {"points", c.points}});
+        changes.push_back({{"x", c.centre.x()},
+                           {"y", c.centre.y()},
+                           {"z", c.centre.z()},
+                           {"points", c.points},
+                           {"matches", c.matches}});
     const Eigen::Isometry3d& T = l.priorFromOdom();
     const Eigen::Quaterniond q(T.linear());
     return {{"locked", l.locked()},

@@ -113,16 +113,22 @@ bool Localizer::apply(const PriorMatchOutcome& o) {
     stats_.points_checked += o.points_checked;
     stats_.changed_points += o.changed_points;
     stats_.new_points += o.new_points;
-    for (const auto& [cell, n] : o.change_cells) change_cells_[cell] += n;
+    for (const auto& [cell, n] : o.change_cells) {
+        change_cells_[cell].points += n;
+        ++change_cells_[cell].matches;
+    }
     return true;
 }
 
 std::vector<ChangeCell> Localizer::changes() const {
     std::vector<ChangeCell> out;
     for (const auto& [k, n] : change_cells_) {
-        if (n < static_cast<std::uint64_t>(config_.change_cell_min_points)) continue;
+        if (n.points < static_cast<std::uint64_t>(config_.change_cell_min_points) ||
+            n.matches < static_cast<std::uint64_t>(config_.change_cell_min_matches))
+            continue;
         const auto [x, y, z] = k;
-        out.push_back({(Eigen::Vector3d(x, y, z).array() + 0.5) * config_.change_cell_m, n});
+        out.push_back({(Eigen::Vector3d(x, y, z).array() + 0.5) * config_.change_cell_m, n.points,
+                       n.matches});
     }
     return out;
 }

@@ -89,6 +89,9 @@ TEST(LocalizerTest, AMovedObjectKeepsTheLockAndIsReportedWhereItNowStands) {
     feed(l, 5, t, truth, Eigen::Isometry3d::Identity(), moved);
     EXPECT_TRUE(l.settle());
     ASSERT_TRUE(l.locked());
+    EXPECT_TRUE(l.changes().empty());  // one view of a change is not yet a change
+    feed(l, 4, t, truth, Eigen::Isometry3d::Identity(), moved);  // a tracking match sees it too
+    EXPECT_TRUE(l.settle());
     const Eigen::Isometry3d est = l.priorFromOdom();
     EXPECT_LT((est.translation() - truth.translation()).norm(), 0.01);
     EXPECT_LT(angleDeg(est, truth), 0.2);

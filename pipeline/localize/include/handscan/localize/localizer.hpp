@@ -58,6 +58,7 @@ struct LocalizerStats {
 struct ChangeCell {
     Eigen::Vector3d centre = Eigen::Vector3d::Zero();
     std::uint64_t points = 0;
+    std::uint64_t matches = 0;  // matches that found points of it far from the prior map
 };
 
 // Before the lock: no match finished yet, or the last one found no lock.
@@ -88,7 +89,8 @@ public:
     // The odometry's world in the prior map's frame (the hint's guess before the lock).
     const Eigen::Isometry3d& priorFromOdom() const { return T_prior_odom_; }
     const LocalizerStats& stats() const { return stats_; }
-    // Change cells with at least config.change_cell_min_points points, by position.
+    // Change cells with at least config.change_cell_min_points points, seen by at least
+    // config.change_cell_min_matches matches, by position.
     std::vector<ChangeCell> changes() const;
     const PriorMap& prior() const { return *prior_; }
     const LocalizerConfig& config() const { return config_; }
@@ -111,7 +113,10 @@ private:
     TimeNs last_attempt_t_ = 0;
     TimeNs newest_t_ = 0;
     LocalizerStats stats_;
-    std::map<std::tuple<int, int, int>, std::uint64_t> change_cells_;  // cell -> points
+    struct CellCount {
+        std::uint64_t points = 0, matches = 0;
+    };
+    std::map<std::tuple<int, int, int>, CellCount> change_cells_;
     // The match on the localizer's thread (invalid: none running) and what it was started on.
     std::future<PriorMatchOutcome> running_;
     Running running_on_;

@@ -40,6 +40,9 @@ struct LocalizerConfig {
     double covered_m = 1.5;
     double change_cell_m = 0.5;
     int change_cell_min_points = 3;  // a cell is reported from this many points up
+    // ... seen changed by this many matches (stacks 2 s apart, other viewpoints): what one view
+    // alone finds far from the prior (vegetation's unrepeatable returns, a grazing ray) is noise.
+    int change_cell_min_matches = 2;
     scan::ScanMatcherConfig matcher;
     // When a match (run on the localizer's own thread) takes effect: as soon as it is done
     // (the daemon, paced replay), or at the next sweep, waited for if need be (replay --fast:
