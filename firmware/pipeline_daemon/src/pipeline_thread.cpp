@@ -43,6 +43,10 @@ public:
         return Status::ok();
     }
     bool wantsSweeps() const override { return session_.scanning(); }
+    Status sweepRecord(const journal::SweepRecord& r) override {
+        session_.appendSweep(r);  // every sweep, also those kept out of the map
+        return Status::ok();
+    }
     Status sweep(const lio::RegisteredSweep& s, std::span<const journal::MapPoint> pts) override {
         if (!s.tracking.enters_map) return Status::ok();  // kept out of the map: nothing to add
         session_.appendPoints(pts);

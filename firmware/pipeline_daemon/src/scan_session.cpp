@@ -128,6 +128,11 @@ void ScanSession::appendPoints(std::span<const journal::MapPoint> points) {
     points_ += points.size();
 }
 
+void ScanSession::appendSweep(const journal::SweepRecord& sweep) {
+    if (state_ != shm::ScanState::kScanning) return;
+    if (Status s = journal_->appendSweep(sweep); !s.isOk()) onJournalError(s);
+}
+
 void ScanSession::flushIfDue() {
     if (state_ != shm::ScanState::kScanning) return;
     if (Status s = journal_->flushIfDue(); !s.isOk()) onJournalError(s);

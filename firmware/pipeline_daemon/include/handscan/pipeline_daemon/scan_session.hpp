@@ -2,12 +2,12 @@
 //   idle --start--> scanning (new journal DIR/scan-YYYYmmdd-HHMMSS/journal.hsj)
 //   scanning --stop--> stopped (journal flushed: exportable, and start resumes the same scan)
 //   stopped --new scan--> idle (journal finished); finish() (shutdown, SIGTERM) finishes it too.
-// While scanning, poses and full-resolution points are appended; the journal writer flushes a
-// checksummed chunk at least every 0.5 s. When the journal stops (disk full) the scan stops
-// cleanly with everything written so far intact, and problem() says why.
-// After a crash or power cut, recoverUnfinished() takes the newest unfinished journal back (its
-// torn tail cut) as a stopped scan, so the operator can still export it; starting scanning then
-// begins a new scan (the recovered points are in another run's world frame).
+// While scanning, poses, full-resolution points and per-sweep statistics are appended; the journal
+// writer flushes a checksummed chunk at least every 0.5 s. When the journal stops (disk full) the
+// scan stops cleanly with everything written so far intact, and problem() says why. After a crash
+// or power cut, recoverUnfinished() takes the newest unfinished journal back (its torn tail cut) as
+// a stopped scan, so the operator can still export it; starting scanning then begins a new scan
+// (the recovered points are in another run's world frame).
 #pragma once
 
 #include <memory>
@@ -44,6 +44,8 @@ public:
 
     void appendPose(const journal::TrajectoryPose& pose);
     void appendPoints(std::span<const journal::MapPoint> points);
+    // A sweep's statistics (the report's module timeline and device rates).
+    void appendSweep(const journal::SweepRecord& sweep);
     void flushIfDue();
 
     shm::ScanState state() const { return state_; }
