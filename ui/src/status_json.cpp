@@ -29,6 +29,7 @@ std::string statusJson(const StatusTexts& t, const FrameFacts& f) {
     j["modules"] = lines(t.modules);
     j["warnings"] = lines(t.warnings);
     j["export"] = line(t.export_line);
+    j["calibration"] = lines(t.calibration);
     j["message"] = t.message;
     j["dof"] = Json::array();
     for (int i = 0; t.dof_valid && i < shm::kDofCount; ++i) j["dof"].push_back(toString(t.dof[i]));

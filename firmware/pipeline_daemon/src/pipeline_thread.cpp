@@ -229,6 +229,7 @@ void PipelineThread::publishStatus() {
     s.scan_state = session_->state();
     s.point_count = session_->points();
     s.export_status = inputs_.export_status();
+    if (inputs_.calibration_status) s.calibration = inputs_.calibration_status();
     s.camera_brightness = queues_.camera_brightness.load(std::memory_order_relaxed);
     if (!session_->problem().empty()) {
         s.message = session_->problem();

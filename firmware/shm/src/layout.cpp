@@ -17,6 +17,8 @@ const char* toString(CommandType type) {
             return "export";
         case CommandType::kShutdown:
             return "shutdown";
+        case CommandType::kCalibrate:
+            return "calibrate";
     }
     return "unknown";
 }

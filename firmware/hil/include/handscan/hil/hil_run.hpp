@@ -40,6 +40,9 @@ struct HilOptions {
     // Non-empty: the daemon's journal (poses, map points) with the recording's camera frames and
     // ground truth as a viz file (viz::writeJournalViz), on the recording's clock.
     std::string viz_path;
+    // Non-zero: after the export, the UI's "calibrate" (CommandType::kCalibrate) with at most
+    // this many rounds; the daemon replaces `calibration`'s file, keeping it as .prev.
+    int calibrate_rounds = 0;
 };
 
 struct HilReport {
@@ -55,6 +58,7 @@ struct HilReport {
     std::uint64_t recovered_points = 0;         // after --kill-at: the recovered scan's journal
     std::uint64_t recovered_export_points = 0;  // and its export
     std::uint64_t viz_bytes = 0;                // --viz: the file's size
+    std::string calibration;                    // calibrate_rounds: the daemon's answer
     std::string summary;                        // one line per figure, for the console
 };
 

@@ -7,7 +7,8 @@
 // scan stops cleanly with everything written so far intact, and problem() says why. After a crash
 // or power cut, recoverUnfinished() takes the newest unfinished journal back (its torn tail cut) as
 // a stopped scan, so the operator can still export it; starting scanning then begins a new scan
-// (the recovered points are in another run's world frame).
+// (the recovered points are in another run's world frame). With a ScanRecorder, each scanning
+// stretch's raw device streams go beside the journal (raw.mcap, raw-2.mcap ...).
 #pragma once
 
 #include <memory>
@@ -16,6 +17,7 @@
 
 #include "handscan/core/status.hpp"
 #include "handscan/journal/journal_writer.hpp"
+#include "handscan/pipeline_daemon/scan_recorder.hpp"
 #include "handscan/shm/layout.hpp"
 
 namespace handscan::pipeline_daemon {
@@ -26,6 +28,8 @@ public:
                          std::string metadata_json = "{}")
         : dir_(std::move(journal_dir)), options_(options), metadata_(std::move(metadata_json)) {}
     ~ScanSession();
+    // Records each scanning stretch's raw streams into the scan's directory (null: none).
+    void setRecorder(ScanRecorder* recorder) { recorder_ = recorder; }
 
     // Each returns the message for the operator, or why it was refused (kInvalidArgument) or
     // failed (I/O).
@@ -57,6 +61,8 @@ public:
 
 private:
     void onJournalError(const Status& s);
+    void startRecording();
+    void stopRecording();
 
     std::string dir_;
     journal::JournalOptions options_;
@@ -67,6 +73,7 @@ private:
     std::uint64_t points_ = 0;
     std::string problem_;
     bool resumable_ = true;
+    ScanRecorder* recorder_ = nullptr;
 };
 
 }  // namespace handscan::pipeline_daemon
