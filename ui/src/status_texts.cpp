@@ -255,6 +255,21 @@ StatusTexts describeStatus(shm::Connection connection, const std::string& connec
     }
     t.calibration = describeCalibration(s.calibration);
     t.message = std::string(getText(s.message));
+    t.can_continue = s.can_continue != 0;
+    switch (static_cast<shm::LocalizationState>(s.localization)) {
+        case shm::LocalizationState::kNone:
+            break;
+        case shm::LocalizationState::kSearching:
+            t.localization = {"SEARCHING FOR THE EARLIER SCAN: walk where it went",
+                              Health::kWarning};
+            break;
+        case shm::LocalizationState::kLocked:
+            t.localization = {"LOCKED ON THE EARLIER SCAN", Health::kOk};
+            break;
+        case shm::LocalizationState::kNotLocked:
+            t.localization = {"NOT LOCKED: walk to where the earlier scan started", Health::kError};
+            break;
+    }
 
     if (pose) {
         t.dof_valid = true;

@@ -1,5 +1,6 @@
 #include "handscan/pipeline_daemon/command_handler.hpp"
 
+#include <chrono>
 #include <cstdio>
 #include <filesystem>
 
@@ -61,6 +62,13 @@ CommandHandler::Outcome CommandHandler::execute(CommandType type, const std::str
             export_seq_ = seq;
             return {CommandState::kInProgress, "exporting"};
         }
+        case CommandType::kContinueScan:
+            if (exports_.running())
+                return {CommandState::kRejected, "an export is running; wait for it to finish"};
+            if (auto loading = continueScan(argument, seq); !loading.isOk())
+                return fromResult(loading);
+            else
+                return {CommandState::kInProgress, *loading};
         case CommandType::kCalibrate:
             return calibrate(argument, seq);
         case CommandType::kShutdown:
@@ -70,6 +78,49 @@ CommandHandler::Outcome CommandHandler::execute(CommandType type, const std::str
             break;
     }
     return {CommandState::kRejected, "unknown command " + std::to_string(static_cast<int>(type))};
+}
+
+Result<std::string> CommandHandler::continueScan(const std::string& argument, std::uint64_t seq) {
+    if (continuing_) return Status(StatusCode::kInvalidArgument, "already continuing a scan");
+    if (worker_.scanState() == shm::ScanState::kScanning)
+        return Status(StatusCode::kInvalidArgument, "stop the scan before continuing another");
+    auto request = parseContinueArgument(argument);
+    if (!request.isOk()) return request.status();
+    // Which scan: the one named, else the one just stopped, else the newest on the device.
+    std::string dir;
+    if (!request->scan.empty()) {
+        dir = (std::filesystem::path(worker_.journalRoot()) / request->scan).string();
+    } else if (worker_.scanState() == shm::ScanState::kStopped && !worker_.journalPath().empty()) {
+        dir = std::filesystem::path(worker_.journalPath()).parent_path().string();
+    } else {
+        auto newest = newestContinuableScan(worker_.journalRoot());
+        if (!newest.isOk()) return Status(StatusCode::kInvalidArgument, newest.status().message());
+        dir = *newest;
+    }
+    if (!canContinue(dir))
+        return Status(StatusCode::kInvalidArgument,
+                      dir + " cannot be continued: it has no journal and feature map");
+    continuing_ = Continuing{seq, request->initial_pose,
+                             std::async(std::launch::async, loadEarlierScan, dir)};
+    return "loading " + std::filesystem::path(dir).filename().string();
+}
+
+void CommandHandler::finishContinue() {
+    if (!continuing_ ||
+        continuing_->loaded.wait_for(std::chrono::seconds(0)) != std::future_status::ready)
+        return;
+    auto earlier = continuing_->loaded.get();
+    Result<std::string> out = earlier.isOk()
+                                  ? worker_.continueScan(*earlier, continuing_->initial_pose)
+                                  : Result<std::string>(earlier.status());
+    const CommandState state = out.isOk() ? CommandState::kDone
+                               : out.status().code() == StatusCode::kInvalidArgument
+                                   ? CommandState::kRejected
+                                   : CommandState::kFailed;
+    const std::string message = out.isOk() ? *out : out.status().message();
+    log().info("command #{} continue-scan: {} {}", continuing_->seq, shm::toString(state), message);
+    if (continuing_->seq != 0) channel_.ack(continuing_->seq, state, message, 1.0f);
+    continuing_.reset();
 }
 
 CommandHandler::Outcome CommandHandler::calibrate(const std::string& argument, std::uint64_t seq) {
@@ -121,6 +172,7 @@ void CommandHandler::tickCalibration() {
 }
 
 void CommandHandler::tick() {
+    finishContinue();
     tickCalibration();
     if (auto result = exports_.takeResult()) {
         if (export_seq_ != 0) {

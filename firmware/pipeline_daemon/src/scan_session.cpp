@@ -4,6 +4,7 @@
 #include <ctime>
 #include <filesystem>
 
+#include "handscan/core/json.hpp"
 #include "handscan/core/log.hpp"
 #include "handscan/journal/journal_reader.hpp"
 
@@ -52,6 +53,22 @@ Result<std::string> ScanSession::start() {
         return std::string("scanning (resumed)");
     }
     if (journal_) (void)finish();  // a recovered scan, or the journal failed: start a fresh one
+    return begin(metadata_);
+}
+
+Result<std::string> ScanSession::continueFrom(const std::string& prior_dir) {
+    if (state_ == shm::ScanState::kScanning)
+        return Status(StatusCode::kInvalidArgument, "stop the scan first");
+    if (Status s = finish(); !s.isOk()) return s;
+    Json meta = Json::parse(metadata_, nullptr, false);
+    if (!meta.is_object()) meta = Json::object();
+    meta["prior_map"] = prior_dir;
+    auto out = begin(jsonText(meta));
+    if (!out.isOk()) return out;
+    return *out + ", continuing " + fs::path(prior_dir).filename().string();
+}
+
+Result<std::string> ScanSession::begin(const std::string& metadata) {
     std::error_code ec;
     const fs::path dir = freshScanDir(dir_);
     fs::create_directories(dir, ec);
@@ -60,7 +77,7 @@ Result<std::string> ScanSession::start() {
                       "journal: cannot create " + dir.string() + ": " + ec.message() +
                           " (is storage.journal_dir writable by the handscan user?)");
     }
-    auto j = journal::JournalWriter::create((dir / "journal.hsj").string(), metadata_, options_);
+    auto j = journal::JournalWriter::create((dir / "journal.hsj").string(), metadata, options_);
     if (!j.isOk()) return j.status();
     journal_ = std::move(*j);
     path_ = journal_->path();

@@ -63,6 +63,11 @@ Result<worker::WorkerConfig> workerConfig(const ReplayOptions& o, const DeviceCo
         auto prior = prior_map::loadPriorMap(o.prior_map_dir);
         if (!prior.isOk()) return prior.status();
         c.prior_map = *prior;
+        // The matches to the prior map run on the localizer's thread; --fast applies each at
+        // the next sweep (the same bytes run after run), at the recording's pace they take
+        // effect when done, as on the device.
+        c.localizer.apply =
+            o.fast ? localize::MatchApply::kAtNextSweep : localize::MatchApply::kWhenReady;
         if (!o.initial_pose.empty()) {
             auto pose = prior_map::parsePose(o.initial_pose);
             if (!pose.isOk())

@@ -104,6 +104,7 @@ Json localizationJson(const localize::Localizer& l, std::uint64_t sweeps_before_
             {"sweeps_before_lock", sweeps_before_lock},
             {"cpu_ms", s.cpu_ms},
             {"max_attempt_ms", s.max_attempt_ms},
+            {"max_apply_delay_s", s.max_apply_delay_s},
             {"cpu_share_of_core", recording_s > 0 ? s.cpu_ms * 1e-3 / recording_s : 0.0},
             {"prior_from_odom_xyz_qxyzw",
              {T.translation().x(), T.translation().y(), T.translation().z(), q.x(), q.y(), q.z(),

@@ -66,10 +66,15 @@ Status PipelineWorker::run(TimeNs horizon, TimeNs deadline) {
         }
         std::optional<sources::Sample> sample = merger_.pop(horizon);
         if (!sample) return Status::ok();
-        process(*sample);
-        // After every sample, so that what the sink sees (and the colours, which use the
-        // integrated motion at that moment) does not depend on how the source batches them.
-        if (Status s = consume(); !s.isOk()) return s;
+        // The worker's time per sample, all stages: its longest is the longest stall of the
+        // real-time outputs (stats.json modules.worker_per_sample.max_us).
+        const Status s = timed("worker_per_sample", [&] {
+            process(*sample);
+            // After every sample, so that what the sink sees (and the colours, which use the
+            // integrated motion at that moment) does not depend on how the source batches them.
+            return consume();
+        });
+        if (!s.isOk()) return s;
     }
 }
 

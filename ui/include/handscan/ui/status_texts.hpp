@@ -49,6 +49,10 @@ struct StatusTexts {
     // ("encoder zero 0.512 +- 0.004 deg", "... kept: not determined").
     std::vector<Line> calibration;
     std::string message;  // the pipeline's own note
+    // A scan continuing an earlier one: "" otherwise, "SEARCHING FOR THE EARLIER SCAN",
+    // "LOCKED ON THE EARLIER SCAN", "NOT LOCKED: walk to where the earlier scan started".
+    Line localization;
+    bool can_continue = false;  // an earlier scan on the device can be continued
     bool dof_valid = false;
     DofSource dof[shm::kDofCount] = {};
     bool vio_dof[shm::kDofCount] = {};

@@ -15,7 +15,7 @@
 namespace handscan::shm {
 
 inline constexpr std::uint64_t kMagic = 0x314D48534E435348ull;  // "HSCNSHM1" little-endian
-inline constexpr std::uint32_t kLayoutVersion = 3;
+inline constexpr std::uint32_t kLayoutVersion = 4;
 inline constexpr const char* kDefaultRegionName = "/handscan-live";
 
 inline constexpr std::size_t kPoseRingCapacity = 2048;  // > 10 s of 200 Hz poses
@@ -45,7 +45,20 @@ enum class CommandType : std::uint32_t {
     kNewScan = 3,
     kExport = 4,
     kShutdown = 5,
-    kCalibrate = 6,  // self-calibrate on the last scan's raw recording (argument: "" or rounds=N)
+    // Continue an earlier scan (section 9): a new scan localized on it. Argument: optional
+    // "scan=NAME" (a directory of the journal root; default: the stopped scan, else the newest
+    // that can be continued) and "pose=x,y,z,qx,qy,qz,qw" (where the operator stands, in that
+    // scan's frame, TUM order), separated by a space.
+    kContinueScan = 6,
+    kCalibrate = 7,  // self-calibrate on the last scan's raw recording (argument: "" or rounds=N)
+};
+// A scan continuing an earlier one: finding its place on the earlier map, found, or not found
+// by the last search (walk to where the earlier scan started, or place yourself on its map).
+enum class LocalizationState : std::uint8_t {
+    kNone = 0,
+    kSearching = 1,
+    kLocked = 2,
+    kNotLocked = 3
 };
 enum class CommandState : std::uint32_t {
     kPending = 0,     // sent, the pipeline has not looked at it yet
@@ -142,8 +155,11 @@ struct StatusBlock {
     std::uint32_t module_count = 0;
     SensorStatus sensors[kMaxSensors] = {};
     ModuleStatus modules[kMaxModules] = {};
-    std::uint8_t scan_state = 0;  // ScanState
-    std::uint8_t reserved[7] = {};
+    std::uint8_t scan_state = 0;    // ScanState
+    std::uint8_t localization = 0;  // LocalizationState of the current scan
+    // 1: an earlier scan on the device can be continued (it left its feature map).
+    std::uint8_t can_continue = 0;
+    std::uint8_t reserved[5] = {};
     double elapsed_s = 0;           // scanning time of the current scan
     double distance_m = 0;          // path length walked in the current scan
     std::uint64_t point_count = 0;  // full-resolution map points (the display map is sparser)
@@ -234,5 +250,6 @@ const char* toString(CommandState state);
 // Done, failed or rejected: no further answer will come.
 bool isFinal(CommandState state);
 const char* toString(ScanState state);
+const char* toString(LocalizationState state);
 
 }  // namespace handscan::shm

@@ -101,6 +101,13 @@ public:
     [[nodiscard]] Status flushTrajectory();
     // A new scan: a new world frame and an empty map (the queued samples stay).
     void reset();
+    // The prior map the scans from the next reset() on localize on (null: scans of their own),
+    // and the operator's start hint on it.
+    void setPriorMap(std::shared_ptr<const localize::PriorMap> prior,
+                     std::optional<Eigen::Isometry3d> initial_pose) {
+        config_.prior_map = std::move(prior);
+        config_.initial_pose = initial_pose;
+    }
 
     const lio::LaserInertialOdometry& lio() const { return *lio_; }
     std::size_t pending() const { return merger_.size(); }
