@@ -99,7 +99,7 @@ Result<std::string> CommandHandler::continueScan(const std::string& argument, st
     }
     if (!canContinue(dir))
         return Status(StatusCode::kInvalidArgument,
-                      dir + " cannot be continued: it has no journal and feature map");
+                      dir + " cannot be continued: it has no journal.hsj");
     continuing_ = Continuing{seq, request->initial_pose,
                              std::async(std::launch::async, loadEarlierScan, dir)};
     return "loading " + std::filesystem::path(dir).filename().string();

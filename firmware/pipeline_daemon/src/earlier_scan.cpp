@@ -42,9 +42,9 @@ Result<ContinueRequest> parseContinueArgument(const std::string& argument) {
 }
 
 bool canContinue(const std::string& scan_dir) {
+    // Its journal is enough (without its feature map the localizer uses the journal's points).
     std::error_code ec;
-    return fs::exists(fs::path(scan_dir) / "journal.hsj", ec) &&
-           fs::exists(fs::path(scan_dir) / prior_map::kFeatureMapFile, ec);
+    return fs::exists(fs::path(scan_dir) / "journal.hsj", ec);
 }
 
 Result<std::string> newestContinuableScan(const std::string& journal_root) {

@@ -283,7 +283,8 @@ Result<ReplayReport> runReplay(const ReplayOptions& o) {
                    source.reader().truncated(),
                    source.reader().dropped().size(),
                    worker.localizer(),
-                   worker.sweepsBeforeLock()};
+                   worker.sweepsBeforeLock(),
+                   worker.sweepsHeldUntilLock()};
     auto stats_path = outputs.writeStats(in);
     if (!stats_path.isOk()) return stats_path.status();
     report.stats_json_path = *stats_path;

@@ -81,7 +81,7 @@ Json visualJson(const worker::VisualStage& v) {
 // The localization on a prior map (section 9): the lock, the matches to the prior at 0.5 Hz,
 // their cost, and where the scene changed (cells with points far from the prior map).
 Json localizationJson(const localize::Localizer& l, std::uint64_t sweeps_before_lock,
-                      double recording_s) {
+                      std::uint64_t sweeps_held, double recording_s) {
     const localize::LocalizerStats& s = l.stats();
     Json changes = Json::array();
     for (const localize::ChangeCell& c : l.changes())
@@ -102,6 +102,7 @@ Json localizationJson(const localize::Localizer& l, std::uint64_t sweeps_before_
             {"mean_correction_m",
              s.updates > 0 ? s.sum_correction_m / static_cast<double>(s.updates) : 0.0},
             {"sweeps_before_lock", sweeps_before_lock},
+            {"sweeps_held_until_lock", sweeps_held},
             {"cpu_ms", s.cpu_ms},
             {"max_attempt_ms", s.max_attempt_ms},
             {"max_apply_delay_s", s.max_apply_delay_s},
@@ -254,7 +255,8 @@ Result<std::string> ReplayOutputs::writeStats(const StatsInputs& in) const {
     j["tracking"] = trackingJson(in.pipeline.tracking());
     if (in.visual != nullptr && in.visual->stats().frames > 0) j["vio"] = visualJson(*in.visual);
     if (in.localizer != nullptr)
-        j["localization"] = localizationJson(*in.localizer, in.sweeps_before_lock, r.recording_s);
+        j["localization"] =
+            localizationJson(*in.localizer, in.sweeps_before_lock, in.sweeps_held, r.recording_s);
     // Degenerate directions per sweep (section 8): 6 minus the DOFs the matcher solved.
     std::vector<std::size_t> histogram(7, 0);
     for (const journal::SweepRecord& s : sweeps_)

@@ -30,7 +30,8 @@ struct StatsInputs {
     bool recording_truncated = false;
     std::size_t recording_dropped_regions = 0;
     const localize::Localizer* localizer = nullptr;  // null: not continuing a prior scan
-    std::uint64_t sweeps_before_lock = 0;
+    std::uint64_t sweeps_before_lock = 0;            // dropped before the lock
+    std::uint64_t sweeps_held = 0;                   // held and handed on at the lock
 };
 
 class ReplayOutputs {

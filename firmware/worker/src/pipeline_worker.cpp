@@ -33,9 +33,11 @@ void PipelineWorker::reset() {
     visual_.reset();  // made at the first tracking-camera frame
     localizer_.reset();
     poses_before_lock_.clear();
+    held_sweeps_.clear();
     sweeps_before_lock_ = 0;
     counts_ = {};
     counts_from_ = 0;
+    sweeps_held_ = 0;
     if (config_.prior_map)
         localizer_ = std::make_unique<localize::Localizer>(config_.localizer, config_.prior_map,
                                                            config_.initial_pose);
@@ -187,10 +189,17 @@ Status PipelineWorker::consumeLocalized(std::vector<PoseEstimate> poses,
         for (PoseEstimate& p : trajectory) poses_before_lock_.push_back(std::move(p));
         while (poses_before_lock_.size() > config_.max_poses_before_lock)
             poses_before_lock_.pop_front();
+        // Its sweeps are coloured now (the motion they need is at hand now) and held, to be
+        // handed on in the prior's frame at the lock.
         for (const lio::RegisteredSweep& s : sweeps) {
             if (timer_ != nullptr) timer_->add("scan_matching", s.result.total_ms * 1e3);
             if (visual_) visual_->sweep(s);
-            ++sweeps_before_lock_;
+            if (!sink_.wantsSweeps()) continue;
+            held_sweeps_.push_back({s, mapPoints(s)});
+            if (held_sweeps_.size() > config_.max_sweeps_before_lock) {
+                held_sweeps_.pop_front();
+                ++sweeps_before_lock_;
+            }
         }
         return Status::ok();
     }
@@ -203,6 +212,12 @@ Status PipelineWorker::consumeLocalized(std::vector<PoseEstimate> poses,
     }
     for (const PoseEstimate& p : trajectory) {
         if (Status st = sink_.trajectoryPose(moved(T, p)); !st.isOk()) return st;
+    }
+    for (; !held_sweeps_.empty(); held_sweeps_.pop_front()) {
+        ++sweeps_held_;
+        if (Status st = deliver(held_sweeps_.front().sweep, std::move(held_sweeps_.front().points));
+            !st.isOk())
+            return st;
     }
     for (const lio::RegisteredSweep& s : sweeps) {
         if (Status st = handOn(s); !st.isOk()) return st;
@@ -218,6 +233,10 @@ Status PipelineWorker::handOn(const lio::RegisteredSweep& s) {
         counts_from_ = last_sample_;
         return Status::ok();
     }
+    return deliver(s, mapPoints(s));
+}
+
+std::vector<journal::MapPoint> PipelineWorker::mapPoints(const lio::RegisteredSweep& s) {
     // A sweep the tracking monitor kept out of the map reaches the sink with no points:
     // the sink counts it, but nothing of it is coloured, journaled or shown.
     std::vector<journal::MapPoint> pts;
@@ -234,6 +253,10 @@ Status PipelineWorker::handOn(const lio::RegisteredSweep& s) {
         }
         pts = live_output::sweepMapPoints(s, colours ? &*colours : nullptr);
     }
+    return pts;
+}
+
+Status PipelineWorker::deliver(const lio::RegisteredSweep& s, std::vector<journal::MapPoint> pts) {
     if (!localizer_) {
         if (Status st = record(s); !st.isOk()) return st;
         return sink_.sweep(s, pts);

@@ -1,5 +1,5 @@
 // "Continue scan" on the daemon's side: the command's argument (scan=, pose=, errors naming the
-// token), which scan can be continued (a journal and a feature map; the newest), and a continued
+// token), which scan can be continued (one with a journal; the newest), and a continued
 // scan's journal naming the scan it continues (ScanSession::continueFrom).
 #include "handscan/pipeline_daemon/earlier_scan.hpp"
 
@@ -46,17 +46,16 @@ TEST(ContinueArgument, ErrorsNameWhatIsWrong) {
     EXPECT_NE(unknown.status().message().find("'heading=90'"), std::string::npos);
 }
 
-TEST(EarlierScan, TheNewestScanWithAFeatureMapIsContinuedAndNamedInTheNewJournal) {
+TEST(EarlierScan, TheNewestScanWithAJournalIsContinuedAndNamedInTheNewJournal) {
     const fs::path root =
         fs::temp_directory_path() / ("handscan-earlier-" + std::to_string(::getpid()));
     fs::remove_all(root);
     fs::create_directories(root / "scan-20261125-010000");
-    fs::create_directories(root / "scan-20261125-020000");
-    fs::create_directories(root / "scan-20261125-030000");  // newest, but no feature map
-    for (const char* d : {"scan-20261125-010000", "scan-20261125-020000", "scan-20261125-030000"})
-        std::ofstream(root / d / "journal.hsj") << "x";
+    fs::create_directories(root / "scan-20261125-020000");  // no feature map: still continuable
+    fs::create_directories(root / "scan-20261125-030000");  // newest, but no journal
     for (const char* d : {"scan-20261125-010000", "scan-20261125-020000"})
-        std::ofstream(root / d / prior_map::kFeatureMapFile) << "x";
+        std::ofstream(root / d / "journal.hsj") << "x";
+    std::ofstream(root / "scan-20261125-010000" / prior_map::kFeatureMapFile) << "x";
     auto newest = newestContinuableScan(root.string());
     ASSERT_TRUE(newest.isOk()) << newest.status().message();
     EXPECT_EQ(fs::path(*newest).filename(), "scan-20261125-020000");

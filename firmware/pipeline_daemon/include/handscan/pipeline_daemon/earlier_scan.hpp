@@ -36,8 +36,8 @@ struct ContinueRequest {
 // Parses the continue command's argument; errors name the token and the form expected.
 Result<ContinueRequest> parseContinueArgument(const std::string& argument);
 
-// The directory of `journal_root` holding the newest scan that can be continued (a journal and
-// a feature map), or kNotFound saying so.
+// The directory of `journal_root` holding the newest scan that can be continued (one with a
+// journal; its feature map, if it has none, is made from the journal's points), or kNotFound.
 Result<std::string> newestContinuableScan(const std::string& journal_root);
 bool canContinue(const std::string& scan_dir);
 

@@ -76,6 +76,9 @@ struct WorkerConfig {
     // Trajectory poses kept while not locked, handed on in the prior map's frame at the lock
     // (beyond this many the oldest are dropped: 60 s at 200 Hz).
     std::size_t max_poses_before_lock = 12000;
+    // Sweeps (coloured map points) held likewise: 12 s at 2 sweeps/s, a few tens of MB at most;
+    // older ones are dropped.
+    std::size_t max_sweeps_before_lock = 24;
 };
 
 // The odometry's settings for this device (the sweep boundary of the motor), everything else the
@@ -117,8 +120,10 @@ public:
     const VisualStage* visual() const { return visual_.get(); }
     // The localizer on the prior map (null without one).
     const localize::Localizer* localizer() const { return localizer_.get(); }
-    // Sweeps left out of the outputs because the localizer had not locked yet.
+    // Sweeps left out of the outputs because the localizer had not locked within
+    // max_sweeps_before_lock of them, and those held and handed on at the lock.
     std::uint64_t sweepsBeforeLock() const { return sweeps_before_lock_; }
+    std::uint64_t sweepsHeldUntilLock() const { return sweeps_held_; }
     // The scan's feature map in its output frame (the prior map's, when continuing one: the
     // prior's points plus this session's where they add to it), for a later session.
     scan::FeatureMapPoints featureMap() const;
@@ -132,6 +137,10 @@ private:
                                           std::vector<PoseEstimate> trajectory,
                                           std::vector<lio::RegisteredSweep> sweeps);
     [[nodiscard]] Status handOn(const lio::RegisteredSweep& s);
+    // The sweep's coloured map points in the odometry's frame (none if kept out of the map).
+    std::vector<journal::MapPoint> mapPoints(const lio::RegisteredSweep& s);
+    // To the sink, in the prior map's frame when localized.
+    [[nodiscard]] Status deliver(const lio::RegisteredSweep& s, std::vector<journal::MapPoint> pts);
     // The sweep's record (as handed on) with the samples taken since the last, to the sink.
     [[nodiscard]] Status record(const lio::RegisteredSweep& s);
     template <typename Fn>
@@ -152,6 +161,12 @@ private:
     std::unique_ptr<localize::Localizer> localizer_;
     std::deque<PoseEstimate> poses_before_lock_;
     std::uint64_t sweeps_before_lock_ = 0;
+    struct HeldSweep {
+        lio::RegisteredSweep sweep;
+        std::vector<journal::MapPoint> points;
+    };
+    std::deque<HeldSweep> held_sweeps_;
+    std::uint64_t sweeps_held_ = 0;
     // Samples taken since the last sweep record, and the sample time that window began.
     journal::DeviceCounts counts_;
     TimeNs counts_from_ = 0, last_sample_ = 0;
