@@ -45,7 +45,8 @@ int main(int argc, char** argv) {
         ->capture_default_str();
     app.add_option("--status-json", o.status_json_path,
                    "with --screenshot: where to write the shown status texts "
-                   "(default: screenshot path with .json)");
+                   "(default: screenshot path with .json); without: rewritten 4 times a second "
+                   "while the UI runs (tests)");
     app.add_option("--max-seconds", o.max_seconds, "exit after this many seconds (demos)");
     app.add_flag("-v,--verbose", verbosity, "more logging");
     CLI11_PARSE(app, argc, argv);

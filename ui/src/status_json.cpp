@@ -29,7 +29,10 @@ std::string statusJson(const StatusTexts& t, const FrameFacts& f) {
     j["modules"] = lines(t.modules);
     j["warnings"] = lines(t.warnings);
     j["export"] = line(t.export_line);
+    j["calibration"] = lines(t.calibration);
     j["message"] = t.message;
+    j["localization"] = line(t.localization);
+    j["can_continue"] = t.can_continue;
     j["dof"] = Json::array();
     for (int i = 0; t.dof_valid && i < shm::kDofCount; ++i) j["dof"].push_back(toString(t.dof[i]));
     Json view_proj = Json::array();
@@ -46,6 +49,7 @@ std::string statusJson(const StatusTexts& t, const FrameFacts& f) {
                            {"drawn", {p.drawn[0], p.drawn[1], p.drawn[2], p.drawn[3]}}};
     j["map"] = {
         {"points_drawn", f.points_drawn}, {"track_points", f.track_points}, {"epoch", f.epoch}};
+    j["placement"] = {{"active", f.placing}, {"placed", f.placed}, {"pose", f.placed_pose}};
     return jsonText(j, 2) + "\n";
 }
 

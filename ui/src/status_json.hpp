@@ -25,6 +25,10 @@ struct FrameFacts {
     std::size_t track_points = 0;
     std::uint64_t epoch = 0;
     PreviewFacts preview;  // the export screen's picture of the map
+    // Continue scan: placing the start on the earlier map, and the pose placed ("" if none).
+    bool placing = false;
+    bool placed = false;
+    std::string placed_pose;
 };
 
 std::string statusJson(const StatusTexts& texts, const FrameFacts& facts);

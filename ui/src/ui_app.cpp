@@ -24,6 +24,7 @@
 #include "handscan/ui/coverage_grid.hpp"
 #include "png_writer.hpp"
 #include "screen_layout.hpp"
+#include "start_placement_panel.hpp"
 #include "status_json.hpp"
 
 namespace handscan::ui {
@@ -105,6 +106,8 @@ private:
     void trackCommand();
     bool bigButton(const char* label, ImVec4 colour, float w, float h, bool enabled = true);
     int finishScreenshot(bool timed_out);
+    void openStartPlacement(const ScreenLayout& l);
+    void writeStatusJsonNow();
 
     UiOptions o_;
     shm::LiveMapReader reader_;
@@ -133,6 +136,8 @@ private:
     bool status_seen_ = false;
     std::size_t draw_budget_ = 2'000'000;
     ExportPreview preview_;
+    StartPlacementPanel placing_;  // continue scan: where the operator stands on the earlier map
+    double status_json_at_ = -1.0;
 };
 
 UiApp::~UiApp() {
@@ -242,6 +247,7 @@ void UiApp::updateCamera() {
 }
 
 void UiApp::handleViewInput(const ScreenLayout& l) {
+    if (placing_.active()) return placing_.handleInput(l, facts_.view_proj, track_cpu_);
     ImGuiIO& io = ImGui::GetIO();
     if (io.WantCaptureMouse) return;
     const ImVec2 m = io.MousePos;
@@ -365,6 +371,15 @@ void UiApp::drawButtons(const ScreenLayout& l) {
     const bool exporting = status_ && static_cast<shm::ExportState>(status_->export_status.state) ==
                                           shm::ExportState::kRunning;
     ImGui::PushFont(font_big_);
+    if (placing_.active()) {
+        std::string argument;
+        const auto action = placing_.drawButtons(w, h * 1.3f, argument);
+        if (action == StartPlacementPanel::Action::kContinue)
+            send(shm::CommandType::kContinueScan, argument);
+        ImGui::PopFont();
+        ImGui::End();
+        return;
+    }
     if (state == shm::ScanState::kScanning) {
         if (bigButton("STOP SCAN", ImVec4(0.75f, 0.15f, 0.12f, 1), w, h * 1.3f, connected))
             send(shm::CommandType::kStopScan);
@@ -383,7 +398,30 @@ void UiApp::drawButtons(const ScreenLayout& l) {
                   connected && stopped && !exporting)) {
         send(shm::CommandType::kNewScan);
     }
+    // Continue the stopped scan (placing oneself on its map), or the newest earlier one.
+    if (state != shm::ScanState::kScanning &&
+        bigButton("CONTINUE SCAN", ImVec4(0.45f, 0.3f, 0.6f, 1), w, h,
+                  connected && !exporting && (stopped || texts_.can_continue))) {
+        if (stopped)
+            openStartPlacement(l);
+        else
+            send(shm::CommandType::kContinueScan);
+    }
+    // Self-calibration on the scan just stopped (laser on its shaft, encoder zero, clocks).
+    const bool calibrating =
+        status_ && static_cast<shm::CalibrationState>(status_->calibration.state) ==
+                       shm::CalibrationState::kRunning;
+    if (bigButton("CALIBRATE", ImVec4(0.45f, 0.3f, 0.1f, 1), w, h,
+                  connected && stopped && !exporting && !calibrating)) {
+        send(shm::CommandType::kCalibrate);
+    }
     ImGui::PopFont();
+    if (calibrating) ImGui::ProgressBar(status_->calibration.progress, ImVec2(w, 26.0f * l.scale));
+    for (const Line& c : texts_.calibration) {
+        ImGui::PushTextWrapPos(ImGui::GetCursorPosX() + w);
+        ImGui::TextColored(colourOf(c.health), "%s", c.text.c_str());
+        ImGui::PopTextWrapPos();
+    }
     if (status_ &&
         static_cast<shm::ExportState>(status_->export_status.state) != shm::ExportState::kIdle) {
         ImGui::ProgressBar(status_->export_status.progress, ImVec2(w, 26.0f * l.scale));
@@ -500,7 +538,9 @@ void UiApp::drawOverlay(const ScreenLayout& l) {
         drawDegeneracyBar(dl, ImVec2(l.view.x + 14, l.view.y + l.view.h - 6 * cell - 14), cell);
     }
     // Warnings the operator can act on, stacked at the top of the view, most severe first.
+    if (placing_.active()) return placing_.drawOverlay(l, facts_.view_proj, font_big_);
     std::vector<Line> warnings = texts_.warnings;
+    if (!texts_.localization.text.empty()) warnings.push_back(texts_.localization);
     std::stable_sort(warnings.begin(), warnings.end(),
                      [](const Line& a, const Line& b) { return a.health > b.health; });
     float y = l.view.y + 10;
@@ -639,6 +679,37 @@ int UiApp::finishScreenshot(bool timed_out) {
     return 0;
 }
 
+void UiApp::openStartPlacement(const ScreenLayout& l) {
+    // The earlier map from above, all of its path in view, north up.
+    placing_.open();
+    coverage_view_ = false;
+    camera_.mode = CameraMode::kTopDown;
+    top_down_follows_device_ = false;
+    if (track_cpu_.empty()) return;
+    Eigen::AlignedBox3f box;
+    for (const shm::TrackPoint& p : track_cpu_) box.extend(Eigen::Vector3f(p.x_m, p.y_m, p.z_m));
+    camera_.target = box.center();
+    const float aspect = l.view.h > 0 ? l.view.w / l.view.h : 1.0f;
+    const Eigen::Vector3f size = box.sizes();
+    camera_.top_down_half_height_m =
+        std::max(4.0f, 0.5f * std::max(size.y(), size.x() / aspect) + 3.0f);
+}
+
+void UiApp::writeStatusJsonNow() {
+    // Beside a running UI (tests): what it shows, replaced whole so a reader never sees half.
+    facts_.preview = preview_.facts();
+    facts_.placing = placing_.active();
+    facts_.placed = placing_.placement().placed();
+    facts_.placed_pose = facts_.placed ? placing_.placement().poseText() : "";
+    const std::string tmp = o_.status_json_path + ".tmp";
+    if (Status s = writeTextFile(tmp, statusJson(texts_, facts_)); !s) {
+        log().warn("{}", s.message());
+        return;
+    }
+    std::error_code ec;
+    std::filesystem::rename(tmp, o_.status_json_path, ec);
+}
+
 int UiApp::run() {
     if (Status s = initWindow(); !s) {
         log().error("{}", s.message());
@@ -689,6 +760,10 @@ int UiApp::run() {
                 std::max<std::size_t>(100'000, static_cast<std::size_t>(draw_budget_ * 0.7));
         if (frame_s < 0.03 && draw_budget_ < renderer_.pointCount())
             draw_budget_ = draw_budget_ * 5 / 4 + 1;
+        if (!screenshot && !o_.status_json_path.empty() && elapsed - status_json_at_ >= 0.25) {
+            status_json_at_ = elapsed;
+            writeStatusJsonNow();
+        }
         if (o_.max_seconds > 0 && elapsed > o_.max_seconds) break;
         if (!screenshot)
             std::this_thread::sleep_until(frame_start +

@@ -4,6 +4,7 @@
 #include <unistd.h>
 
 #include <chrono>
+#include <cstdio>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
@@ -110,6 +111,8 @@ struct DaemonRuns {
 
 }  // namespace
 
+constexpr const char* kEarlierScan = "earlier-scan";  // sorts before the daemon's scan-*
+
 Result<HilReport> runHil(const HilOptions& o) {
     const fs::path out = o.out_dir;
     std::error_code ec;
@@ -122,6 +125,19 @@ Result<HilReport> runHil(const HilOptions& o) {
     if (o.kill_at_s) fs::create_directories(out / "export-recovered", ec);
     if (o.fakes.cameras) fs::create_directories(out / "cameras", ec);
     if (ec) return Status(StatusCode::kIoError, out.string() + ": cannot create: " + ec.message());
+    if (!o.continue_scan.empty()) {
+        // The earlier scan as the daemon keeps its scans: one directory of its journal root.
+        const fs::path earlier = out / "journal" / kEarlierScan;
+        fs::create_directories(earlier, ec);
+        for (const char* f : {"journal.hsj", "feature_map.hsf"}) {
+            fs::copy_file(fs::path(o.continue_scan) / f, earlier / f, ec);
+            if (ec)
+                return Status(StatusCode::kNotFound,
+                              "--continue " + o.continue_scan + ": cannot copy " + f + ": " +
+                                  ec.message() +
+                                  " (give a scan directory of replay or the daemon)");
+        }
+    }
     auto rec = loadRecordedStreams(o.recording, o.fakes.cameras ? (out / "cameras").string() : "");
     if (!rec.isOk()) return rec.status();
     const std::string config_dir = defaultConfigDir();
@@ -186,9 +202,16 @@ Result<HilReport> runHil(const HilOptions& o) {
         return fail("the daemon did not open the fake devices within --startup " +
                     std::to_string(o.startup_s) + " s");
     }
-    const shm::CommandAck started = sendCommand(ui, shm::CommandType::kStartScan);
+    const bool continuing = !o.continue_scan.empty();
+    const std::string continue_argument =
+        std::string("scan=") + kEarlierScan +
+        (o.initial_pose.empty() ? std::string() : " pose=" + o.initial_pose);
+    const shm::CommandAck started =
+        continuing ? sendCommand(ui, shm::CommandType::kContinueScan, continue_argument, 30.0)
+                   : sendCommand(ui, shm::CommandType::kStartScan);
     if (started.state != static_cast<std::uint32_t>(shm::CommandState::kDone))
-        return fail(std::string("start scan: ") + std::string(shm::getText(started.message)));
+        return fail(std::string(continuing ? "continue scan: " : "start scan: ") +
+                    std::string(shm::getText(started.message)));
     if (monotonicNow() > play_at) {
         return fail("the scan started " + std::to_string(toSeconds(monotonicNow() - play_at)) +
                     " s after the recording began to play; raise --startup");
@@ -241,7 +264,15 @@ Result<HilReport> runHil(const HilOptions& o) {
                         std::string(shm::getText(restarted.message)));
         }
     }
-    sleepUntil(play_end + fromSeconds(1.0));  // + the pipeline's ordering window and a sweep
+    // + the pipeline's ordering window and a sweep; a continued scan's lock as the UI sees it.
+    while (continuing && report.locked_after_s < 0 && monotonicNow() < play_end) {
+        ui.poll();
+        if (auto s = ui.readStatus();
+            s && s->localization == static_cast<std::uint8_t>(shm::LocalizationState::kLocked))
+            report.locked_after_s = toSeconds(monotonicNow() - play_at);
+        std::this_thread::sleep_for(std::chrono::milliseconds(20));
+    }
+    sleepUntil(play_end + fromSeconds(1.0));
 
     // 5. Stop, export, shut down.
     const shm::CommandAck stopped = sendCommand(ui, shm::CommandType::kStopScan);
@@ -250,6 +281,15 @@ Result<HilReport> runHil(const HilOptions& o) {
     auto exported = exportScan(out / "export");
     if (!exported.isOk()) return exported.status();
     report.export_points = *exported;
+    if (o.calibrate_rounds > 0) {
+        // As the operator's "calibrate" on the stopped screen: on the scan just made.
+        const shm::CommandAck calibrated =
+            sendCommand(ui, shm::CommandType::kCalibrate,
+                        "rounds=" + std::to_string(o.calibrate_rounds), 900.0);
+        report.calibration = std::string(shm::getText(calibrated.message));
+        if (calibrated.state != static_cast<std::uint32_t>(shm::CommandState::kDone))
+            return fail("calibrate: " + report.calibration);
+    }
     daemon.process.signal(SIGTERM);
     if (Status s = daemon.reap(20 * kNsPerSec, log); !s.isOk()) return s;
     const ProcessEnd& last = daemon.ends.back();
@@ -286,6 +326,16 @@ Result<HilReport> runHil(const HilOptions& o) {
                           std::to_string(written->recorded_messages) +
                           " recorded frames and ground-truth poses, " +
                           std::to_string(written->bytes >> 20) + " MiB -> " + o.viz_path + "\n";
+    }
+    if (continuing) {
+        char line[160];
+        std::snprintf(
+            line, sizeof line, "hil: continued %s: %s\n", o.continue_scan.c_str(),
+            report.locked_after_s >= 0
+                ? ("locked " + std::to_string(report.locked_after_s) + " s into the recording")
+                      .c_str()
+                : "NOT locked");
+        report.summary += line;
     }
     fakes.reset();
     fs::remove_all(out / "cameras", ec);  // the played frames: the recording's, large

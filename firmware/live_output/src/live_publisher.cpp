@@ -88,14 +88,39 @@ void LivePublisher::status(const lio::LaserInertialOdometry& pipeline, const Liv
     s.angular_speed_radps = angular_speed_radps_;
     s.camera_brightness = in.camera_brightness;
     if (in.export_status) s.export_status = *in.export_status;
+    if (in.calibration) s.calibration = *in.calibration;
     std::error_code ec;
     const auto space = std::filesystem::space(storage_dir_, ec);
     if (!ec) {
         s.free_storage_bytes = space.available;
         s.total_storage_bytes = space.capacity;
     }
+    s.localization = static_cast<std::uint8_t>(in.localization);
+    s.can_continue = in.can_continue ? 1 : 0;
     shm::setText(s.message, in.message);
     writer_->setStatus(s);
+}
+
+void LivePublisher::showEarlierScan(std::span<const shm::DisplayPoint> points,
+                                    std::span<const journal::TrajectoryPose> trajectory) {
+    std::vector<shm::DisplayPoint> shown;
+    shown.reserve(points.size());
+    for (const shm::DisplayPoint& d : points) {
+        if (shown_voxels_.insert(d)) shown.push_back(d);
+    }
+    (void)writer_->appendPoints(shown);  // a full display buffer only thins the display
+    for (const journal::TrajectoryPose& p : trajectory) {
+        shm::PoseRecord r;
+        r.t_ns = static_cast<std::int64_t>(p.t_s * 1e9);
+        r.position_m[0] = p.x;
+        r.position_m[1] = p.y;
+        r.position_m[2] = p.z;
+        r.orientation_xyzw[0] = p.qx;
+        r.orientation_xyzw[1] = p.qy;
+        r.orientation_xyzw[2] = p.qz;
+        r.orientation_xyzw[3] = p.qw;
+        writer_->appendTrack(r);  // thinned as the live path is
+    }
 }
 
 void LivePublisher::newScan() {

@@ -26,6 +26,19 @@ worker::WorkerConfig workerConfig(const DeviceConfig& device, const WorkerInputs
     return c;
 }
 
+shm::LocalizationState localizationState(const localize::Localizer* l) {
+    if (l == nullptr) return shm::LocalizationState::kNone;
+    switch (l->lockState()) {
+        case localize::LockState::kSearching:
+            return shm::LocalizationState::kSearching;
+        case localize::LockState::kNotLocked:
+            return shm::LocalizationState::kNotLocked;
+        case localize::LockState::kLocked:
+            return shm::LocalizationState::kLocked;
+    }
+    return shm::LocalizationState::kNone;
+}
+
 }  // namespace
 
 // The worker's outputs: shared memory always, the journal while scanning.
@@ -43,6 +56,10 @@ public:
         return Status::ok();
     }
     bool wantsSweeps() const override { return session_.scanning(); }
+    Status sweepRecord(const journal::SweepRecord& r) override {
+        session_.appendSweep(r);  // every sweep, also those kept out of the map
+        return Status::ok();
+    }
     Status sweep(const lio::RegisteredSweep& s, std::span<const journal::MapPoint> pts) override {
         if (!s.tracking.enters_map) return Status::ok();  // kept out of the map: nothing to add
         session_.appendPoints(pts);
@@ -67,7 +84,9 @@ PipelineThread::PipelineThread(const DeviceConfig& device, const Calibration& ca
       source_(queues),
       sink_(std::make_unique<Sink>(*publisher_, *session_)),
       worker_(std::make_unique<worker::PipelineWorker>(workerConfig(device, inputs_), calibration,
-                                                       *sink_)) {
+                                                       *sink_)),
+      journal_root_(session_->root()) {
+    can_continue_ = newestContinuableScan(journal_root_).isOk();
     publisher_->setScanning(false);
     scan_state_.store(session_->state(), std::memory_order_release);
     journal_path_ = session_->journalPath();
@@ -89,10 +108,20 @@ void PipelineThread::stop() {
 }
 
 Result<std::string> PipelineThread::control(ScanControl c, TimeNs timeout) {
+    return submit(Request{c, {}, nullptr, std::nullopt}, timeout);
+}
+
+Result<std::string> PipelineThread::continueScan(std::shared_ptr<const EarlierScan> earlier,
+                                                 std::optional<Eigen::Isometry3d> initial_pose,
+                                                 TimeNs timeout) {
+    return submit(Request{ScanControl::kContinue, {}, std::move(earlier), initial_pose}, timeout);
+}
+
+Result<std::string> PipelineThread::submit(Request request, TimeNs timeout) {
     std::future<Result<std::string>> done;
     {
         std::lock_guard lock(mutex_);
-        requests_.push_back(Request{c, {}});
+        requests_.push_back(std::move(request));
         done = requests_.back().done.get_future();
     }
     if (done.wait_for(std::chrono::nanoseconds(timeout)) != std::future_status::ready) {
@@ -135,7 +164,9 @@ void PipelineThread::handle(Request& r) {
             const bool fresh = !session_->canResume();
             out = session_->start();
             if (out.isOk() && fresh) {
-                // A new scan: a new world frame and an empty map (hold still while it aligns).
+                // A new scan: a new world frame and an empty map (hold still while it aligns),
+                // of its own unless the daemon continues one scan (--prior-map).
+                worker_->setPriorMap(inputs_.prior_map, inputs_.initial_pose);
                 worker_->reset();
                 publisher_->newScan();
             }
@@ -150,9 +181,13 @@ void PipelineThread::handle(Request& r) {
         case ScanControl::kNewScan:
             out = session_->newScan();
             if (out.isOk()) {
+                worker_->setPriorMap(inputs_.prior_map, inputs_.initial_pose);
                 worker_->reset();
                 publisher_->newScan();
             }
+            break;
+        case ScanControl::kContinue:
+            out = continueOn(r);
             break;
         case ScanControl::kFinish:
             // Everything the drivers delivered belongs to the scan: process it, with the last
@@ -173,8 +208,21 @@ void PipelineThread::handle(Request& r) {
         std::lock_guard lock(mutex_);
         journal_path_ = session_->journalPath();
     }
+    can_continue_ = newestContinuableScan(journal_root_).isOk();
     publishStatus();
     r.done.set_value(std::move(out));
+}
+
+Result<std::string> PipelineThread::continueOn(const Request& r) {
+    auto out = session_->continueFrom(r.earlier->dir);
+    if (!out.isOk()) return out;
+    // Section 9: a new odometry world localized on the earlier map; the screen shows that map
+    // (the new scan's points join it once locked, in its frame) and the earlier path.
+    worker_->setPriorMap(r.earlier->prior, r.initial_pose);
+    worker_->reset();
+    publisher_->newScan();
+    publisher_->showEarlierScan(r.earlier->display, r.earlier->trajectory);
+    return out;
 }
 
 void PipelineThread::writeFeatureMap() {
@@ -225,13 +273,17 @@ void PipelineThread::publishStatus() {
     s.scan_state = session_->state();
     s.point_count = session_->points();
     s.export_status = inputs_.export_status();
+    if (inputs_.calibration_status) s.calibration = inputs_.calibration_status();
     s.camera_brightness = queues_.camera_brightness.load(std::memory_order_relaxed);
     if (!session_->problem().empty()) {
         s.message = session_->problem();
     } else if (!worker_->lio().aligned()) {
         s.message = "hold still: aligning with gravity";
-    } else if (worker_->localizer() != nullptr && !worker_->localizer()->locked()) {
-        s.message = "finding the earlier scan: walk where it went";
+    } else if (session_->scanning() && worker_->localizer() != nullptr &&
+               !worker_->localizer()->locked()) {
+        s.message = worker_->localizer()->lockState() == localize::LockState::kNotLocked
+                        ? "not locked: walk to where the earlier scan started"
+                        : "searching for the earlier scan: walk where it went";
     } else if (worker_->lio().tracking().lost()) {
         s.message = fusion::TrackingMonitor::kLostMessage;
     } else if (session_->scanning()) {
@@ -241,6 +293,10 @@ void PipelineThread::publishStatus() {
     } else {
         s.message = "ready to scan";
     }
+    // The lock while scanning (between scans the localizer waits for the next one).
+    s.localization = session_->scanning() ? localizationState(worker_->localizer())
+                                          : shm::LocalizationState::kNone;
+    s.can_continue = can_continue_;
     publisher_->status(worker_->lio(), s);
 }
 

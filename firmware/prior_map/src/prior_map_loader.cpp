@@ -1,12 +1,18 @@
 #include "handscan/prior_map/prior_map_loader.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
+#include <limits>
 #include <sstream>
+#include <unordered_set>
 #include <vector>
 
+#include "handscan/core/log.hpp"
 #include "handscan/journal/journal_reader.hpp"
 #include "handscan/prior_map/feature_map_file.hpp"
+#include "handscan/scan/voxel_key.hpp"
+#include "handscan/scan/voxel_map.hpp"
 #include "handscan/tum/tum_file.hpp"
 
 namespace handscan::prior_map {
@@ -38,11 +44,52 @@ Result<Eigen::Isometry3d> startOf(const std::string& dir) {
 
 }  // namespace
 
+Result<scan::FeatureMapPoints> featuresFromJournal(const std::string& journal_path) {
+    auto j = journal::JournalReader::open(journal_path);
+    if (!j.isOk()) return j.status();
+    const std::vector<journal::TrajectoryPose>& path = j->summary().trajectory;
+    // Where the laser was when it saw a point: the body at the nearest journaled pose (the
+    // laser sits centimetres from the body's origin).
+    const auto centreAt = [&](double t) -> Eigen::Vector3f {
+        if (path.empty()) return Eigen::Vector3f::Constant(std::numeric_limits<float>::quiet_NaN());
+        auto it = std::lower_bound(
+            path.begin(), path.end(), t,
+            [](const journal::TrajectoryPose& p, double time) { return p.t_s < time; });
+        if (it == path.end() || (it != path.begin() && t - std::prev(it)->t_s < it->t_s - t)) --it;
+        return Eigen::Vector3f(static_cast<float>(it->x), static_cast<float>(it->y),
+                               static_cast<float>(it->z));
+    };
+    // One point per planar leaf of the odometry's map: the journal's surfaces at its density.
+    const double leaf = scan::VoxelMapConfig{}.planar_leaf_m;
+    scan::FeatureMapPoints out;
+    std::unordered_set<scan::VoxelKey, scan::VoxelKeyHash> taken;
+    const Status read = j->forEachPoints([&](std::span<const journal::MapPoint> chunk) {
+        for (const journal::MapPoint& m : chunk) {
+            const Eigen::Vector3f p(m.x, m.y, m.z);
+            if (!p.allFinite() || !taken.insert(scan::voxelOf(p.cast<double>(), leaf)).second)
+                continue;
+            out.planars.push_back(p);
+            out.planar_origins.push_back(centreAt(m.t_s));
+        }
+    });
+    if (!read.isOk()) return read;
+    return out;
+}
+
 Result<std::shared_ptr<const localize::PriorMap>> loadPriorMap(const std::string& scan_dir) {
     if (!fs::is_directory(scan_dir))
         return Status(StatusCode::kNotFound,
                       scan_dir + ": not a directory (give an earlier scan's output directory)");
-    auto points = readFeatureMap((fs::path(scan_dir) / kFeatureMapFile).string());
+    const fs::path features = fs::path(scan_dir) / kFeatureMapFile;
+    const fs::path journal = fs::path(scan_dir) / "journal.hsj";
+    // A scan without its feature map (made before scans kept one, or the file lost): its
+    // journal's points stand in, as planar features only.
+    const bool from_journal = !fs::exists(features) && fs::exists(journal);
+    if (from_journal)
+        log().warn("{}: no {}: localizing on its journal's points (planar only)", scan_dir,
+                   kFeatureMapFile);
+    auto points =
+        from_journal ? featuresFromJournal(journal.string()) : readFeatureMap(features.string());
     if (!points.isOk()) return points.status();
     if (points->edges.size() + points->planars.size() < 100)
         return Status(StatusCode::kInvalidArgument,

@@ -63,6 +63,11 @@ Result<worker::WorkerConfig> workerConfig(const ReplayOptions& o, const DeviceCo
         auto prior = prior_map::loadPriorMap(o.prior_map_dir);
         if (!prior.isOk()) return prior.status();
         c.prior_map = *prior;
+        // The matches to the prior map run on the localizer's thread; --fast applies each at
+        // the next sweep (the same bytes run after run), at the recording's pace they take
+        // effect when done, as on the device.
+        c.localizer.apply =
+            o.fast ? localize::MatchApply::kAtNextSweep : localize::MatchApply::kWhenReady;
         if (!o.initial_pose.empty()) {
             auto pose = prior_map::parsePose(o.initial_pose);
             if (!pose.isOk())
@@ -105,7 +110,7 @@ public:
             }
         }
         // A sweep the tracking monitor kept out of the map is journaled and shown nowhere.
-        if (!s.tracking.enters_map) return outputs_.addSweep(s, {});
+        if (!s.tracking.enters_map) return Status::ok();
         if (Status st = outputs_.addSweep(s, pts); !st.isOk()) return st;
         if (journal_) {
             if (Status st = journal_->appendPoints(pts); !st.isOk()) return st;
@@ -113,6 +118,11 @@ public:
         }
         if (live_) live_->sweep(s, pts);
         return Status::ok();
+    }
+
+    Status sweepRecord(const journal::SweepRecord& r) override {
+        outputs_.addSweepRecord(r);
+        return journal_ ? journal_->appendSweep(r) : Status::ok();
     }
 
 private:
@@ -273,7 +283,8 @@ Result<ReplayReport> runReplay(const ReplayOptions& o) {
                    source.reader().truncated(),
                    source.reader().dropped().size(),
                    worker.localizer(),
-                   worker.sweepsBeforeLock()};
+                   worker.sweepsBeforeLock(),
+                   worker.sweepsHeldUntilLock()};
     auto stats_path = outputs.writeStats(in);
     if (!stats_path.isOk()) return stats_path.status();
     report.stats_json_path = *stats_path;

@@ -17,6 +17,10 @@ const char* toString(CommandType type) {
             return "export";
         case CommandType::kShutdown:
             return "shutdown";
+        case CommandType::kContinueScan:
+            return "continue-scan";
+        case CommandType::kCalibrate:
+            return "calibrate";
     }
     return "unknown";
 }
@@ -47,6 +51,20 @@ const char* toString(ScanState state) {
             return "scanning";
         case ScanState::kStopped:
             return "stopped";
+    }
+    return "unknown";
+}
+
+const char* toString(LocalizationState state) {
+    switch (state) {
+        case LocalizationState::kNone:
+            return "none";
+        case LocalizationState::kSearching:
+            return "searching";
+        case LocalizationState::kLocked:
+            return "locked";
+        case LocalizationState::kNotLocked:
+            return "not locked";
     }
     return "unknown";
 }

@@ -5,6 +5,9 @@
 # 1), and is replayed with --prior-map on session 1 and a start hint 1 m and 15 deg off the
 # truth. Checked:
 #  - the localizer locked (stats.json localization.locked) and its tracking matches were used;
+#  - a second replay --fast gives the same trajectory and map bytes (the matches run on the
+#    localizer's own thread);
+#  - session 1 without its feature map (its journal's points stand in): ATE at most 2 cm too;
 #  - session 2's trajectory in session 1's frame: ATE against its ground truth moved into that
 #    frame by session 1's own alignment (eval --frame-gt/--frame-est) at most 2 cm;
 #  - a change reported within 1 m of where the moved object now stands (if session 2 saw it);
@@ -31,6 +34,12 @@ echo "session 2 starts at $start in session 1's frame; hint $hint"
 
 "$bin" -q replay "$work/s2.mcap" --out "$work/s2" --fast --prior-map "$work/s1" \
   --initial-pose="$hint" > /dev/null
+# The matches run on the localizer's thread; --fast applies each at a fixed sweep: same bytes.
+"$bin" -q replay "$work/s2.mcap" --out "$work/s2again" --fast --prior-map "$work/s1" \
+  --initial-pose="$hint" > /dev/null
+for f in trajectory.tum map.ply; do
+  cmp "$work/s2/$f" "$work/s2again/$f" || fail "two replays --fast --prior-map differ in $f"
+done
 python3 - "$work/s2/stats.json" <<'PY' || fail "session 2 did not lock on session 1's map"
 import json, sys
 l = json.load(open(sys.argv[1]))["localization"]
@@ -46,6 +55,18 @@ PY
 cat "$work/eval2.txt"
 ate=$(eval_rmse "$work/eval2.txt" '^ATE')
 at_most "$ate" 0.02 || fail "session 2 ATE in session 1's frame $ate m > 0.02 m"
+
+# A scan that left no feature map (older firmware, or the file lost) is continued on its
+# journal's points: session 1 without feature_map.hsf.
+mkdir -p "$work/s1journal"
+cp "$work/s1/journal.hsj" "$work/s1journal/"
+"$bin" -q replay "$work/s2.mcap" --out "$work/s2journal" --fast --prior-map "$work/s1journal" \
+  --initial-pose="$hint" > /dev/null 2>&1
+"$bin" eval --gt "$work/s2.gt.tum" --est "$work/s2journal/trajectory.tum" \
+  --frame-gt "$work/s1.gt.tum" --frame-est "$work/s1/trajectory.tum" > "$work/eval2journal.txt"
+ate_journal=$(eval_rmse "$work/eval2journal.txt" '^ATE')
+echo "on session 1's journal alone: ATE $ate_journal m"
+at_most "$ate_journal" 0.02 || fail "continued on the journal alone: ATE $ate_journal m > 0.02 m"
 
 moved_to=$(awk '/^moved/ {for (i = 1; i <= NF; ++i) if ($i == "to") {sub(/,$/, "", $(i + 1)); print $(i + 1)}}' "$work/sim2.txt")
 python3 "$here/changes_near.py" "$work/s2/stats.json" "$alignment" "$moved_to" 1.0 ||

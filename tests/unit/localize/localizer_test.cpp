@@ -6,7 +6,9 @@
 
 #include <gtest/gtest.h>
 
+#include <chrono>
 #include <memory>
+#include <thread>
 
 #include "handscan/core/se3.hpp"
 #include "synthetic_room.hpp"
@@ -17,6 +19,13 @@ namespace {
 using test::pose;
 
 constexpr TimeNs kHalfSecond = kNsPerSec / 2;
+
+// The matches run on the localizer's thread; the tests apply each at the next sweep (or settle()).
+LocalizerConfig atNextSweep() {
+    LocalizerConfig c;
+    c.apply = MatchApply::kAtNextSweep;
+    return c;
+}
 
 std::shared_ptr<const PriorMap> roomPrior() {
     return std::make_shared<PriorMap>(test::roomWorld(0.2, 0.0), pose(5, 3.5, 1.3, 0));
@@ -39,14 +48,19 @@ bool feed(Localizer& l, int n, TimeNs& t, const Eigen::Isometry3d& T_true,
 TEST(LocalizerTest, LocksFromAHintOneMetreAndFifteenDegreesOff) {
     const Eigen::Isometry3d truth = pose(3.2, 2.4, 1.3, 40);
     const Eigen::Isometry3d hint = pose(3.2 + 0.8, 2.4 + 0.6, 1.3, 55);
-    Localizer l({}, roomPrior(), hint);
+    Localizer l(atNextSweep(), roomPrior(), hint);
     TimeNs t = 1000 * kNsPerSec;
     // The odometry's own world: the session started at its origin.
     const Eigen::Isometry3d odom = Eigen::Isometry3d::Identity();
     EXPECT_FALSE(feed(l, 4, t, truth, odom));  // no match before a full stack (2 s)
     EXPECT_FALSE(l.locked());
-    EXPECT_TRUE(feed(l, 1, t, truth, odom));
+    EXPECT_FALSE(feed(l, 1, t, truth, odom));  // the search starts on its thread
+    EXPECT_TRUE(l.matchRunning());
+    EXPECT_EQ(l.lockState(), LockState::kSearching);
+    EXPECT_FALSE(l.locked());
+    EXPECT_TRUE(feed(l, 1, t, truth, odom));  // and takes effect at the next sweep
     ASSERT_TRUE(l.locked());
+    EXPECT_EQ(l.lockState(), LockState::kLocked);
     const Eigen::Isometry3d est = l.priorFromOdom() * odom;
     EXPECT_LT((est.translation() - truth.translation()).norm(), 0.01);
     EXPECT_LT(angleDeg(est, truth), 0.2);
@@ -57,21 +71,27 @@ TEST(LocalizerTest, LocksFromAHintOneMetreAndFifteenDegreesOff) {
 
 TEST(LocalizerTest, NoLockWhereThePriorMapHasNothingNearTheHint) {
     // The hint 12 m outside the room: nothing within the search radius matches.
-    Localizer l({}, roomPrior(), pose(-12, 3.5, 1.3, 0));
+    Localizer l(atNextSweep(), roomPrior(), pose(-12, 3.5, 1.3, 0));
     TimeNs t = 1000 * kNsPerSec;
     feed(l, 9, t, pose(3.2, 2.4, 1.3, 40), Eigen::Isometry3d::Identity());
+    EXPECT_FALSE(l.settle());
     EXPECT_EQ(l.stats().lock_attempts, 2u);
     EXPECT_FALSE(l.locked());
+    EXPECT_EQ(l.lockState(), LockState::kNotLocked);
     EXPECT_LT(l.stats().lock_on_map, 0.6);
 }
 
 TEST(LocalizerTest, AMovedObjectKeepsTheLockAndIsReportedWhereItNowStands) {
     const Eigen::Vector3d moved(-0.6, -0.5, 0.0);  // the cabinet, 0.78 m
     const Eigen::Isometry3d truth = pose(6.5, 3.0, 1.3, -20);
-    Localizer l({}, roomPrior(), pose(7.3, 3.6, 1.3, -5));
+    Localizer l(atNextSweep(), roomPrior(), pose(7.3, 3.6, 1.3, -5));
     TimeNs t = 1000 * kNsPerSec;
     feed(l, 5, t, truth, Eigen::Isometry3d::Identity(), moved);
+    EXPECT_TRUE(l.settle());
     ASSERT_TRUE(l.locked());
+    EXPECT_TRUE(l.changes().empty());  // one view of a change is not yet a change
+    feed(l, 4, t, truth, Eigen::Isometry3d::Identity(), moved);  // a tracking match sees it too
+    EXPECT_TRUE(l.settle());
     const Eigen::Isometry3d est = l.priorFromOdom();
     EXPECT_LT((est.translation() - truth.translation()).norm(), 0.01);
     EXPECT_LT(angleDeg(est, truth), 0.2);
@@ -89,19 +109,55 @@ TEST(LocalizerTest, AMovedObjectKeepsTheLockAndIsReportedWhereItNowStands) {
 
 TEST(LocalizerTest, EachMatchTakesOutTheOdometrysDrift) {
     const Eigen::Isometry3d start = pose(3.2, 2.4, 1.3, 40);
-    Localizer l({}, roomPrior(), start);
+    Localizer l(atNextSweep(), roomPrior(), start);
     TimeNs t = 1000 * kNsPerSec;
     feed(l, 5, t, start, Eigen::Isometry3d::Identity());
+    EXPECT_TRUE(l.settle());
     ASSERT_TRUE(l.locked());
     // Walking 2 m along x; the odometry drifted 2 cm and 0.3 deg by then.
     const Eigen::Isometry3d truth = pose(5.2, 2.4, 1.3, 40);
     const Eigen::Isometry3d odom = start.inverse() * truth * pose(0.02, -0.01, 0.0, 0.3);
     feed(l, 4, t, truth, odom);
+    EXPECT_TRUE(l.settle());
     EXPECT_EQ(l.stats().updates, 1u);
     const Eigen::Isometry3d est = l.priorFromOdom() * odom;
     EXPECT_LT((est.translation() - truth.translation()).norm(), 0.005);
     EXPECT_LT(angleDeg(est, truth), 0.05);
     EXPECT_GT(l.stats().max_correction_m, 0.015);
+}
+
+TEST(LocalizerTest, AppliedWhenReadyTheLockDoesNotHoldUpTheSweeps) {
+    const Eigen::Isometry3d truth = pose(3.2, 2.4, 1.3, 40);
+    LocalizerConfig c;  // kWhenReady, as on the device
+    Localizer l(c, roomPrior(), pose(3.2 + 0.8, 2.4 + 0.6, 1.3, 55));
+    TimeNs t = 1000 * kNsPerSec;
+    feed(l, 5, t, truth, Eigen::Isometry3d::Identity());
+    ASSERT_TRUE(l.matchRunning());
+    // Sweeps go on while it runs (no second match starts); it takes effect once done.
+    for (int i = 0; i < 200 && !l.locked(); ++i) {
+        feed(l, 1, t, truth, Eigen::Isometry3d::Identity());
+        std::this_thread::sleep_for(std::chrono::milliseconds(20));
+    }
+    ASSERT_TRUE(l.locked());
+    EXPECT_EQ(l.stats().lock_attempts, 1u);
+    EXPECT_GT(l.stats().max_apply_delay_s, 0.0);
+    EXPECT_LT((l.priorFromOdom().translation() - truth.translation()).norm(), 0.01);
+}
+
+TEST(LocalizerTest, AHintGivesPositionAndHeadingTheOdometryKeepsItsTilt) {
+    // The body tilted 10 deg about its x axis and heading 30 deg in the odometry's world; a level
+    // hint (the operator's tap) heading 100 deg at (4, 2, 1.3).
+    Eigen::Isometry3d odom = pose(0.5, -0.2, 1.1, 30);
+    odom.linear() = odom.linear() * Eigen::AngleAxisd(0.1745, Eigen::Vector3d::UnitX());
+    const Eigen::Isometry3d T = priorFromOdomAtHint(pose(4, 2, 1.3, 100), odom);
+    // Only a turn about the vertical between the worlds, of 70 deg.
+    EXPECT_NEAR(T.linear()(2, 2), 1.0, 1e-12);
+    EXPECT_NEAR(Eigen::AngleAxisd(T.linear()).angle() * 180.0 / M_PI, 70.0, 1e-9);
+    const Eigen::Isometry3d body = T * odom;
+    EXPECT_TRUE(body.translation().isApprox(Eigen::Vector3d(4, 2, 1.3), 1e-12));
+    const Eigen::Vector3d x = body.linear().col(0);
+    EXPECT_NEAR(std::atan2(x.y(), x.x()) * 180.0 / M_PI, 100.0, 1e-9);
+    EXPECT_NEAR(body.linear().col(2).z(), odom.linear().col(2).z(), 1e-12);  // tilt kept
 }
 
 TEST(SweepStackTest, StacksIntoTheNewestSweepsFrameThinnedAndWithinItsSpan) {

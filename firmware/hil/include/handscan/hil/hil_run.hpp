@@ -14,6 +14,8 @@
 // export/<scan>/ (the daemon's export: PLY, LAS, trajectory), map.ply (the exported cloud),
 // trajectory.tum, trajectory.host.tum, stats.json (daemon CPU time of all threads and peak RSS,
 // samples dropped, what the fakes played).
+// With `continue_scan`, DIR/journal/earlier-scan is the scan continued; trajectory.tum is then in
+// its frame.
 #pragma once
 
 #include <optional>
@@ -40,6 +42,15 @@ struct HilOptions {
     // Non-empty: the daemon's journal (poses, map points) with the recording's camera frames and
     // ground truth as a viz file (viz::writeJournalViz), on the recording's clock.
     std::string viz_path;
+    // Non-empty: an earlier scan's directory (journal.hsj and feature_map.hsf, as replay or the
+    // daemon leaves them), copied into the daemon's journal directory as `earlier-scan`; the
+    // daemon continues it ("continue scan", section 9) instead of scanning on its own, from
+    // `initial_pose` (x,y,z,qx,qy,qz,qw in its frame; empty: where it started).
+    std::string continue_scan;
+    std::string initial_pose;
+    // Non-zero: after the export, the UI's "calibrate" (CommandType::kCalibrate) with at most
+    // this many rounds; the daemon replaces `calibration`'s file, keeping it as .prev.
+    int calibrate_rounds = 0;
 };
 
 struct HilReport {
@@ -55,7 +66,10 @@ struct HilReport {
     std::uint64_t recovered_points = 0;         // after --kill-at: the recovered scan's journal
     std::uint64_t recovered_export_points = 0;  // and its export
     std::uint64_t viz_bytes = 0;                // --viz: the file's size
+    std::string calibration;                    // calibrate_rounds: the daemon's answer
     std::string summary;                        // one line per figure, for the console
+    // --continue: the status block said locked this long after the recording began (< 0: never).
+    double locked_after_s = -1.0;
 };
 
 [[nodiscard]] Result<HilReport> runHil(const HilOptions& options);

@@ -36,7 +36,10 @@ struct LiveStatus {
     std::uint64_t point_count = 0;  // full-resolution points of the current scan
     std::string message;            // the pipeline's note to the operator
     std::optional<shm::ExportStatus> export_status;
+    std::optional<shm::CalibrationStatus> calibration;
     float camera_brightness = 0;
+    shm::LocalizationState localization = shm::LocalizationState::kNone;
+    bool can_continue = false;
 };
 
 class LivePublisher {
@@ -55,6 +58,10 @@ public:
     void setScanning(bool scanning) { scanning_ = scanning; }
     // Empties the display map (new epoch) and the scan's time and distance.
     void newScan();
+    // After newScan(), the earlier scan this one continues: its display points (already one per
+    // display voxel; the new scan's points then fill only voxels it left empty) and its path.
+    void showEarlierScan(std::span<const shm::DisplayPoint> points,
+                         std::span<const journal::TrajectoryPose> trajectory);
     void heartbeat() { writer_->heartbeat(); }
 
     double distance_m() const { return distance_m_; }

@@ -18,6 +18,7 @@
 #include <thread>
 
 #include "handscan/live_output/live_publisher.hpp"
+#include "handscan/pipeline_daemon/earlier_scan.hpp"
 #include "handscan/pipeline_daemon/scan_session.hpp"
 #include "handscan/pipeline_daemon/sensor_sources.hpp"
 #include "handscan/sources/live_source.hpp"
@@ -25,12 +26,13 @@
 
 namespace handscan::pipeline_daemon {
 
-enum class ScanControl { kStart, kStop, kNewScan, kFinish };
+enum class ScanControl { kStart, kStop, kNewScan, kFinish, kContinue };
 
 struct WorkerInputs {
     // Status of every device (thread-safe snapshots), for the status block.
     std::function<std::vector<live_output::LiveSensor>()> sensors;
     std::function<shm::ExportStatus()> export_status;
+    std::function<shm::CalibrationStatus()> calibration_status;  // may be empty
     // Continue an earlier scan: the worker localizes on it (null: a scan of its own).
     std::shared_ptr<const localize::PriorMap> prior_map;
     std::optional<Eigen::Isometry3d> initial_pose;
@@ -50,6 +52,13 @@ public:
     void stop();
     // Runs `control` on the pipeline thread; the operator's message or why it was refused.
     Result<std::string> control(ScanControl control, TimeNs timeout = 5 * kNsPerSec);
+    // A new scan continuing `earlier` (loaded by the caller): localized on its feature map from
+    // `initial_pose` (none: where it started), its map and path on the screen meanwhile.
+    Result<std::string> continueScan(std::shared_ptr<const EarlierScan> earlier,
+                                     std::optional<Eigen::Isometry3d> initial_pose,
+                                     TimeNs timeout = 5 * kNsPerSec);
+    // Where the scans are journaled (one directory each).
+    const std::string& journalRoot() const { return journal_root_; }
 
     shm::ScanState scanState() const { return scan_state_.load(std::memory_order_acquire); }
     std::string journalPath() const;
@@ -62,7 +71,11 @@ private:
     struct Request {
         ScanControl control;
         std::promise<Result<std::string>> done;
+        std::shared_ptr<const EarlierScan> earlier;  // kContinue
+        std::optional<Eigen::Isometry3d> initial_pose;
     };
+    Result<std::string> submit(Request request, TimeNs timeout);
+    Result<std::string> continueOn(const Request& r);
     class Sink;
     void run();
     void handle(Request& r);
@@ -90,6 +103,8 @@ private:
     mutable std::mutex mutex_;
     std::deque<Request> requests_;
     std::string journal_path_;
+    const std::string journal_root_;
+    bool can_continue_ = false;  // pipeline thread: an earlier scan can be continued
     std::atomic<shm::ScanState> scan_state_{shm::ScanState::kIdle};
     std::atomic<TimeNs> last_loop_{0};
     std::atomic<bool> stop_{false};

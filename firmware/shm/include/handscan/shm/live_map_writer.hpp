@@ -67,6 +67,9 @@ public:
     void setStatus(const StatusBlock& status);
     // Starts a new scan: empties map and trajectory and changes the epoch so readers drop theirs.
     void newScan();
+    // Appends to the drawn path only (not the pose ring), thinned as publishPose's: an earlier
+    // scan's path shown under a continued one.
+    void appendTrack(const PoseRecord& pose);
     // Updates the heartbeat only (publishes do it too); call at least every second when idle.
     void heartbeat();
 
@@ -86,7 +89,6 @@ private:
     LiveMapWriter(std::shared_ptr<SharedRegion> region, const WriterOptions& options);
     RegionHeader& header() const { return *reinterpret_cast<RegionHeader*>(region_->data()); }
     DisplayPoint* points() const;
-    void appendTrack(const PoseRecord& pose);
 
     std::shared_ptr<SharedRegion> region_;
     WriterOptions options_;

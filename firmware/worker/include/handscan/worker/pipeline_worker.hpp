@@ -21,6 +21,7 @@
 #include "handscan/core/call_timer.hpp"
 #include "handscan/core/config.hpp"
 #include "handscan/journal/map_point.hpp"
+#include "handscan/journal/sweep_record.hpp"
 #include "handscan/lio/laser_inertial_odometry.hpp"
 #include "handscan/localize/localizer.hpp"
 #include "handscan/sources/sample_source.hpp"
@@ -44,6 +45,12 @@ public:
     // A registered sweep and its coloured full-resolution map points.
     [[nodiscard]] virtual Status sweep(const lio::RegisteredSweep& sweep,
                                        std::span<const journal::MapPoint> points) = 0;
+    // The same sweep as the scan keeps its statistics (every sweep handed on, also those kept
+    // out of the map), just before sweep(): the journal's per-sweep record, stats.json's
+    // per_sweep, the report's module timeline and device rates.
+    [[nodiscard]] virtual Status sweepRecord(const journal::SweepRecord& /*record*/) {
+        return Status::ok();
+    }
 };
 
 struct WorkerConfig {
@@ -69,6 +76,9 @@ struct WorkerConfig {
     // Trajectory poses kept while not locked, handed on in the prior map's frame at the lock
     // (beyond this many the oldest are dropped: 60 s at 200 Hz).
     std::size_t max_poses_before_lock = 12000;
+    // Sweeps (coloured map points) held likewise: 12 s at 2 sweeps/s, a few tens of MB at most;
+    // older ones are dropped.
+    std::size_t max_sweeps_before_lock = 24;
 };
 
 // The odometry's settings for this device (the sweep boundary of the motor), everything else the
@@ -94,6 +104,13 @@ public:
     [[nodiscard]] Status flushTrajectory();
     // A new scan: a new world frame and an empty map (the queued samples stay).
     void reset();
+    // The prior map the scans from the next reset() on localize on (null: scans of their own),
+    // and the operator's start hint on it.
+    void setPriorMap(std::shared_ptr<const localize::PriorMap> prior,
+                     std::optional<Eigen::Isometry3d> initial_pose) {
+        config_.prior_map = std::move(prior);
+        config_.initial_pose = initial_pose;
+    }
 
     const lio::LaserInertialOdometry& lio() const { return *lio_; }
     std::size_t pending() const { return merger_.size(); }
@@ -103,8 +120,10 @@ public:
     const VisualStage* visual() const { return visual_.get(); }
     // The localizer on the prior map (null without one).
     const localize::Localizer* localizer() const { return localizer_.get(); }
-    // Sweeps left out of the outputs because the localizer had not locked yet.
+    // Sweeps left out of the outputs because the localizer had not locked within
+    // max_sweeps_before_lock of them, and those held and handed on at the lock.
     std::uint64_t sweepsBeforeLock() const { return sweeps_before_lock_; }
+    std::uint64_t sweepsHeldUntilLock() const { return sweeps_held_; }
     // The scan's feature map in its output frame (the prior map's, when continuing one: the
     // prior's points plus this session's where they add to it), for a later session.
     scan::FeatureMapPoints featureMap() const;
@@ -118,6 +137,12 @@ private:
                                           std::vector<PoseEstimate> trajectory,
                                           std::vector<lio::RegisteredSweep> sweeps);
     [[nodiscard]] Status handOn(const lio::RegisteredSweep& s);
+    // The sweep's coloured map points in the odometry's frame (none if kept out of the map).
+    std::vector<journal::MapPoint> mapPoints(const lio::RegisteredSweep& s);
+    // To the sink, in the prior map's frame when localized.
+    [[nodiscard]] Status deliver(const lio::RegisteredSweep& s, std::vector<journal::MapPoint> pts);
+    // The sweep's record (as handed on) with the samples taken since the last, to the sink.
+    [[nodiscard]] Status record(const lio::RegisteredSweep& s);
     template <typename Fn>
     auto timed(const char* module, Fn&& fn) {
         if (timer_ != nullptr) return timer_->time(module, fn);
@@ -136,6 +161,15 @@ private:
     std::unique_ptr<localize::Localizer> localizer_;
     std::deque<PoseEstimate> poses_before_lock_;
     std::uint64_t sweeps_before_lock_ = 0;
+    struct HeldSweep {
+        lio::RegisteredSweep sweep;
+        std::vector<journal::MapPoint> points;
+    };
+    std::deque<HeldSweep> held_sweeps_;
+    std::uint64_t sweeps_held_ = 0;
+    // Samples taken since the last sweep record, and the sample time that window began.
+    journal::DeviceCounts counts_;
+    TimeNs counts_from_ = 0, last_sample_ = 0;
 };
 
 }  // namespace handscan::worker

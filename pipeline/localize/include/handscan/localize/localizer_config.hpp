@@ -1,0 +1,53 @@
+// The localizer's settings (section 9): the sweep stack, the 0.5 Hz match period, the lock
+// search around the hint, the lock and tracking acceptance, the change report.
+#pragma once
+
+#include "handscan/localize/sweep_stack.hpp"
+#include "handscan/scan/scan_matcher.hpp"
+
+namespace handscan::localize {
+
+enum class MatchApply { kWhenReady, kAtNextSweep };
+
+struct LocalizerConfig {
+    SweepStackConfig stack;
+    double period_s = 2.0;  // one match to the prior map per this (0.5 Hz)
+    // The initial search around the hint: positions within this radius on this grid, headings
+    // within +-yaw on this step.
+    double search_radius_m = 3.0;
+    double search_step_m = 0.5;
+    double search_yaw_deg = 30.0;
+    double search_yaw_step_deg = 5.0;
+    int search_points = 400;  // stacked points scored per candidate (evenly picked)
+    int refine_candidates = 6;
+    // A stacked point is "on the prior map" when a prior point lies this close: the prior's
+    // planar density is one point per 0.2 m cell, so a point on a mapped surface has one within
+    // ~0.15 m.
+    double on_map_m = 0.2;
+    // Lock: at least this share of the stacked points on the prior map, and every other refined
+    // candidate farther than distinct_m / distinct_deg from it this much lower.
+    double lock_min_on_map = 0.6;
+    double lock_margin = 0.1;
+    double distinct_m = 0.5;
+    double distinct_deg = 10.0;
+    // After the lock a match is used when this share is on the map and it moves the estimate
+    // less than this (the odometry drifts millimetres per period; more is a wrong match).
+    double track_min_on_map = 0.5;
+    double max_correction_m = 0.3;
+    double max_correction_deg = 3.0;
+    // Changes: farther than change_m from every prior point with a prior point within covered_m.
+    double change_m = 0.3;
+    double covered_m = 1.5;
+    double change_cell_m = 0.5;
+    int change_cell_min_points = 3;  // a cell is reported from this many points up
+    // ... seen changed by this many matches (stacks 2 s apart, other viewpoints): what one view
+    // alone finds far from the prior (vegetation's unrepeatable returns, a grazing ray) is noise.
+    int change_cell_min_matches = 2;
+    scan::ScanMatcherConfig matcher;
+    // When a match (run on the localizer's own thread) takes effect: as soon as it is done
+    // (the daemon, paced replay), or at the next sweep, waited for if need be (replay --fast:
+    // the same bytes run after run, whatever the thread scheduling).
+    MatchApply apply = MatchApply::kWhenReady;
+};
+
+}  // namespace handscan::localize
