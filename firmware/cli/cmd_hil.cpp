@@ -56,6 +56,10 @@ const RegisterCommand kHil{
         sub.add_option("--initial-pose", o->initial_pose,
                        "with --continue: where the recording starts in that scan's frame, "
                        "x,y,z,qx,qy,qz,qw (default: where that scan started)");
+        sub.add_option("--calibrate", o->calibrate_rounds,
+                       "after the export, the UI's calibrate on the scan with at most N rounds: "
+                       "the daemon replaces --calibration's file, keeping it as .prev")
+            ->check(CLI::Range(1, 10));
         sub.add_flag("--no-hokuyo", *no_hokuyo, "no laser (the daemon finds nothing listening)");
         sub.add_flag("--no-xsens", *no_xsens, "no IMU (the daemon finds no tty)");
         sub.add_flag("--no-motor", *no_motor, "no CAN encoder (the daemon finds no CAN log)");

@@ -29,6 +29,7 @@ std::string statusJson(const StatusTexts& t, const FrameFacts& f) {
     j["modules"] = lines(t.modules);
     j["warnings"] = lines(t.warnings);
     j["export"] = line(t.export_line);
+    j["calibration"] = lines(t.calibration);
     j["message"] = t.message;
     j["localization"] = line(t.localization);
     j["can_continue"] = t.can_continue;

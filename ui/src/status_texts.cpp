@@ -8,6 +8,41 @@
 namespace handscan::ui {
 namespace {
 
+std::vector<Line> describeCalibration(const shm::CalibrationStatus& c) {
+    std::vector<Line> out;
+    const std::string msg(shm::getText(c.message));
+    switch (static_cast<shm::CalibrationState>(c.state)) {
+        case shm::CalibrationState::kIdle:
+            return out;
+        case shm::CalibrationState::kRunning: {
+            char head[64];
+            std::snprintf(head, sizeof head, "Calibrating %.0f%%: ", 100.0 * c.progress);
+            out.push_back({head + msg, Health::kWarning});
+            return out;
+        }
+        case shm::CalibrationState::kFailed:
+            out.push_back({"Calibration FAILED: " + msg, Health::kError});
+            return out;
+        case shm::CalibrationState::kDone:
+            out.push_back({msg, Health::kOk});
+            break;
+    }
+    for (std::uint8_t i = 0; i < std::min<std::uint8_t>(c.value_count, shm::kCalibrationValues);
+         ++i) {
+        const shm::CalibrationValue& v = c.values[i];
+        char line[160];
+        if (v.written)
+            std::snprintf(line, sizeof line, "%s: %.3f +- %.3f %s (was %.3f)",
+                          std::string(shm::getText(v.name)).c_str(), v.value, v.std,
+                          std::string(shm::getText(v.unit)).c_str(), v.start);
+        else
+            std::snprintf(line, sizeof line, "%s: kept (not determined by the walk)",
+                          std::string(shm::getText(v.name)).c_str());
+        out.push_back({line, v.written ? Health::kOk : Health::kWarning});
+    }
+    return out;
+}
+
 std::string format(const char* fmt, double v) {
     char buf[64];
     std::snprintf(buf, sizeof buf, fmt, v);
@@ -218,6 +253,7 @@ StatusTexts describeStatus(shm::Connection connection, const std::string& connec
             t.export_line = {"Export FAILED: " + std::string(getText(e.message)), Health::kError};
             break;
     }
+    t.calibration = describeCalibration(s.calibration);
     t.message = std::string(getText(s.message));
     t.can_continue = s.can_continue != 0;
     switch (static_cast<shm::LocalizationState>(s.localization)) {

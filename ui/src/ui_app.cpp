@@ -415,7 +415,21 @@ void UiApp::drawButtons(const ScreenLayout& l) {
         else
             send(shm::CommandType::kContinueScan);
     }
+    // Self-calibration on the scan just stopped (laser on its shaft, encoder zero, clocks).
+    const bool calibrating =
+        status_ && static_cast<shm::CalibrationState>(status_->calibration.state) ==
+                       shm::CalibrationState::kRunning;
+    if (bigButton("CALIBRATE", ImVec4(0.45f, 0.3f, 0.1f, 1), w, h,
+                  connected && stopped && !exporting && !calibrating)) {
+        send(shm::CommandType::kCalibrate);
+    }
     ImGui::PopFont();
+    if (calibrating) ImGui::ProgressBar(status_->calibration.progress, ImVec2(w, 26.0f * l.scale));
+    for (const Line& c : texts_.calibration) {
+        ImGui::PushTextWrapPos(ImGui::GetCursorPosX() + w);
+        ImGui::TextColored(colourOf(c.health), "%s", c.text.c_str());
+        ImGui::PopTextWrapPos();
+    }
     if (status_ &&
         static_cast<shm::ExportState>(status_->export_status.state) != shm::ExportState::kIdle) {
         ImGui::ProgressBar(status_->export_status.progress, ImVec2(w, 26.0f * l.scale));

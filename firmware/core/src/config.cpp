@@ -347,10 +347,11 @@ DeviceConfig loadDeviceConfig(const std::string& path) {
         v.number(n, "gpio", "debounce_ms", c.gpio.debounce_ms, 0.0, 1000.0);
     }
     if (auto n = v.section(root, "", "storage"); n.IsDefined()) {
-        v.onlyKeys(n, "storage", {"journal_dir", "recording_dir", "min_free_gib"});
+        v.onlyKeys(n, "storage", {"journal_dir", "recording_dir", "min_free_gib", "record_scans"});
         v.text(n, "storage", "journal_dir", c.storage.journal_dir);
         v.text(n, "storage", "recording_dir", c.storage.recording_dir);
         v.number(n, "storage", "min_free_gib", c.storage.min_free_gib, 0.0, 1e6);
+        v.boolean(n, "storage", "record_scans", c.storage.record_scans);
     }
     RealtimeConfig realtime;  // validated with the rest; loadRealtimeConfig() hands it out
     parseRealtime(root, v, realtime);

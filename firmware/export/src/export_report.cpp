@@ -52,9 +52,10 @@ std::string ExportReportBuilder::html(const journal::JournalSummary& js,
     in.scan_name = scan_name;
     in.software = std::string("handscan ") + HANDSCAN_VERSION;
     in.journal_damage = js.damage;
+    in.sweep_damage = js.sweep_damage;
     in.exported_points = exported;
     in.voxel_m = voxel_m;
-    in.facts = facts_.finish(js.trajectory, stats_json);
+    in.facts = facts_.finish(js.trajectory, js.sweeps, stats_json);
     in.files = files;
     in.images = images(js);
     return report::reportHtml(in);

@@ -25,7 +25,8 @@ public:
     // side by height and by RGB.
     std::vector<std::pair<std::string, report::MapImage>> images(
         const journal::JournalSummary& js) const;
-    // report.html's text; `files` are the export's other files, `stats_json` a replay's stats.
+    // report.html's text; `files` are the export's other files, `stats_json` a replay's stats
+    // (used for the timeline when the journal holds no per-sweep records).
     std::string html(const journal::JournalSummary& js, const std::string& scan_name,
                      std::uint64_t exported, double voxel_m, const std::vector<std::string>& files,
                      const std::string& stats_json) const;

@@ -261,6 +261,8 @@ Result<ExportReport> exportScan(const std::string& source, const std::string& ta
     report.points = count;
     report.journal_points = js.points;
     report.journal_damage = js.damage;
+    for (const std::string& d : js.sweep_damage)
+        report.notes.push_back("journal " + *journal_path + ": " + d);
     // Every format from one pass over the points: the journal is read once, each file's I/O
     // thread writes while the points are encoded for the next block.
     std::vector<CloudFile> clouds;

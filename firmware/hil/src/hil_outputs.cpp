@@ -168,6 +168,7 @@ Status writeHilOutputs(const OutputsInputs& in, HilReport& report) {
                       std::max(1e-9, report.recording_s),
                   report.daemon_peak_rss_mib);
     report.summary = line;
+    if (!report.calibration.empty()) report.summary += "calibrate: " + report.calibration + "\n";
     return Status::ok();
 }
 

@@ -281,6 +281,15 @@ Result<HilReport> runHil(const HilOptions& o) {
     auto exported = exportScan(out / "export");
     if (!exported.isOk()) return exported.status();
     report.export_points = *exported;
+    if (o.calibrate_rounds > 0) {
+        // As the operator's "calibrate" on the stopped screen: on the scan just made.
+        const shm::CommandAck calibrated =
+            sendCommand(ui, shm::CommandType::kCalibrate,
+                        "rounds=" + std::to_string(o.calibrate_rounds), 900.0);
+        report.calibration = std::string(shm::getText(calibrated.message));
+        if (calibrated.state != static_cast<std::uint32_t>(shm::CommandState::kDone))
+            return fail("calibrate: " + report.calibration);
+    }
     daemon.process.signal(SIGTERM);
     if (Status s = daemon.reap(20 * kNsPerSec, log); !s.isOk()) return s;
     const ProcessEnd& last = daemon.ends.back();

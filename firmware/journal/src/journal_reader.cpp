@@ -74,8 +74,16 @@ Result<JournalReader> JournalReader::open(const std::string& path) {
         payload.resize(h.payload_bytes);
         if (!readAt(f.fd, offset + kChunkHeaderBytes, payload.data(), payload.size()) ||
             crc32(payload) != h.payload_crc) {
-            s.damage = where + ": payload CRC mismatch";
-            break;
+            if (h.kind != ChunkKind::kSweepStats) {
+                s.damage = where + ": payload CRC mismatch";
+                break;
+            }
+            // The header (its own CRC) says how long the chunk is: statistics are not the map,
+            // so a damaged one is skipped and named rather than ending the journal there.
+            s.sweep_damage.push_back(where + ": per-sweep statistics (" +
+                                     std::to_string(h.record_count) +
+                                     " sweeps): payload CRC mismatch; left out");
+            payload.clear();
         }
         switch (h.kind) {
             case ChunkKind::kMetadata:
@@ -91,6 +99,11 @@ Result<JournalReader> JournalReader::open(const std::string& path) {
                 break;
             case ChunkKind::kTrajectory:
                 decodePoses(payload, s.trajectory);
+                break;
+            case ChunkKind::kSweepStats:
+                if (std::string bad = decodeSweeps(payload, s.sweeps); !bad.empty())
+                    s.sweep_damage.push_back(where + ": per-sweep statistics: " + bad +
+                                             "; the rest of the chunk left out");
                 break;
             case ChunkKind::kEndOfScan:
                 s.finished = true;

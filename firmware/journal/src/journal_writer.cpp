@@ -98,6 +98,12 @@ Status JournalWriter::appendPose(const TrajectoryPose& pose) {
     return Status::ok();
 }
 
+Status JournalWriter::appendSweep(const SweepRecord& sweep) {
+    if (stopped()) return stop_reason_;
+    pending_sweeps_.push_back(sweep);
+    return Status::ok();
+}
+
 Status JournalWriter::flushIfDue() {
     if (toSeconds(monotonicNow() - last_flush_ns_) < options_.flush_interval_s) return Status::ok();
     return flush();
@@ -116,6 +122,17 @@ Status JournalWriter::flush() {
             return s;
         }
         pending_poses_.clear();
+    }
+    if (!pending_sweeps_.empty()) {
+        payload.clear();
+        encodeSweeps(pending_sweeps_, payload);
+        if (Status s = writeChunk(static_cast<int>(ChunkKind::kSweepStats),
+                                  static_cast<std::uint32_t>(pending_sweeps_.size()),
+                                  pending_sweeps_.back().t_start_s, payload);
+            !s.isOk()) {
+            return s;
+        }
+        pending_sweeps_.clear();
     }
     // Large backlogs are split so one chunk stays a bounded read for recovery and export.
     std::size_t done = 0;

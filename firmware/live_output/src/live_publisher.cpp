@@ -88,6 +88,7 @@ void LivePublisher::status(const lio::LaserInertialOdometry& pipeline, const Liv
     s.angular_speed_radps = angular_speed_radps_;
     s.camera_brightness = in.camera_brightness;
     if (in.export_status) s.export_status = *in.export_status;
+    if (in.calibration) s.calibration = *in.calibration;
     std::error_code ec;
     const auto space = std::filesystem::space(storage_dir_, ec);
     if (!ec) {

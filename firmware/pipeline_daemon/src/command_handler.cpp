@@ -1,9 +1,12 @@
 #include "handscan/pipeline_daemon/command_handler.hpp"
 
 #include <chrono>
+#include <cstdio>
 #include <filesystem>
 
 #include "handscan/core/log.hpp"
+#include "handscan/pipeline_daemon/scan_recorder.hpp"
+#include "handscan/shm/text_field.hpp"
 
 namespace handscan::pipeline_daemon {
 
@@ -69,6 +72,8 @@ CommandHandler::Outcome CommandHandler::execute(CommandType type, const std::str
                 return fromResult(loading);
             else
                 return {CommandState::kInProgress, *loading};
+        case CommandType::kCalibrate:
+            return calibrate(argument, seq);
         case CommandType::kShutdown:
             shutdown_ = true;
             return {CommandState::kDone, "shutting down: the scan is saved"};
@@ -129,8 +134,57 @@ void CommandHandler::finishContinue() {
     continuing_.reset();
 }
 
+CommandHandler::Outcome CommandHandler::calibrate(const std::string& argument, std::uint64_t seq) {
+    if (calibration_ == nullptr) return {CommandState::kRejected, "calibration is not available"};
+    if (worker_.scanState() == shm::ScanState::kScanning)
+        return {CommandState::kRejected, "stop the scan before calibrating"};
+    if (exports_.running())
+        return {CommandState::kRejected, "an export is running; wait for it to finish"};
+    int rounds = 4;
+    if (!argument.empty() &&
+        (std::sscanf(argument.c_str(), "rounds=%d", &rounds) != 1 || rounds < 1 || rounds > 10))
+        return {CommandState::kRejected,
+                "calibrate: argument '" + argument + "': expected rounds=1..10 or nothing"};
+    const std::string journal = worker_.journalPath();
+    if (journal.empty()) return {CommandState::kRejected, "no scan to calibrate on: scan first"};
+    const std::string recording =
+        scanRecording(std::filesystem::path(journal).parent_path().string());
+    if (recording.empty())
+        return {CommandState::kRejected,
+                "the last scan has no raw recording (storage.record_scans off, or too little "
+                "space when it started): scan again to calibrate"};
+    if (Status s = calibration_->start(recording, rounds); !s.isOk())
+        return {CommandState::kRejected, s.message()};
+    calibrate_seq_ = seq;
+    return {CommandState::kInProgress, "calibrating"};
+}
+
+void CommandHandler::tickCalibration() {
+    if (calibration_ == nullptr) return;
+    if (auto result = calibration_->takeResult()) {
+        if (calibrate_seq_ != 0) {
+            if (result->isOk())
+                channel_.ack(calibrate_seq_, CommandState::kDone, **result, 1.0f);
+            else
+                channel_.ack(calibrate_seq_, CommandState::kFailed, result->status().message(),
+                             1.0f);
+        }
+        calibrate_seq_ = 0;
+        return;
+    }
+    const TimeNs now = monotonicNow();
+    if (calibrate_seq_ != 0 && calibration_->running() &&
+        now - last_calibration_ack_ >= 250 * kNsPerMs) {
+        last_calibration_ack_ = now;
+        const shm::CalibrationStatus s = calibration_->status();
+        channel_.ack(calibrate_seq_, CommandState::kInProgress, shm::getText(s.message),
+                     s.progress);
+    }
+}
+
 void CommandHandler::tick() {
     finishContinue();
+    tickCalibration();
     if (auto result = exports_.takeResult()) {
         if (export_seq_ != 0) {
             if (result->isOk())

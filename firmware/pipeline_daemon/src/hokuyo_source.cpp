@@ -12,6 +12,7 @@ public:
         : SensorSource("hokuyo", 40.0f),
           config_(c.config.hokuyo),
           queues_(c.queues),
+          tap_(c.taps.hokuyo),
           link_(c.links.hokuyo(config_)) {}
     ~HokuyoSource() override { stop(); }
 
@@ -19,9 +20,11 @@ private:
     void run() override {
         hokuyo::HokuyoDeviceConfig cfg = hokuyo::hokuyoDeviceConfig(config_);
         cfg.timing.extra_latency_ns = fromSeconds(config_.frame_latency_ms * 1e-3);
-        hokuyo::HokuyoDevice device(*link_, cfg);
+        hokuyo::HokuyoDevice device(*link_, cfg, tap_);
         std::vector<LaserScan> scans;
         std::uint64_t faults_seen = 0;
+        bool was_streaming = false;
+        if (tap_) tap_->beginPreamble();
         while (!stopping()) {
             scans.clear();
             const Status st = device.poll(scans);
@@ -31,6 +34,14 @@ private:
                     queues_.dropped.fetch_add(1, std::memory_order_relaxed);
             }
             const bool streaming = device.state() == hokuyo::HokuyoDevice::State::kStreaming;
+            // A recording starting later needs this connection's start-up (the PP reply).
+            if (tap_ && streaming != was_streaming) {
+                if (streaming)
+                    tap_->endPreamble();
+                else
+                    tap_->beginPreamble();
+            }
+            was_streaming = streaming;
             const auto stats = device.stats();
             if (streaming && !scans.empty()) {
                 health_.setConnected();
@@ -50,6 +61,7 @@ private:
 
     HokuyoConfig config_;
     SampleQueues& queues_;
+    SwitchableTap* tap_;
     std::unique_ptr<transport::ByteStream> link_;
 };
 

@@ -29,7 +29,8 @@ private:
         auto link = c_.links.can(config_);
         if (!link.isOk()) return link.status();
         if (Status s = link->bus->open(); !s.isOk()) return s;
-        motor::MotorDevice device(*link->bus, motor::motorDeviceConfig(config_), link->now);
+        motor::MotorDevice device(*link->bus, motor::motorDeviceConfig(config_), link->now,
+                                  c_.taps.motor);
         if (Status s = device.start(); !s.isOk()) return s;
         if (Status s = device.setMotorSpeed(2.0 * std::numbers::pi * config_.target_speed_rev_s);
             !s.isOk()) {

@@ -8,6 +8,7 @@
 #include "handscan/core/log.hpp"
 #include "handscan/core/realtime.hpp"
 #include "handscan/live_output/live_publisher.hpp"
+#include "handscan/pipeline_daemon/calibrate_job.hpp"
 #include "handscan/pipeline_daemon/command_handler.hpp"
 #include "handscan/pipeline_daemon/export_job.hpp"
 #include "handscan/pipeline_daemon/pipeline_thread.hpp"
@@ -18,6 +19,8 @@
 namespace handscan::pipeline_daemon {
 
 struct PipelineDaemon::Parts {
+    std::unique_ptr<ScanRecorder> recorder;  // outlives the sources (their taps) and the worker
+    std::unique_ptr<CalibrateJob> calibration;
     std::vector<std::unique_ptr<SensorSource>> sources;
     ExportJob exports;
     std::unique_ptr<PipelineThread> worker;
@@ -75,6 +78,14 @@ Status PipelineDaemon::open() {
     const std::string metadata =
         jsonText({{"source", "handscan-pipeline"}, {"device_config", device_.source_file}});
     auto session = std::make_unique<ScanSession>(journal_dir, options_.journal, metadata);
+    parts_->recorder = std::make_unique<ScanRecorder>(ScanRecorderOptions{
+        device_.storage.record_scans,
+        options_.journal.reserve_bytes +
+            static_cast<std::uint64_t>(device_.storage.min_free_gib * double(1ull << 30))});
+    session->setRecorder(parts_->recorder.get());
+    parts_->calibration = std::make_unique<CalibrateJob>(
+        device_yaml,
+        options_.calibration.empty() ? config_dir + "/calibration.yaml" : options_.calibration);
     // A scan cut short by a crash or power cut is taken back, so the UI can still export it.
     if (auto recovered = session->recoverUnfinished(); !recovered.isOk())
         log().error("{}", recovered.status().message());
@@ -86,6 +97,7 @@ Status PipelineDaemon::open() {
         return out;
     };
     inputs.export_status = [this] { return parts_->exports.status(); };
+    inputs.calibration_status = [this] { return parts_->calibration->status(); };
     if (!options_.prior_map_dir.empty()) {
         auto prior = prior_map::loadPriorMap(options_.prior_map_dir);
         if (!prior.isOk()) return prior.status();
@@ -100,10 +112,12 @@ Status PipelineDaemon::open() {
     parts_->worker =
         std::make_unique<PipelineThread>(device_, calibration_, std::move(*publisher),
                                          std::move(session), queues_, std::move(inputs));
-    parts_->commands = std::make_unique<CommandHandler>(*parts_->worker, parts_->exports,
-                                                        parts_->worker->commands());
+    parts_->commands = std::make_unique<CommandHandler>(
+        *parts_->worker, parts_->exports, parts_->worker->commands(), parts_->calibration.get());
 
-    const SourceContext c{device_, *links_, queues_};
+    const SourceContext c{device_, *links_, queues_,
+                          RawTaps{parts_->recorder->hokuyoTap(), parts_->recorder->xsensTap(),
+                                  parts_->recorder->motorTap()}};
     parts_->sources.push_back(makeHokuyoSource(c));
     parts_->sources.push_back(makeXsensSource(c));
     parts_->sources.push_back(makeMotorSource(c));
@@ -191,6 +205,11 @@ Status PipelineDaemon::run(const std::atomic<bool>& stop) {
     p.worker->stop();
     while (p.exports.running())
         std::this_thread::sleep_for(std::chrono::milliseconds(50));  // never cut a write short
+    if (p.calibration->running())
+        log().info(
+            "waiting for the calibration to finish (the old calibration.yaml stays until "
+            "it does)");
+    while (p.calibration->running()) std::this_thread::sleep_for(std::chrono::milliseconds(50));
     p.commands->tick();
     if (!finished.isOk()) return finished.status();
     log().info("handscan-pipeline: stopped cleanly ({})", *finished);

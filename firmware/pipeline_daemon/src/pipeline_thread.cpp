@@ -56,6 +56,10 @@ public:
         return Status::ok();
     }
     bool wantsSweeps() const override { return session_.scanning(); }
+    Status sweepRecord(const journal::SweepRecord& r) override {
+        session_.appendSweep(r);  // every sweep, also those kept out of the map
+        return Status::ok();
+    }
     Status sweep(const lio::RegisteredSweep& s, std::span<const journal::MapPoint> pts) override {
         if (!s.tracking.enters_map) return Status::ok();  // kept out of the map: nothing to add
         session_.appendPoints(pts);
@@ -280,6 +284,7 @@ void PipelineThread::publishStatus() {
     s.scan_state = session_->state();
     s.point_count = session_->points();
     s.export_status = inputs_.export_status();
+    if (inputs_.calibration_status) s.calibration = inputs_.calibration_status();
     s.camera_brightness = queues_.camera_brightness.load(std::memory_order_relaxed);
     if (!session_->problem().empty()) {
         s.message = session_->problem();

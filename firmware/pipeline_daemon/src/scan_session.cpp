@@ -30,11 +30,26 @@ fs::path freshScanDir(const fs::path& root) {
 
 ScanSession::~ScanSession() { (void)finish(); }
 
+void ScanSession::startRecording() {
+    if (recorder_ == nullptr || path_.empty()) return;
+    log().info("{}", recorder_->start(fs::path(path_).parent_path().string()));
+}
+
+void ScanSession::stopRecording() {
+    if (recorder_ == nullptr || !recorder_->recording()) return;
+    auto r = recorder_->stop();
+    if (r.isOk())
+        log().info("raw recording finished: {}", *r);
+    else
+        log().error("{}", r.status().message());
+}
+
 Result<std::string> ScanSession::start() {
     if (state_ == shm::ScanState::kScanning)
         return Status(StatusCode::kInvalidArgument, "already scanning");
     if (canResume()) {
         state_ = shm::ScanState::kScanning;
+        startRecording();
         return std::string("scanning (resumed)");
     }
     if (journal_) (void)finish();  // a recovered scan, or the journal failed: start a fresh one
@@ -71,6 +86,7 @@ Result<std::string> ScanSession::begin(const std::string& metadata) {
     resumable_ = true;
     state_ = shm::ScanState::kScanning;
     log().info("scan started: {}", path_);
+    startRecording();
     return "scanning into " + dir.filename().string();
 }
 
@@ -78,6 +94,7 @@ Result<std::string> ScanSession::stop() {
     if (state_ != shm::ScanState::kScanning)
         return Status(StatusCode::kInvalidArgument, "not scanning");
     state_ = shm::ScanState::kStopped;
+    stopRecording();
     if (Status s = journal_->flush(); !s.isOk()) onJournalError(s);
     log().info("scan stopped: {} points in {}", points_, path_);
     return "scan stopped: " + std::to_string(points_) + " points";
@@ -95,6 +112,7 @@ Result<std::string> ScanSession::newScan() {
 }
 
 Status ScanSession::finish() {
+    stopRecording();
     if (!journal_) return Status::ok();
     if (state_ == shm::ScanState::kScanning) state_ = shm::ScanState::kStopped;
     Status s = journal_->stopped() ? Status::ok() : journal_->finish();
@@ -145,13 +163,20 @@ void ScanSession::appendPoints(std::span<const journal::MapPoint> points) {
     points_ += points.size();
 }
 
+void ScanSession::appendSweep(const journal::SweepRecord& sweep) {
+    if (state_ != shm::ScanState::kScanning) return;
+    if (Status s = journal_->appendSweep(sweep); !s.isOk()) onJournalError(s);
+}
+
 void ScanSession::flushIfDue() {
     if (state_ != shm::ScanState::kScanning) return;
+    if (recorder_ != nullptr) recorder_->checkSpace();
     if (Status s = journal_->flushIfDue(); !s.isOk()) onJournalError(s);
 }
 
 void ScanSession::onJournalError(const Status& s) {
     // Everything written so far stays intact; the scan stops rather than losing data silently.
+    stopRecording();
     problem_ = "scan stopped: " + s.message();
     log().error("journal {}: {}", path_, s.message());
     state_ = shm::ScanState::kStopped;

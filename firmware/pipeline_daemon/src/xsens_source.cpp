@@ -28,7 +28,7 @@ private:
                         if (!c_.queues.imu.tryPush(s))
                             c_.queues.dropped.fetch_add(1, std::memory_order_relaxed);
                     },
-                    nullptr, driverOptions());
+                    c_.taps.xsens, driverOptions());
                 break;
             }
             health_.setLost("xsens: " + link.status().message());

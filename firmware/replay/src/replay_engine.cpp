@@ -110,7 +110,7 @@ public:
             }
         }
         // A sweep the tracking monitor kept out of the map is journaled and shown nowhere.
-        if (!s.tracking.enters_map) return outputs_.addSweep(s, {});
+        if (!s.tracking.enters_map) return Status::ok();
         if (Status st = outputs_.addSweep(s, pts); !st.isOk()) return st;
         if (journal_) {
             if (Status st = journal_->appendPoints(pts); !st.isOk()) return st;
@@ -118,6 +118,11 @@ public:
         }
         if (live_) live_->sweep(s, pts);
         return Status::ok();
+    }
+
+    Status sweepRecord(const journal::SweepRecord& r) override {
+        outputs_.addSweepRecord(r);
+        return journal_ ? journal_->appendSweep(r) : Status::ok();
     }
 
 private:

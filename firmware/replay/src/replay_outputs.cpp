@@ -1,6 +1,5 @@
 #include "replay_outputs.hpp"
 
-#include <bit>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -123,6 +122,38 @@ Json localizationJson(const localize::Localizer& l, std::uint64_t sweeps_before_
             {"changes", changes}};
 }
 
+// One sweep's record as stats.json's per_sweep entry.
+Json perSweepJson(const journal::SweepRecord& s) {
+    const journal::DeviceCounts& d = s.devices;
+    Json e = {{"index", s.index},
+              {"t_start_s", s.t_start_s},
+              {"degenerate_directions", s.degenerateDirections()},
+              {"solved_dof_mask", static_cast<int>(s.solved_mask)},
+              {"vio_solved_dof_mask", static_cast<int>(s.vio_mask)},
+              {"vio", s.vio == journal::SweepVio::kOff        ? "off"
+                      : s.vio == journal::SweepVio::kBypassed ? "bypassed"
+                                                              : "running"},
+              {"points", s.points},
+              {"edges", s.edges},
+              {"planars", s.planars},
+              {"associations", s.associations},
+              {"rms_m", s.rms_m},
+              {"total_ms", s.total_ms},
+              {"tracking", journal::sweepTrackingName(s.tracking)},
+              {"in_map", s.in_map},
+              {"devices",
+               {{"window_s", d.window_s},
+                {"laser_scans", d.laser_scans},
+                {"imu_samples", d.imu_samples},
+                {"encoder_samples", d.encoder_samples},
+                {"colour_frames", d.colour_frames},
+                {"tracking_frames", d.tracking_frames}}}};
+    if (!s.tracking_reason.empty()) e["tracking_reason"] = s.tracking_reason;
+    e["pose_xyz_qxyzw"] = std::vector<double>(s.pose, s.pose + 7);
+    e["prior_xyz"] = std::vector<double>(s.prior_xyz, s.prior_xyz + 3);
+    return e;
+}
+
 }  // namespace
 
 ReplayOutputs::ReplayOutputs(std::string out_dir, TiledMapConfig map)
@@ -154,27 +185,10 @@ Status ReplayOutputs::addPose(const PoseEstimate& pose) {
 
 Status ReplayOutputs::addSweep(const lio::RegisteredSweep& s,
                                std::span<const journal::MapPoint> pts) {
-    if (s.tracking.enters_map) {
-        // The sensor's position at the sweep start decides which map tiles stay in memory.
-        if (Status st = map_.add(pts, s.result.pose.T_world_body.translation()); !st.isOk())
-            return st;
-        registered_points_ += pts.size();
-    }
-    SweepSummary sum;
-    sum.index = s.result.sweep_index;
-    sum.t_start_s = toSeconds(s.sweep.t_start);
-    sum.solved_mask = s.result.pose.solved_dof_mask;
-    sum.visual_solved_mask = s.visual_solved_dof_mask;
-    sum.points = s.points_world.size();
-    sum.edges = s.result.edges;
-    sum.planars = s.result.planars;
-    sum.total_ms = s.result.total_ms;
-    sum.associations = s.result.match.associations;
-    sum.rms_m = s.result.match.rms_m;
-    sum.T_world_body = s.result.pose.T_world_body;
-    sum.T_world_prior = s.result.T_world_prior;
-    sum.tracking = s.tracking;
-    sweeps_.push_back(sum);
+    if (!s.tracking.enters_map) return Status::ok();
+    // The sensor's position at the sweep start decides which map tiles stay in memory.
+    if (Status st = map_.add(pts, s.result.pose.T_world_body.translation()); !st.isOk()) return st;
+    registered_points_ += pts.size();
     return Status::ok();
 }
 
@@ -247,36 +261,12 @@ Result<std::string> ReplayOutputs::writeStats(const StatsInputs& in) const {
         j["localization"] =
             localizationJson(*in.localizer, in.sweeps_before_lock, in.sweeps_held, r.recording_s);
     // Degenerate directions per sweep (section 8): 6 minus the DOFs the matcher solved.
-    const auto degenerate = [](const SweepSummary& s) {
-        return 6 - std::popcount(static_cast<unsigned>(s.solved_mask & 0x3F));
-    };
     std::vector<std::size_t> histogram(7, 0);
-    for (const SweepSummary& s : sweeps_) ++histogram[static_cast<std::size_t>(degenerate(s))];
+    for (const journal::SweepRecord& s : sweeps_)
+        ++histogram[static_cast<std::size_t>(s.degenerateDirections())];
     j["degenerate_directions_histogram"] = histogram;
     Json per_sweep = Json::array();
-    for (const SweepSummary& s : sweeps_) {
-        Json e = {
-            {"index", s.index},
-            {"t_start_s", s.t_start_s},
-            {"degenerate_directions", degenerate(s)},
-            {"solved_dof_mask", static_cast<int>(s.solved_mask)},
-            {"vio_solved_dof_mask", static_cast<int>(s.visual_solved_mask)},
-            {"points", s.points},
-            {"edges", s.edges},
-            {"planars", s.planars},
-            {"associations", s.associations},
-            {"rms_m", s.rms_m},
-            {"total_ms", s.total_ms},
-            {"tracking", s.tracking.lost ? "lost" : (s.tracking.consistent ? "ok" : "rejected")},
-            {"in_map", s.tracking.enters_map}};
-        if (s.tracking.reason != fusion::LostReason::kNone)
-            e["tracking_reason"] = fusion::lostReasonName(s.tracking.reason);
-        const Eigen::Quaterniond q(s.T_world_body.linear());
-        const Eigen::Vector3d t = s.T_world_body.translation(), tp = s.T_world_prior.translation();
-        e["pose_xyz_qxyzw"] = {t.x(), t.y(), t.z(), q.x(), q.y(), q.z(), q.w()};
-        e["prior_xyz"] = {tp.x(), tp.y(), tp.z()};
-        per_sweep.push_back(std::move(e));
-    }
+    for (const journal::SweepRecord& s : sweeps_) per_sweep.push_back(perSweepJson(s));
     j["per_sweep"] = std::move(per_sweep);
     const std::string path = (fs::path(dir_) / "stats.json").string();
     if (Status s = exporter::writeSmallFile(path, jsonText(j, 2) + "\n"); !s.isOk()) return s;

@@ -11,6 +11,7 @@
 #include "handscan/core/status.hpp"
 #include "handscan/core/stream_counters.hpp"
 #include "handscan/export/safe_file.hpp"
+#include "handscan/journal/sweep_record.hpp"
 #include "handscan/lio/laser_inertial_odometry.hpp"
 #include "handscan/localize/localizer.hpp"
 #include "handscan/replay/replay_engine.hpp"
@@ -18,22 +19,6 @@
 #include "handscan/worker/visual_stage.hpp"
 
 namespace handscan::replay {
-
-struct SweepSummary {
-    std::uint64_t index = 0;
-    double t_start_s = 0.0;
-    std::uint8_t solved_mask = 0;         // the scan matcher's
-    std::uint8_t visual_solved_mask = 0;  // the visual-inertial odometry's over the prior
-    std::size_t points = 0;
-    std::size_t edges = 0;
-    std::size_t planars = 0;
-    double total_ms = 0.0;
-    int associations = 0;
-    double rms_m = 0.0;
-    Eigen::Isometry3d T_world_body = Eigen::Isometry3d::Identity();  // refined, at t_start
-    Eigen::Isometry3d T_world_prior = Eigen::Isometry3d::Identity();
-    fusion::TrackingVerdict tracking;  // kept out of the map unless tracking.enters_map
-};
 
 struct StatsInputs {
     const ReplayReport& report;
@@ -56,11 +41,13 @@ public:
     // Opens trajectory.tum (written as the poses come, committed by writeTrajectory()).
     [[nodiscard]] Status open();
     [[nodiscard]] Status addPose(const PoseEstimate& pose);
-    // `points`: the sweep's registered points as journaled (coloured where the camera saw them).
-    // A sweep the tracking monitor kept out of the map is only summarised.
-    // Fails only when the map cannot flush tiles to its spill file (disk full, write error).
+    // `points`: the sweep's registered points as journaled (coloured where the camera saw them),
+    // into map.ply. Fails only when the map cannot flush tiles to its spill file (disk full,
+    // write error).
     [[nodiscard]] Status addSweep(const lio::RegisteredSweep& sweep,
                                   std::span<const journal::MapPoint> points);
+    // Every sweep's record (also those kept out of the map), for stats.json's per_sweep.
+    void addSweepRecord(const journal::SweepRecord& record) { sweeps_.push_back(record); }
 
     Status writeTrajectory();
     // Streams the map into map.ply (once: the map is consumed).
@@ -70,7 +57,7 @@ public:
     std::uint64_t poses() const { return poses_; }
     double distance_m() const { return distance_m_; }
     std::uint64_t registeredPoints() const { return registered_points_; }
-    const std::vector<SweepSummary>& sweeps() const { return sweeps_; }
+    const std::vector<journal::SweepRecord>& sweeps() const { return sweeps_; }
 
 private:
     std::string dir_;
@@ -81,7 +68,7 @@ private:
     Eigen::Vector3d last_position_ = Eigen::Vector3d::Zero();
     TiledVoxelMap map_;  // map.ply within a memory budget
     std::uint64_t registered_points_ = 0;
-    std::vector<SweepSummary> sweeps_;
+    std::vector<journal::SweepRecord> sweeps_;
 };
 
 }  // namespace handscan::replay

@@ -34,10 +34,14 @@ public:
             << "\" font-size=\"11\" text-anchor=\"end\">" << label << "</text>\n";
         os_ << "<rect x=\"" << kLabel << "\" y=\"" << y(row) << "\" width=\"" << x(t_end_) - kLabel
             << "\" height=\"" << kLane << "\" fill=\"#f4f4f4\"/>\n";
+        // The span's times as data too, so that a reader (or a test) needs no pixel arithmetic.
         for (const Span& s : spans) {
+            char times[80];
+            std::snprintf(times, sizeof times, "data-from=\"%.3f\" data-to=\"%.3f\"", s.from_s,
+                          s.to_s);
             os_ << "<rect x=\"" << x(s.from_s) << "\" y=\"" << y(row) << "\" width=\""
                 << std::max(1.0, x(s.to_s) - x(s.from_s)) << "\" height=\"" << kLane << "\" fill=\""
-                << s.colour << "\"/>\n";
+                << s.colour << "\" data-lane=\"" << label << "\" " << times << "/>\n";
         }
         if (!note.empty()) {
             os_ << "<text x=\"" << kLabel + 6 << "\" y=\"" << y(row) + kLane - 4

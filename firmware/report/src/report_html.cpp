@@ -101,6 +101,52 @@ std::string intervalsTable(const std::vector<Interval>& in, bool directions) {
     return os.str();
 }
 
+constexpr const char* kNoSweepStats =
+    "timeline unavailable: this scan's journal holds no per-sweep statistics (written before "
+    "the journal recorded them) and no replay's stats.json lies beside it";
+
+// Each device's samples per second per sweep (the pipeline's intake), a table of their mean and
+// lowest rates, and the windows where one delivered nothing.
+std::string devicesSection(const ScanFacts& f) {
+    if (f.device_rates.empty()) return {};
+    const struct {
+        const char* name;
+        const char* unit;
+        double DeviceRates::*hz;
+    } devices[] = {{"laser", "scans/s", &DeviceRates::laser_hz},
+                   {"IMU", "samples/s", &DeviceRates::imu_hz},
+                   {"encoder", "positions/s", &DeviceRates::encoder_hz},
+                   {"colour camera", "frames/s", &DeviceRates::colour_hz},
+                   {"tracking camera", "frames/s", &DeviceRates::tracking_hz}};
+    std::ostringstream os;
+    os << "<h3>Devices: samples per second per sweep</h3>\n<table class=\"devices\"><tr>"
+          "<th>device</th><th>mean</th><th>lowest sweep</th><th>dropouts</th></tr>\n";
+    std::string charts;
+    const std::vector<std::pair<const std::vector<Interval>*, const char*>> shades = {
+        {&f.device_dropouts, "#d33"}};
+    for (const auto& d : devices) {
+        std::vector<std::pair<double, double>> series;
+        double sum = 0, lowest = 1e300;
+        for (const DeviceRates& r : f.device_rates) {
+            series.emplace_back(r.t_s, r.*d.hz);
+            sum += r.*d.hz;
+            lowest = std::min(lowest, r.*d.hz);
+        }
+        if (sum <= 0) continue;  // not fitted, or off
+        const auto dropouts = std::count_if(f.device_dropouts.begin(), f.device_dropouts.end(),
+                                            [&](const Interval& i) { return i.what == d.name; });
+        os << "<tr data-device=\"" << d.name << "\"><td>" << d.name << "</td><td>"
+           << fmt("%.1f ", sum / double(series.size())) << d.unit << "</td><td>"
+           << fmt("%.1f ", lowest) << d.unit << "</td><td>" << dropouts << "</td></tr>\n";
+        charts += chart(std::string(d.name) + ": " + d.unit + " per sweep", series, f.duration_s,
+                        d.unit, shades);
+    }
+    os << "</table>\n"
+       << charts << "<h3>Device dropouts</h3>\n"
+       << intervalsTable(f.device_dropouts, false);
+    return os.str();
+}
+
 }  // namespace
 
 std::string base64(const std::vector<std::uint8_t>& b) {
@@ -177,8 +223,13 @@ std::string reportHtml(const ReportInputs& in) {
         for (const auto& [t, d] : f.sweep_degenerate) deg.emplace_back(t, d);
         os << chart("matcher: degenerate directions per sweep", deg, f.duration_s, "dirs", shades);
     }
+    os << devicesSection(f);
     os << "<h2>Modules and directions over time</h2>\n";
+    for (const std::string& d : in.sweep_damage)
+        os << "<p class=\"warn\">Per-sweep statistics left out: " << esc(d) << "</p>\n";
     if (f.have_sweep_stats) {
+        os << "<p>From the " << esc(f.sweep_source) << " (" << f.sweep_modules.size()
+           << " sweeps).</p>\n";
         os << "<p>Per sweep, each direction (rotation rx ry rz, translation tx ty tz) in the "
               "colour of the module that solved it: <b style=\"color:#3c78eb\">scan "
               "matching</b>, <b style=\"color:#46c85a\">visual-inertial odometry</b>, or <b "
@@ -191,8 +242,7 @@ std::string reportHtml(const ReportInputs& in) {
            << (f.have_vio ? intervalsTable(f.vio_bypassed, false)
                           : std::string("<p>the VIO did not run (laser + IMU only)</p>\n"));
     } else {
-        os << "<p>not recorded: the journal of a live scan holds no per-sweep module "
-              "statistics (a replay writes them to stats.json beside its journal)</p>\n";
+        os << "<p>" << kNoSweepStats << "</p>\n";
     }
     os << "<h3>Laser dropouts</h3>\n" << intervalsTable(f.laser_dropouts, false);
     os << "<h3>Trajectory dropouts</h3>\n" << intervalsTable(f.pose_dropouts, false);
@@ -200,8 +250,7 @@ std::string reportHtml(const ReportInputs& in) {
     if (f.have_sweep_stats)
         os << intervalsTable(f.degenerate, true);
     else
-        os << "<p>not recorded: the journal of a live scan holds no per-sweep matcher statistics "
-              "(a replay writes them to stats.json beside its journal)</p>\n";
+        os << "<p>" << kNoSweepStats << "</p>\n";
     os << "<h2>Files</h2>\n<ul>\n";
     for (const std::string& file : in.files) os << "<li>" << esc(file) << "</li>\n";
     os << "</ul>\n</body></html>\n";

@@ -70,6 +70,19 @@ std::vector<Interval> intervals(const json& stats, const char* block, const char
     return out;
 }
 
+// Consecutive degenerate sweeps make one interval, to the start of the next good sweep.
+void degenerateIntervals(double t0, double t_end, ScanFacts& f) {
+    const auto& sw = f.sweep_degenerate;
+    for (std::size_t k = 0; k < sw.size(); ++k) {
+        if (sw[k].second == 0) continue;
+        Interval in{sw[k].first, sw[k].first, 0, {}};
+        for (; k < sw.size() && sw[k].second > 0; ++k)
+            in.directions = std::max(in.directions, sw[k].second);
+        in.to_s = k < sw.size() ? sw[k].first : t_end - t0;
+        f.degenerate.push_back(in);
+    }
+}
+
 void sweepFacts(const std::string& stats_json, double t0, double t_end, ScanFacts& f) {
     if (stats_json.empty()) return;
     const auto stats = nlohmann::json::parse(stats_json, nullptr, false);
@@ -101,16 +114,87 @@ void sweepFacts(const std::string& stats_json, double t0, double t_end, ScanFact
                            : 0.0;
         f.vio_bypassed = intervals(stats, "vio", "bypassed", t0, t_end);
     }
-    // Consecutive degenerate sweeps make one interval, to the start of the next good sweep.
-    const auto& sw = f.sweep_degenerate;
+    f.sweep_source = "stats.json";
+    degenerateIntervals(t0, t_end, f);
+}
+
+// Consecutive sweeps for which `holds` is true make one interval, to the start of the next
+// sweep for which it is not (or the scan's end); `what` of the interval's first sweep.
+template <typename Holds, typename What>
+std::vector<Interval> sweepIntervals(std::span<const journal::SweepRecord> sw, double t0,
+                                     double t_end, Holds holds, What what) {
+    std::vector<Interval> out;
     for (std::size_t k = 0; k < sw.size(); ++k) {
-        if (sw[k].second == 0) continue;
-        Interval in{sw[k].first, sw[k].first, 0, {}};
-        for (; k < sw.size() && sw[k].second > 0; ++k)
-            in.directions = std::max(in.directions, sw[k].second);
-        in.to_s = k < sw.size() ? sw[k].first : t_end - t0;
-        f.degenerate.push_back(in);
+        if (!holds(sw[k])) continue;
+        Interval in{sw[k].t_start_s - t0, 0.0, 0, what(sw[k])};
+        while (k < sw.size() && holds(sw[k])) ++k;
+        in.to_s = (k < sw.size() ? sw[k].t_start_s : t_end) - t0;
+        out.push_back(in);
     }
+    return out;
+}
+
+double rate(std::uint32_t count, double window_s) {
+    return window_s > 0 ? static_cast<double>(count) / window_s : 0.0;
+}
+
+// The journal's per-sweep records: the daemon's and replay's scans alike.
+void recordFacts(std::span<const journal::SweepRecord> sweeps, double t0, double t_end,
+                 ScanFacts& f) {
+    f.have_sweep_stats = true;
+    f.sweep_source = "journal";
+    for (const journal::SweepRecord& r : sweeps) {
+        const double t = r.t_start_s - t0;
+        f.sweep_degenerate.emplace_back(t, r.degenerateDirections());
+        SweepModules m;
+        m.t_s = t;
+        m.scan_mask = r.solved_mask & 0x3F;
+        m.vio_mask = r.vio_mask & 0x3F;
+        m.tracking = r.tracking == journal::SweepTracking::kLost       ? 'l'
+                     : r.tracking == journal::SweepTracking::kRejected ? 'r'
+                                                                       : 'o';
+        f.sweep_modules.push_back(m);
+        const journal::DeviceCounts& d = r.devices;
+        f.device_rates.push_back(
+            {t, rate(d.laser_scans, d.window_s), rate(d.imu_samples, d.window_s),
+             rate(d.encoder_samples, d.window_s), rate(d.colour_frames, d.window_s),
+             rate(d.tracking_frames, d.window_s)});
+    }
+    using R = const journal::SweepRecord&;
+    f.tracking_lost = sweepIntervals(
+        sweeps, t0, t_end, [](R r) { return r.tracking == journal::SweepTracking::kLost; },
+        [](R r) { return r.tracking_reason; });
+    for (R r : sweeps) {
+        if (r.vio == journal::SweepVio::kOff) continue;
+        f.have_vio = true;
+        f.vio_from_s = r.t_start_s - t0;
+        break;
+    }
+    f.vio_bypassed = sweepIntervals(
+        sweeps, t0, t_end, [](R r) { return r.vio == journal::SweepVio::kBypassed; },
+        [](R) { return std::string(); });
+    // A device that delivered somewhere but not in a sweep's window dropped out there.
+    const struct {
+        const char* name;
+        std::uint32_t journal::DeviceCounts::*count;
+    } devices[] = {{"laser", &journal::DeviceCounts::laser_scans},
+                   {"IMU", &journal::DeviceCounts::imu_samples},
+                   {"encoder", &journal::DeviceCounts::encoder_samples},
+                   {"colour camera", &journal::DeviceCounts::colour_frames},
+                   {"tracking camera", &journal::DeviceCounts::tracking_frames}};
+    for (const auto& dev : devices) {
+        const bool delivers =
+            std::any_of(sweeps.begin(), sweeps.end(), [&](R r) { return r.devices.*dev.count; });
+        if (!delivers) continue;
+        for (Interval& in : sweepIntervals(
+                 sweeps, t0, t_end,
+                 [&](R r) { return r.devices.window_s > 0 && r.devices.*dev.count == 0; },
+                 [&](R) { return std::string(dev.name); }))
+            f.device_dropouts.push_back(in);
+    }
+    std::sort(f.device_dropouts.begin(), f.device_dropouts.end(),
+              [](const Interval& a, const Interval& b) { return a.from_s < b.from_s; });
+    degenerateIntervals(t0, t_end, f);
 }
 
 }  // namespace
@@ -132,6 +216,7 @@ void ScanFactsBuilder::add(std::span<const journal::MapPoint> points) {
 }
 
 ScanFacts ScanFactsBuilder::finish(std::span<const journal::TrajectoryPose> tr,
+                                   std::span<const journal::SweepRecord> sweeps,
                                    const std::string& stats_json) const {
     ScanFacts f;
     f.points = points_;
@@ -171,7 +256,10 @@ ScanFacts ScanFactsBuilder::finish(std::span<const journal::TrajectoryPose> tr,
     for (const journal::TrajectoryPose& p : tr)
         if (HealthBin* b = bin(p.t_s)) ++b->poses;
     trajectoryFacts(tr, t0, f);
-    sweepFacts(stats_json, t0, t1, f);
+    if (!sweeps.empty())
+        recordFacts(sweeps, t0, t1, f);
+    else
+        sweepFacts(stats_json, t0, t1, f);
     return f;
 }
 

@@ -19,6 +19,8 @@ const char* toString(CommandType type) {
             return "shutdown";
         case CommandType::kContinueScan:
             return "continue-scan";
+        case CommandType::kCalibrate:
+            return "calibrate";
     }
     return "unknown";
 }

@@ -121,6 +121,10 @@ void DemoPipeline::handle(const shm::Command& cmd, TimeNs now) {
             shutdown_ = true;
             writer_.ack(cmd.seq, CommandState::kDone, "shutting down");
             break;
+        case CommandType::kCalibrate:  // a synthetic room has no raw recording to calibrate on
+            writer_.ack(cmd.seq, CommandState::kRejected,
+                        "the demo has no raw recording to calibrate on (the pipeline daemon has)");
+            break;
         case CommandType::kContinueScan:  // the demo has no localizer
         case CommandType::kNone:
             writer_.ack(cmd.seq, CommandState::kRejected,

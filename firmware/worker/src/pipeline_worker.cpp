@@ -35,6 +35,8 @@ void PipelineWorker::reset() {
     poses_before_lock_.clear();
     held_sweeps_.clear();
     sweeps_before_lock_ = 0;
+    counts_ = {};
+    counts_from_ = 0;
     sweeps_held_ = 0;
     if (config_.prior_map)
         localizer_ = std::make_unique<localize::Localizer>(config_.localizer, config_.prior_map,
@@ -79,13 +81,19 @@ Status PipelineWorker::run(TimeNs horizon, TimeNs deadline) {
 }
 
 void PipelineWorker::process(sources::Sample& sample) {
+    last_sample_ = std::max(last_sample_, sources::sampleTime(sample));
+    if (counts_from_ == 0) counts_from_ = last_sample_;
     if (const auto* imu = std::get_if<ImuSample>(&sample)) {
+        ++counts_.imu_samples;
         timed("imu_prediction", [&] { lio_->addImu(*imu); });
     } else if (const auto* position = std::get_if<EncoderSample>(&sample)) {
+        ++counts_.encoder_samples;
         timed("sweep_assembly_and_matching", [&] { lio_->addEncoder(*position); });
     } else if (const auto* scan = std::get_if<LaserScan>(&sample)) {
+        ++counts_.laser_scans;
         timed("sweep_assembly_and_matching", [&] { lio_->addScan(*scan); });
     } else if (const auto* frame = std::get_if<sources::TrackingFrame>(&sample)) {
+        ++counts_.tracking_frames;
         if (!visual_ && config_.visual) {
             try {
                 visual_ = std::make_unique<VisualStage>(calibration_, config_.vio);
@@ -97,6 +105,7 @@ void PipelineWorker::process(sources::Sample& sample) {
         if (visual_)
             timed("visual_inertial_odometry", [&] { visual_->frame(frame->image, *lio_); });
     } else if (const auto* image = std::get_if<Image>(&sample)) {
+        ++counts_.colour_frames;
         if (!colouriser_) return;
         // The colouriser takes decoded frames (pipeline/ knows no wire format).
         Result<Image> bgr = camera::toBgr(*image);
@@ -122,6 +131,37 @@ Status PipelineWorker::consume() {
 }
 
 namespace {
+
+// What the scan keeps of a sweep (as handed on: in the output frame).
+journal::SweepRecord sweepRecord(const lio::RegisteredSweep& s, journal::SweepVio vio) {
+    journal::SweepRecord r;
+    r.t_start_s = toSeconds(s.sweep.t_start);
+    r.index = s.result.sweep_index;
+    r.solved_mask = s.result.pose.solved_dof_mask;
+    r.vio_mask = s.visual_solved_dof_mask;
+    r.tracking = s.tracking.lost         ? journal::SweepTracking::kLost
+                 : s.tracking.consistent ? journal::SweepTracking::kOk
+                                         : journal::SweepTracking::kRejected;
+    r.in_map = s.tracking.enters_map;
+    r.vio = vio;
+    r.points = static_cast<std::uint32_t>(s.points_world.size());
+    r.edges = static_cast<std::uint32_t>(s.result.edges);
+    r.planars = static_cast<std::uint32_t>(s.result.planars);
+    r.associations = s.result.match.associations;
+    r.rms_m = s.result.match.rms_m;
+    r.total_ms = s.result.total_ms;
+    const Eigen::Isometry3d& T = s.result.pose.T_world_body;
+    const Eigen::Quaterniond q(T.linear());
+    const Eigen::Vector3d t = T.translation(), tp = s.result.T_world_prior.translation();
+    const double pose[7] = {t.x(), t.y(), t.z(), q.x(), q.y(), q.z(), q.w()};
+    std::copy(pose, pose + 7, r.pose);
+    r.prior_xyz[0] = tp.x();
+    r.prior_xyz[1] = tp.y();
+    r.prior_xyz[2] = tp.z();
+    if (s.tracking.reason != fusion::LostReason::kNone)
+        r.tracking_reason = fusion::lostReasonName(s.tracking.reason);
+    return r;
+}
 
 PoseEstimate moved(const Eigen::Isometry3d& T, PoseEstimate p) {
     p.T_world_body = T * p.T_world_body;
@@ -187,8 +227,12 @@ Status PipelineWorker::consumeLocalized(std::vector<PoseEstimate> poses,
 
 Status PipelineWorker::handOn(const lio::RegisteredSweep& s) {
     if (timer_ != nullptr) timer_->add("scan_matching", s.result.total_ms * 1e3);
-    if (visual_) visual_->sweep(s);                 // laser depth for the camera (5.3)
-    if (!sink_.wantsSweeps()) return Status::ok();  // between scans the map does not grow
+    if (visual_) visual_->sweep(s);  // laser depth for the camera (5.3)
+    if (!sink_.wantsSweeps()) {      // between scans the map does not grow
+        counts_ = {};                // and the device rates count from the scan's first sweep
+        counts_from_ = last_sample_;
+        return Status::ok();
+    }
     return deliver(s, mapPoints(s));
 }
 
@@ -213,7 +257,10 @@ std::vector<journal::MapPoint> PipelineWorker::mapPoints(const lio::RegisteredSw
 }
 
 Status PipelineWorker::deliver(const lio::RegisteredSweep& s, std::vector<journal::MapPoint> pts) {
-    if (!localizer_) return sink_.sweep(s, pts);
+    if (!localizer_) {
+        if (Status st = record(s); !st.isOk()) return st;
+        return sink_.sweep(s, pts);
+    }
     // Coloured in the odometry's frame (its poses), handed on in the prior map's.
     const Eigen::Isometry3d& T = localizer_->priorFromOdom();
     lio::RegisteredSweep in_prior = s;
@@ -227,7 +274,20 @@ Status PipelineWorker::deliver(const lio::RegisteredSweep& s, std::vector<journa
         p.y = q.y();
         p.z = q.z();
     }
+    if (Status st = record(in_prior); !st.isOk()) return st;
     return sink_.sweep(in_prior, pts);
+}
+
+Status PipelineWorker::record(const lio::RegisteredSweep& s) {
+    const journal::SweepVio vio = !visual_                 ? journal::SweepVio::kOff
+                                  : visual_->bypassedNow() ? journal::SweepVio::kBypassed
+                                                           : journal::SweepVio::kRunning;
+    journal::SweepRecord r = sweepRecord(s, vio);
+    r.devices = counts_;
+    r.devices.window_s = toSeconds(last_sample_ - counts_from_);
+    counts_ = {};
+    counts_from_ = last_sample_;
+    return sink_.sweepRecord(r);
 }
 
 scan::FeatureMapPoints PipelineWorker::featureMap() const {

@@ -5,6 +5,8 @@
 #include <unistd.h>
 
 #include <filesystem>
+#include <fstream>
+#include <iterator>
 #include <thread>
 
 #include "child_process.hpp"
@@ -20,10 +22,12 @@ const std::string kCli = std::string(HANDSCAN_BINARY_DIR) + "/firmware/cli/hands
 const std::string kUi = std::string(HANDSCAN_BINARY_DIR) + "/ui/handscan-ui";
 
 // Button centres in a 1280 x 800 window (ui/src/screen_layout.hpp: 110 px status bar, 260 px
-// button column; START/STOP is 83 px high, EXPORT 64 px below it).
+// button column; START/STOP is 83 px high, then EXPORT, NEW SCAN, CONTINUE SCAN and CALIBRATE,
+// each 64 px high, 4 px apart).
 constexpr int kButtonX = 1150;
 constexpr int kStartStopY = 159;
 constexpr int kExportY = 237;
+constexpr int kCalibrateY = 441;
 
 bool waitFor(const std::function<bool()>& condition, double seconds) {
     const auto end = std::chrono::steady_clock::now() + std::chrono::duration<double>(seconds);
@@ -98,6 +102,18 @@ TEST(TouchFlow, OperatorTapsStartStopExport) {
         << "EXPORT tap did not lead to a safe-to-remove export";
     EXPECT_TRUE(fs::exists(dir / "usb" / "scan-1" / "map.ply"));
     EXPECT_GT(fs::file_size(dir / "usb" / "scan-1" / "map.ply"), 1000u);
+    // CALIBRATE on the stopped screen sends the calibrate command (the demo, which has no raw
+    // recording, refuses it; the daemon's calibration is e2e.hil.calibrate).
+    tap(kButtonX, kCalibrateY);
+    EXPECT_TRUE(waitFor(
+        [&] {
+            std::ifstream log(dir / "pipeline.log");
+            const std::string text((std::istreambuf_iterator<char>(log)),
+                                   std::istreambuf_iterator<char>());
+            return text.find(" calibrate ''") != std::string::npos;
+        },
+        10))
+        << "CALIBRATE tap sent no calibrate command";
 
     ui.terminate();
     pipeline.terminate();

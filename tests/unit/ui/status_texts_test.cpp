@@ -129,6 +129,32 @@ TEST(StatusTexts, ExportProgressAndSafeToRemove) {
     EXPECT_EQ(t.export_line.health, Health::kOk);
 }
 
+// The daemon's calibration: its step with progress while it runs, then each value with its
+// standard deviation, or that the walk did not determine it.
+TEST(StatusTexts, CalibrationProgressThenValues) {
+    shm::StatusBlock s = healthyScan();
+    s.calibration.state = static_cast<std::uint8_t>(shm::CalibrationState::kRunning);
+    s.calibration.progress = 0.4f;
+    shm::setText(s.calibration.message, "round 1: replayed");
+    StatusTexts t = describeStatus(shm::Connection::kConnected, "", s, std::nullopt);
+    ASSERT_EQ(t.calibration.size(), 1u);
+    EXPECT_EQ(t.calibration[0].text, "Calibrating 40%: round 1: replayed");
+    s.calibration.state = static_cast<std::uint8_t>(shm::CalibrationState::kDone);
+    shm::setText(s.calibration.message, "calibrated: 1 of 2 values written");
+    s.calibration.value_count = 2;
+    s.calibration.values[0] = {{}, {}, 0.3f, 0.012f, 0.004f, 1, {}};
+    shm::setText(s.calibration.values[0].name, "encoder zero");
+    shm::setText(s.calibration.values[0].unit, "deg");
+    shm::setText(s.calibration.values[1].name, "laser shift along shaft x");
+    t = describeStatus(shm::Connection::kConnected, "", s, std::nullopt);
+    ASSERT_EQ(t.calibration.size(), 3u);
+    EXPECT_EQ(t.calibration[0].text, "calibrated: 1 of 2 values written");
+    EXPECT_EQ(t.calibration[1].text, "encoder zero: 0.012 +- 0.004 deg (was 0.300)");
+    EXPECT_EQ(t.calibration[2].text,
+              "laser shift along shaft x: kept (not determined by the walk)");
+    EXPECT_EQ(t.calibration[2].health, Health::kWarning);
+}
+
 TEST(StatusTexts, DofBarCombinesLikeFigure14) {
     shm::PoseRecord p;
     p.vio_dof_mask = 0b000111;   // camera solved rotation

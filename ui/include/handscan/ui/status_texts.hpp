@@ -45,7 +45,10 @@ struct StatusTexts {
     std::vector<Line> modules;   // "vio active", "scan-match degenerate tx"
     std::vector<Line> warnings;  // operator can act on each
     Line export_line;            // "" when idle, "export 45%", "exported ...: safe to remove"
-    std::string message;         // the pipeline's own note
+    // The self-calibration (none while idle): its step or outcome, then each value
+    // ("encoder zero 0.512 +- 0.004 deg", "... kept: not determined").
+    std::vector<Line> calibration;
+    std::string message;  // the pipeline's own note
     // A scan continuing an earlier one: "" otherwise, "SEARCHING FOR THE EARLIER SCAN",
     // "LOCKED ON THE EARLIER SCAN", "NOT LOCKED: walk to where the earlier scan started".
     Line localization;

@@ -87,6 +87,9 @@ struct StorageConfig {
     std::string journal_dir = "/var/lib/handscan/journal";
     std::string recording_dir = "/var/lib/handscan/recordings";
     double min_free_gib = 1.0;
+    // Record each scan's raw laser, IMU and encoder streams beside its journal (raw.mcap) while
+    // more than min_free_gib is free: for reprocessing, and the UI's "calibrate".
+    bool record_scans = true;
 };
 
 struct DeviceConfig {

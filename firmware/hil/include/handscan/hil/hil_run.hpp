@@ -48,6 +48,9 @@ struct HilOptions {
     // `initial_pose` (x,y,z,qx,qy,qz,qw in its frame; empty: where it started).
     std::string continue_scan;
     std::string initial_pose;
+    // Non-zero: after the export, the UI's "calibrate" (CommandType::kCalibrate) with at most
+    // this many rounds; the daemon replaces `calibration`'s file, keeping it as .prev.
+    int calibrate_rounds = 0;
 };
 
 struct HilReport {
@@ -63,6 +66,7 @@ struct HilReport {
     std::uint64_t recovered_points = 0;         // after --kill-at: the recovered scan's journal
     std::uint64_t recovered_export_points = 0;  // and its export
     std::uint64_t viz_bytes = 0;                // --viz: the file's size
+    std::string calibration;                    // calibrate_rounds: the daemon's answer
     std::string summary;                        // one line per figure, for the console
     // --continue: the status block said locked this long after the recording began (< 0: never).
     double locked_after_s = -1.0;

@@ -3,6 +3,10 @@
 //
 //   ChunkHeader (40 bytes, little-endian) | payload (payload_bytes)
 //
+// Chunk kinds: metadata (JSON), points (28-byte records), trajectory (64-byte poses), per-sweep
+// statistics (SweepRecord, each prefixed by its own length and layout so later fields can be
+// appended; journals from before them simply have none), end of scan.
+//
 // with a CRC32 (zlib) over the payload and another over the header's first 36 bytes. A reader
 // accepts chunks in order until the first one that is truncated or fails a check; everything
 // before it is intact because each chunk is fdatasync'ed before the next is started.
@@ -11,9 +15,11 @@
 #include <cstddef>
 #include <cstdint>
 #include <span>
+#include <string>
 #include <vector>
 
 #include "handscan/journal/map_point.hpp"
+#include "handscan/journal/sweep_record.hpp"
 
 namespace handscan::journal {
 
@@ -27,7 +33,8 @@ enum class ChunkKind : std::uint16_t {
     kMetadata = 1,
     kPoints = 2,
     kTrajectory = 3,
-    kEndOfScan = 4
+    kEndOfScan = 4,
+    kSweepStats = 5,
 };
 
 struct ChunkHeader {
@@ -55,5 +62,14 @@ void decodePoints(std::span<const std::uint8_t> payload, std::vector<MapPoint>& 
 void decodePoints(std::span<const std::uint8_t> payload, std::span<MapPoint> out);
 void encodePoses(std::span<const TrajectoryPose> poses, std::vector<std::uint8_t>& out);
 void decodePoses(std::span<const std::uint8_t> payload, std::vector<TrajectoryPose>& out);
+// Per-sweep records: u16 record bytes, u16 layout, the fields (kSweepRecordBytes with these two in
+// layout 1; a later layout appends after them), and last the tracking reason's text (its length
+// at record byte 25). A newer layout's longer record is read for the fields known.
+constexpr std::uint16_t kSweepRecordLayout = 1;
+constexpr std::size_t kSweepRecordBytes = 168;
+void encodeSweeps(std::span<const SweepRecord> sweeps, std::vector<std::uint8_t>& out);
+// Appends every whole record; empty when all were, else what the first bad one is and where
+// ("record 3 at payload byte 504: ...") - the records before it are kept.
+std::string decodeSweeps(std::span<const std::uint8_t> payload, std::vector<SweepRecord>& out);
 
 }  // namespace handscan::journal

@@ -10,6 +10,7 @@
 
 #include "handscan/core/status.hpp"
 #include "handscan/journal/map_point.hpp"
+#include "handscan/journal/sweep_record.hpp"
 
 namespace handscan::journal {
 
@@ -19,6 +20,11 @@ struct JournalSummary {
     std::uint64_t chunks = 0;
     std::uint64_t points = 0;
     std::vector<TrajectoryPose> trajectory;
+    // Per-sweep statistics (ChunkKind::kSweepStats); none in a journal written before them.
+    std::vector<SweepRecord> sweeps;
+    // Statistics chunks (or records) that could not be read, each with where: they are left out
+    // of `sweeps`, everything else of the journal is read on.
+    std::vector<std::string> sweep_damage;
     std::uint64_t good_bytes = 0;  // the intact prefix
     std::uint64_t file_bytes = 0;
     bool finished = false;  // the scan was stopped normally (end-of-scan chunk present)

@@ -14,6 +14,7 @@
 
 #include "handscan/core/status.hpp"
 #include "handscan/journal/map_point.hpp"
+#include "handscan/journal/sweep_record.hpp"
 
 namespace handscan::journal {
 
@@ -39,6 +40,8 @@ public:
 
     Status appendPoints(std::span<const MapPoint> points);
     Status appendPose(const TrajectoryPose& pose);
+    // A registered sweep's statistics (written with the next chunk of poses, before its points).
+    Status appendSweep(const SweepRecord& sweep);
     // Writes pending data if the flush interval has passed (call it often, e.g. per sweep).
     Status flushIfDue();
     // Writes everything pending now.
@@ -71,6 +74,7 @@ private:
     std::int64_t last_flush_ns_ = 0;
     std::vector<MapPoint> pending_points_;
     std::vector<TrajectoryPose> pending_poses_;
+    std::vector<SweepRecord> pending_sweeps_;
     Status stop_reason_;
 };
 

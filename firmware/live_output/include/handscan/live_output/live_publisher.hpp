@@ -36,6 +36,7 @@ struct LiveStatus {
     std::uint64_t point_count = 0;  // full-resolution points of the current scan
     std::string message;            // the pipeline's note to the operator
     std::optional<shm::ExportStatus> export_status;
+    std::optional<shm::CalibrationStatus> calibration;
     float camera_brightness = 0;
     shm::LocalizationState localization = shm::LocalizationState::kNone;
     bool can_continue = false;

@@ -8,6 +8,8 @@
 //                        for its place, continue pose=... places the operator again
 //   export [DIR|usb]  -> ExportJob (the code path of `handscan export`), acked kInProgress with
 //                        progress until it ends kDone ("safe to remove") or kFailed
+//   calibrate [rounds=N] -> CalibrateJob on the last scan's raw recording, acked kInProgress with
+//                        progress until kDone (calibration.yaml replaced, .prev kept) or kFailed
 //   shutdown          -> acked, then the daemon ends the scan cleanly and exits
 #pragma once
 
@@ -16,6 +18,7 @@
 #include <optional>
 #include <string>
 
+#include "handscan/pipeline_daemon/calibrate_job.hpp"
 #include "handscan/pipeline_daemon/export_job.hpp"
 #include "handscan/pipeline_daemon/pipeline_thread.hpp"
 #include "handscan/shm/live_map_writer.hpp"
@@ -24,8 +27,10 @@ namespace handscan::pipeline_daemon {
 
 class CommandHandler {
 public:
-    CommandHandler(PipelineThread& worker, ExportJob& exports, shm::LiveMapWriter& channel)
-        : worker_(worker), exports_(exports), channel_(channel) {}
+    // `calibration` may be null (no calibrate command).
+    CommandHandler(PipelineThread& worker, ExportJob& exports, shm::LiveMapWriter& channel,
+                   CalibrateJob* calibration = nullptr)
+        : worker_(worker), exports_(exports), channel_(channel), calibration_(calibration) {}
 
     // Takes and answers every pending command of the channel.
     void pollChannel();
@@ -46,11 +51,16 @@ private:
     // continue with a pose while scanning: where the operator stands now, for the continued
     // scan still searching for its place.
     Result<std::string> placeAgain(const std::string& argument);
+    Outcome calibrate(const std::string& argument, std::uint64_t seq);
+    void tickCalibration();
 
     PipelineThread& worker_;
     ExportJob& exports_;
     shm::LiveMapWriter& channel_;
+    CalibrateJob* calibration_;
     std::uint64_t export_seq_ = 0;  // the command the running export answers (0: a button)
+    std::uint64_t calibrate_seq_ = 0;
+    TimeNs last_calibration_ack_ = 0;
     TimeNs last_progress_ack_ = 0;
     bool shutdown_ = false;
     struct Continuing {

@@ -32,6 +32,7 @@ struct WorkerInputs {
     // Status of every device (thread-safe snapshots), for the status block.
     std::function<std::vector<live_output::LiveSensor>()> sensors;
     std::function<shm::ExportStatus()> export_status;
+    std::function<shm::CalibrationStatus()> calibration_status;  // may be empty
     // Continue an earlier scan: the worker localizes on it (null: a scan of its own).
     std::shared_ptr<const localize::PriorMap> prior_map;
     std::optional<Eigen::Isometry3d> initial_pose;

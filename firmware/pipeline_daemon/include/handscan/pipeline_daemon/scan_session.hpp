@@ -4,12 +4,13 @@
 //   stopped --new scan--> idle (journal finished); finish() (shutdown, SIGTERM) finishes it too.
 //   idle or stopped --continue--> scanning a new journal whose metadata names the earlier scan
 //   it continues (prior_map: `handscan merge` takes it as in that scan's frame).
-// While scanning, poses and full-resolution points are appended; the journal writer flushes a
-// checksummed chunk at least every 0.5 s. When the journal stops (disk full) the scan stops
-// cleanly with everything written so far intact, and problem() says why.
-// After a crash or power cut, recoverUnfinished() takes the newest unfinished journal back (its
-// torn tail cut) as a stopped scan, so the operator can still export it; starting scanning then
-// begins a new scan (the recovered points are in another run's world frame).
+// While scanning, poses, full-resolution points and per-sweep statistics are appended; the journal
+// writer flushes a checksummed chunk at least every 0.5 s. When the journal stops (disk full) the
+// scan stops cleanly with everything written so far intact, and problem() says why. After a crash
+// or power cut, recoverUnfinished() takes the newest unfinished journal back (its torn tail cut) as
+// a stopped scan, so the operator can still export it; starting scanning then begins a new scan
+// (the recovered points are in another run's world frame). With a ScanRecorder, each scanning
+// stretch's raw device streams go beside the journal (raw.mcap, ...).
 #pragma once
 
 #include <memory>
@@ -18,6 +19,7 @@
 
 #include "handscan/core/status.hpp"
 #include "handscan/journal/journal_writer.hpp"
+#include "handscan/pipeline_daemon/scan_recorder.hpp"
 #include "handscan/shm/layout.hpp"
 
 namespace handscan::pipeline_daemon {
@@ -28,6 +30,8 @@ public:
                          std::string metadata_json = "{}")
         : dir_(std::move(journal_dir)), options_(options), metadata_(std::move(metadata_json)) {}
     ~ScanSession();
+    // Records each scanning stretch's raw streams into the scan's directory (null: none).
+    void setRecorder(ScanRecorder* recorder) { recorder_ = recorder; }
 
     // Each returns the message for the operator, or why it was refused (kInvalidArgument) or
     // failed (I/O).
@@ -48,6 +52,8 @@ public:
 
     void appendPose(const journal::TrajectoryPose& pose);
     void appendPoints(std::span<const journal::MapPoint> points);
+    // A sweep's statistics (the report's module timeline and device rates).
+    void appendSweep(const journal::SweepRecord& sweep);
     void flushIfDue();
 
     shm::ScanState state() const { return state_; }
@@ -61,6 +67,8 @@ public:
 private:
     void onJournalError(const Status& s);
     Result<std::string> begin(const std::string& metadata);
+    void startRecording();
+    void stopRecording();
 
     std::string dir_;
     journal::JournalOptions options_;
@@ -71,6 +79,7 @@ private:
     std::uint64_t points_ = 0;
     std::string problem_;
     bool resumable_ = true;
+    ScanRecorder* recorder_ = nullptr;
 };
 
 }  // namespace handscan::pipeline_daemon

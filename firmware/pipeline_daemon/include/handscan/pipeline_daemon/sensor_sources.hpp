@@ -15,6 +15,7 @@
 #include "handscan/core/samples.hpp"
 #include "handscan/gpio/led_pattern.hpp"
 #include "handscan/pipeline_daemon/device_links.hpp"
+#include "handscan/pipeline_daemon/scan_recorder.hpp"
 #include "handscan/pipeline_daemon/sensor_health.hpp"
 #include "handscan/sources/live_source.hpp"
 
@@ -66,10 +67,18 @@ private:
     std::thread thread_;
 };
 
+// The raw-stream taps of a scan's recording (scan_recorder.hpp); null: not recorded.
+struct RawTaps {
+    SwitchableTap* hokuyo = nullptr;  // keeps the laser's start-up exchange (its geometry)
+    RawTap* xsens = nullptr;
+    RawTap* motor = nullptr;
+};
+
 struct SourceContext {
     const DeviceConfig& config;
     DeviceLinks& links;
     SampleQueues& queues;
+    RawTaps taps = {};
 };
 
 std::unique_ptr<SensorSource> makeHokuyoSource(const SourceContext& context);

@@ -17,6 +17,8 @@ struct ReportInputs {
     std::string scan_name;
     std::string software;        // "handscan 0.1.0"
     std::string journal_damage;  // non-empty when the journal was recovered after a crash
+    // Per-sweep statistics the journal could not read (each with where): left out of the timeline.
+    std::vector<std::string> sweep_damage;
     std::uint64_t exported_points = 0;
     double voxel_m = 0.0;
     ScanFacts facts;

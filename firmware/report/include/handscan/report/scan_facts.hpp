@@ -2,9 +2,10 @@
 // walked distance, point count and coloured share, the sensors' health over time from the journal
 // (laser points per second, the camera's coloured share, the pose rate, and the dropouts where
 // either stopped), the intervals where the matcher left a direction degenerate, which module solved
-// each direction per sweep, where tracking was lost and where the camera's VIO was bypassed (from
-// the replay's stats.json beside the journal, when there is one: the live journal does not hold
-// them), and the loop-closure gap when the walk came back to where it started.
+// each direction per sweep, where tracking was lost and where the camera's VIO was bypassed, each
+// device's sample rate per sweep and its dropouts (from the journal's per-sweep records, which the
+// daemon and replay both write; for an older journal from the replay's stats.json beside it), and
+// the loop-closure gap when the walk came back to where it started.
 #pragma once
 
 #include <cstdint>
@@ -15,6 +16,7 @@
 #include <vector>
 
 #include "handscan/journal/map_point.hpp"
+#include "handscan/journal/sweep_record.hpp"
 
 namespace handscan::report {
 
@@ -38,6 +40,12 @@ struct SweepModules {
     char tracking = 'o';                          // 'o' ok, 'r' rejected, 'l' lost
 };
 
+// Each device's samples per second over one sweep's window (the pipeline's intake).
+struct DeviceRates {
+    double t_s = 0.0;  // sweep start, seconds from the scan's start
+    double laser_hz = 0, imu_hz = 0, encoder_hz = 0, colour_hz = 0, tracking_hz = 0;
+};
+
 struct ScanFacts {
     double t0_s = 0.0;  // scan clock at the start
     double duration_s = 0.0;
@@ -54,16 +62,27 @@ struct ScanFacts {
     bool have_vio = false;                    // stats.json has a vio block (the VIO ran)
     double vio_from_s = 0.0;                  // its first frame
     std::vector<Interval> vio_bypassed;       // stats.json vio.bypassed
-    std::optional<double> loop_gap_m;         // end-to-start distance when the walk closed a loop
-    std::string loop_note;                    // why there is, or is not, a gap
+    std::string sweep_source;  // where the per-sweep facts came from ("journal", "stats.json")
+    std::vector<DeviceRates> device_rates;  // per sweep (journal records only)
+    // Sweep windows in which a device that delivered elsewhere in the scan delivered nothing
+    // (`what`: the device).
+    std::vector<Interval> device_dropouts;
+    std::optional<double> loop_gap_m;  // end-to-start distance when the walk closed a loop
+    std::string loop_note;             // why there is, or is not, a gap
 };
 
 class ScanFactsBuilder {
 public:
     void add(std::span<const journal::MapPoint> points);
-    // `stats_json`: a replay's stats.json (per_sweep degenerate_directions), or empty.
+    // `sweeps`: the journal's per-sweep records; without any, `stats_json`: a replay's
+    // stats.json (per_sweep degenerate_directions), or empty.
     ScanFacts finish(std::span<const journal::TrajectoryPose> trajectory,
+                     std::span<const journal::SweepRecord> sweeps,
                      const std::string& stats_json) const;
+    ScanFacts finish(std::span<const journal::TrajectoryPose> trajectory,
+                     const std::string& stats_json) const {
+        return finish(trajectory, {}, stats_json);
+    }
 
 private:
     struct Second {

@@ -15,7 +15,7 @@
 namespace handscan::shm {
 
 inline constexpr std::uint64_t kMagic = 0x314D48534E435348ull;  // "HSCNSHM1" little-endian
-inline constexpr std::uint32_t kLayoutVersion = 3;
+inline constexpr std::uint32_t kLayoutVersion = 4;
 inline constexpr const char* kDefaultRegionName = "/handscan-live";
 
 inline constexpr std::size_t kPoseRingCapacity = 2048;  // > 10 s of 200 Hz poses
@@ -26,6 +26,7 @@ inline constexpr std::size_t kCommandSlots = 16;
 inline constexpr std::size_t kNameChars = 16;
 inline constexpr std::size_t kTextChars = 120;
 inline constexpr std::size_t kArgumentChars = 248;
+inline constexpr std::size_t kCalibrationValues = 8;
 
 // DOF order of every per-DOF mask: bit 0..2 rotation about x, y, z; bit 3..5 translation x, y, z
 // (the (rot, trans) order of PoseEstimate::covariance).
@@ -36,6 +37,7 @@ enum class WriterState : std::uint64_t { kInitialising = 0, kRunning = 1, kClose
 enum class ScanState : std::uint8_t { kIdle = 0, kScanning = 1, kStopped = 2 };
 enum class ModuleState : std::uint8_t { kOff = 0, kActive = 1, kBypassed = 2 };
 enum class ExportState : std::uint8_t { kIdle = 0, kRunning = 1, kDone = 2, kFailed = 3 };
+enum class CalibrationState : std::uint8_t { kIdle = 0, kRunning = 1, kDone = 2, kFailed = 3 };
 enum class CommandType : std::uint32_t {
     kNone = 0,
     kStartScan = 1,
@@ -48,6 +50,7 @@ enum class CommandType : std::uint32_t {
     // that can be continued) and "pose=x,y,z,qx,qy,qz,qw" (where the operator stands, in that
     // scan's frame, TUM order), separated by a space.
     kContinueScan = 6,
+    kCalibrate = 7,  // self-calibrate on the last scan's raw recording (argument: "" or rounds=N)
 };
 // A scan continuing an earlier one: finding its place on the earlier map, found, or not found
 // by the last search (walk to where the earlier scan started, or place yourself on its map).
@@ -122,6 +125,29 @@ struct ExportStatus {
     char message[kTextChars] = {};
 };
 
+// One value `handscan calibrate` estimated (in the units it prints: deg, mm, ms).
+struct CalibrationValue {
+    char name[32] = {};  // "laser roll about shaft x", "encoder zero", "IMU time offset", ...
+    char unit[8] = {};
+    float start = 0, value = 0, std = 0;  // std: 0 when not estimated
+    std::uint8_t written = 0;             // 0: the data did not determine it; kept as it was
+    std::uint8_t reserved[3] = {};
+};
+
+// The daemon's self-calibration on the last scan (CommandType::kCalibrate): progress, then the
+// values with their standard deviations and which were written.
+struct CalibrationStatus {
+    std::uint8_t state = 0;  // CalibrationState
+    std::uint8_t value_count = 0;
+    std::uint8_t reserved[2] = {};
+    float progress = 0;               // 0..1
+    float consistency_before_mm = 0;  // half-revolution consistency, START
+    float consistency_after_mm = 0;   // ... with the written calibration
+    char message[kTextChars] = {};    // the step running, or the outcome
+    char file[kTextChars] = {};       // the calibration.yaml written
+    CalibrationValue values[kCalibrationValues] = {};
+};
+
 // Everything the status bar shows, replaced as a whole by the writer.
 struct StatusBlock {
     std::int64_t t_ns = 0;
@@ -145,6 +171,7 @@ struct StatusBlock {
     float reserved_f = 0;
     ExportStatus export_status = {};
     char message[kTextChars] = {};  // the pipeline's own note to the operator
+    CalibrationStatus calibration = {};
 };
 
 struct CommandRequest {
@@ -209,6 +236,7 @@ struct RegionHeader {
 static_assert(std::is_trivially_copyable_v<RegionHeader> &&
               std::is_standard_layout_v<RegionHeader>);
 static_assert(sizeof(DisplayPoint) == 16);
+static_assert(sizeof(CalibrationValue) == 56 && sizeof(CalibrationStatus) % 8 == 0);
 static_assert(sizeof(PoseRecord) % 8 == 0 && sizeof(StatusBlock) % 8 == 0);
 static_assert(sizeof(CommandRequest) % 8 == 0 && sizeof(CommandAck) % 8 == 0);
 static_assert(sizeof(TrackPoint) % 8 == 0 && sizeof(RegionHeader) % 8 == 0);

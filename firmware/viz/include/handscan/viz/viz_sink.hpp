@@ -41,6 +41,9 @@ public:
     bool wantsSweeps() const override { return next_ == nullptr || next_->wantsSweeps(); }
     [[nodiscard]] Status sweep(const lio::RegisteredSweep& sweep,
                                std::span<const journal::MapPoint> points) override;
+    [[nodiscard]] Status sweepRecord(const journal::SweepRecord& record) override {
+        return next_ != nullptr ? next_->sweepRecord(record) : Status::ok();
+    }
 
     // The samples given to the worker (before they are).
     void samples(std::span<const sources::Sample> samples);

@@ -21,6 +21,7 @@
 #include "handscan/core/call_timer.hpp"
 #include "handscan/core/config.hpp"
 #include "handscan/journal/map_point.hpp"
+#include "handscan/journal/sweep_record.hpp"
 #include "handscan/lio/laser_inertial_odometry.hpp"
 #include "handscan/localize/localizer.hpp"
 #include "handscan/sources/sample_source.hpp"
@@ -44,6 +45,12 @@ public:
     // A registered sweep and its coloured full-resolution map points.
     [[nodiscard]] virtual Status sweep(const lio::RegisteredSweep& sweep,
                                        std::span<const journal::MapPoint> points) = 0;
+    // The same sweep as the scan keeps its statistics (every sweep handed on, also those kept
+    // out of the map), just before sweep(): the journal's per-sweep record, stats.json's
+    // per_sweep, the report's module timeline and device rates.
+    [[nodiscard]] virtual Status sweepRecord(const journal::SweepRecord& /*record*/) {
+        return Status::ok();
+    }
 };
 
 struct WorkerConfig {
@@ -139,6 +146,8 @@ private:
     std::vector<journal::MapPoint> mapPoints(const lio::RegisteredSweep& s);
     // To the sink, in the prior map's frame when localized.
     [[nodiscard]] Status deliver(const lio::RegisteredSweep& s, std::vector<journal::MapPoint> pts);
+    // The sweep's record (as handed on) with the samples taken since the last, to the sink.
+    [[nodiscard]] Status record(const lio::RegisteredSweep& s);
     template <typename Fn>
     auto timed(const char* module, Fn&& fn) {
         if (timer_ != nullptr) return timer_->time(module, fn);
@@ -163,6 +172,9 @@ private:
     };
     std::deque<HeldSweep> held_sweeps_;
     std::uint64_t sweeps_held_ = 0;
+    // Samples taken since the last sweep record, and the sample time that window began.
+    journal::DeviceCounts counts_;
+    TimeNs counts_from_ = 0, last_sample_ = 0;
 };
 
 }  // namespace handscan::worker

@@ -1,0 +1,57 @@
+// CalibrateJob: `handscan calibrate` (calibrate::selfCalibrate, the same code) on the last scan's
+// raw recording (scan_recorder.hpp), on a thread of its own at idle priority (SCHED_IDLE: it
+// takes only CPU time the pipeline and the devices leave), one at a time. Progress (the step
+// running) and the outcome (every value with its standard deviation, which were written) are kept
+// as the status block's CalibrationStatus for the UI.
+//
+// The new calibration replaces the daemon's calibration.yaml only when the run succeeded, and the
+// previous file is kept as calibration.yaml.prev: the new file is written beside it under a
+// temporary name, the old one hard-linked to .prev (atomic rename), then the new one renamed over
+// it - at every moment calibration.yaml is one whole file. The running pipeline keeps the
+// calibration it started with; the new one applies from the next start of the daemon.
+#pragma once
+
+#include <mutex>
+#include <optional>
+#include <string>
+#include <thread>
+
+#include "handscan/core/status.hpp"
+#include "handscan/shm/layout.hpp"
+
+namespace handscan::pipeline_daemon {
+
+class CalibrateJob {
+public:
+    // The files the daemon runs with: its device.yaml and the calibration.yaml to replace.
+    CalibrateJob(std::string device_yaml, std::string calibration_yaml)
+        : device_yaml_(std::move(device_yaml)), calibration_yaml_(std::move(calibration_yaml)) {}
+    ~CalibrateJob();
+    CalibrateJob(const CalibrateJob&) = delete;
+    CalibrateJob& operator=(const CalibrateJob&) = delete;
+
+    // Starts the calibration on `recording` with at most `rounds` replay-and-solve rounds.
+    // Refused (kInvalidArgument) while another runs.
+    Status start(const std::string& recording, int rounds = 4);
+    bool running() const;
+    shm::CalibrationStatus status() const;
+    // The outcome of a finished run, once: the message for the operator, or the error.
+    std::optional<Result<std::string>> takeResult();
+
+private:
+    void run(std::string recording, int rounds);
+    void step(const std::string& line, int rounds);
+
+    const std::string device_yaml_, calibration_yaml_;
+    mutable std::mutex mutex_;
+    shm::CalibrationStatus status_{};
+    bool running_ = false;
+    std::optional<Result<std::string>> result_;
+    std::thread thread_;
+};
+
+// Replaces `target` with `fresh` (a complete file beside it), keeping the old one as
+// `target`.prev; each step an atomic rename, the directory synced.
+Status installKeepingPrevious(const std::string& fresh, const std::string& target);
+
+}  // namespace handscan::pipeline_daemon
