@@ -398,18 +398,18 @@ void UiApp::drawButtons(const ScreenLayout& l) {
                   connected && stopped && !exporting)) {
         send(shm::CommandType::kNewScan);
     }
-    // A continued scan that has not found its place: the operator places themselves again.
+    // Continue the stopped scan (placing oneself on its map), or the newest earlier one; while a
+    // continued scan has not found its place, in the same place: the operator places themselves
+    // again.
     const auto lock = status_ ? static_cast<shm::LocalizationState>(status_->localization)
                               : shm::LocalizationState::kNone;
-    if (state == shm::ScanState::kScanning && (lock == shm::LocalizationState::kSearching ||
-                                               lock == shm::LocalizationState::kNotLocked)) {
-        if (bigButton("PLACE ME", ImVec4(0.45f, 0.3f, 0.6f, 1), w, h, connected))
+    const bool searching =
+        lock == shm::LocalizationState::kSearching || lock == shm::LocalizationState::kNotLocked;
+    if (state == shm::ScanState::kScanning) {
+        if (bigButton("PLACE ME", ImVec4(0.45f, 0.3f, 0.6f, 1), w, h, connected && searching))
             openStartPlacement(l, true);
-    }
-    // Continue the stopped scan (placing oneself on its map), or the newest earlier one.
-    if (state != shm::ScanState::kScanning &&
-        bigButton("CONTINUE SCAN", ImVec4(0.45f, 0.3f, 0.6f, 1), w, h,
-                  connected && !exporting && (stopped || texts_.can_continue))) {
+    } else if (bigButton("CONTINUE SCAN", ImVec4(0.45f, 0.3f, 0.6f, 1), w, h,
+                         connected && !exporting && (stopped || texts_.can_continue))) {
         if (stopped)
             openStartPlacement(l);
         else
