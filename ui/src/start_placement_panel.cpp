@@ -73,11 +73,12 @@ StartPlacementPanel::Action StartPlacementPanel::drawButtons(float w, float h,
         if (!enabled) ImGui::EndDisabled();
         return pressed && enabled;
     };
-    if (button("START HERE", ImVec4(0.1f, 0.55f, 0.2f, 1), placement_.placed())) {
+    if (button(again_ ? "I AM HERE" : "START HERE", ImVec4(0.1f, 0.55f, 0.2f, 1),
+               placement_.placed())) {
         argument = "pose=" + placement_.poseText();
         out = Action::kContinue;
     }
-    if (button("START WHERE IT STARTED", ImVec4(0.15f, 0.35f, 0.7f, 1), true)) {
+    if (!again_ && button("FROM ITS START", ImVec4(0.15f, 0.35f, 0.7f, 1), true)) {
         argument.clear();
         out = Action::kContinue;
     }

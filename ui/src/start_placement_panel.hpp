@@ -20,8 +20,11 @@ public:
     enum class Action { kNone, kContinue, kCancel };
 
     bool active() const { return active_; }
-    void open() {
+    // `again`: the continued scan is running and has not found its place; the operator says
+    // where they stand now (no "where it started", nothing to start).
+    void open(bool again = false) {
         active_ = true;
+        again_ = again;
         placement_.clear();
     }
     void close() { active_ = false; }
@@ -39,6 +42,7 @@ public:
 
 private:
     bool active_ = false;
+    bool again_ = false;
     bool pressing_ = false;
     StartPlacement placement_;
 };

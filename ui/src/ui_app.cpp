@@ -106,7 +106,7 @@ private:
     void trackCommand();
     bool bigButton(const char* label, ImVec4 colour, float w, float h, bool enabled = true);
     int finishScreenshot(bool timed_out);
-    void openStartPlacement(const ScreenLayout& l);
+    void openStartPlacement(const ScreenLayout& l, bool again = false);
     void writeStatusJsonNow();
 
     UiOptions o_;
@@ -398,10 +398,18 @@ void UiApp::drawButtons(const ScreenLayout& l) {
                   connected && stopped && !exporting)) {
         send(shm::CommandType::kNewScan);
     }
-    // Continue the stopped scan (placing oneself on its map), or the newest earlier one.
-    if (state != shm::ScanState::kScanning &&
-        bigButton("CONTINUE SCAN", ImVec4(0.45f, 0.3f, 0.6f, 1), w, h,
-                  connected && !exporting && (stopped || texts_.can_continue))) {
+    // Continue the stopped scan (placing oneself on its map), or the newest earlier one; while a
+    // continued scan has not found its place, in the same place: the operator places themselves
+    // again.
+    const auto lock = status_ ? static_cast<shm::LocalizationState>(status_->localization)
+                              : shm::LocalizationState::kNone;
+    const bool searching =
+        lock == shm::LocalizationState::kSearching || lock == shm::LocalizationState::kNotLocked;
+    if (state == shm::ScanState::kScanning) {
+        if (bigButton("PLACE ME", ImVec4(0.45f, 0.3f, 0.6f, 1), w, h, connected && searching))
+            openStartPlacement(l, true);
+    } else if (bigButton("CONTINUE SCAN", ImVec4(0.45f, 0.3f, 0.6f, 1), w, h,
+                         connected && !exporting && (stopped || texts_.can_continue))) {
         if (stopped)
             openStartPlacement(l);
         else
@@ -679,9 +687,9 @@ int UiApp::finishScreenshot(bool timed_out) {
     return 0;
 }
 
-void UiApp::openStartPlacement(const ScreenLayout& l) {
+void UiApp::openStartPlacement(const ScreenLayout& l, bool again) {
     // The earlier map from above, all of its path in view, north up.
-    placing_.open();
+    placing_.open(again);
     coverage_view_ = false;
     camera_.mode = CameraMode::kTopDown;
     top_down_follows_device_ = false;

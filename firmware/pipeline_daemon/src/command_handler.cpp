@@ -65,6 +65,9 @@ CommandHandler::Outcome CommandHandler::execute(CommandType type, const std::str
         case CommandType::kContinueScan:
             if (exports_.running())
                 return {CommandState::kRejected, "an export is running; wait for it to finish"};
+            // While a continued scan searches for its place, a pose places the operator again.
+            if (worker_.scanState() == shm::ScanState::kScanning)
+                return fromResult(placeAgain(argument));
             if (auto loading = continueScan(argument, seq); !loading.isOk())
                 return fromResult(loading);
             else
@@ -103,6 +106,14 @@ Result<std::string> CommandHandler::continueScan(const std::string& argument, st
     continuing_ = Continuing{seq, request->initial_pose,
                              std::async(std::launch::async, loadEarlierScan, dir)};
     return "loading " + std::filesystem::path(dir).filename().string();
+}
+
+Result<std::string> CommandHandler::placeAgain(const std::string& argument) {
+    auto request = parseContinueArgument(argument);
+    if (!request.isOk()) return request.status();
+    if (!request->initial_pose || !request->scan.empty())
+        return Status(StatusCode::kInvalidArgument, "stop the scan before continuing another");
+    return worker_.placeAgain(*request->initial_pose);
 }
 
 void CommandHandler::finishContinue() {

@@ -117,6 +117,10 @@ Result<std::string> PipelineThread::continueScan(std::shared_ptr<const EarlierSc
     return submit(Request{ScanControl::kContinue, {}, std::move(earlier), initial_pose}, timeout);
 }
 
+Result<std::string> PipelineThread::placeAgain(const Eigen::Isometry3d& where, TimeNs timeout) {
+    return submit(Request{ScanControl::kPlace, {}, nullptr, where}, timeout);
+}
+
 Result<std::string> PipelineThread::submit(Request request, TimeNs timeout) {
     std::future<Result<std::string>> done;
     {
@@ -188,6 +192,13 @@ void PipelineThread::handle(Request& r) {
             break;
         case ScanControl::kContinue:
             out = continueOn(r);
+            break;
+        case ScanControl::kPlace:
+            if (session_->scanning() && r.initial_pose && worker_->placeAgain(*r.initial_pose))
+                out = std::string("placed: searching for the earlier scan from there");
+            else
+                out = Status(StatusCode::kInvalidArgument,
+                             "no continued scan searching for its place: stop the scan first");
             break;
         case ScanControl::kFinish:
             // Everything the drivers delivered belongs to the scan: process it, with the last

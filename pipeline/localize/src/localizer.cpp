@@ -68,6 +68,13 @@ bool Localizer::addSweep(TimeNs t_start, const Eigen::Isometry3d& T_odom_body,
     return changed;
 }
 
+bool Localizer::placeAt(const Eigen::Isometry3d& hint) {
+    if (locked_) return false;
+    hint_ = hint;
+    have_first_ = false;  // the next sweep is where the hint holds; a full stack before a search
+    return true;
+}
+
 bool Localizer::settle() { return running_.valid() && apply(running_.get()); }
 
 void Localizer::launch() {

@@ -81,6 +81,27 @@ TEST(LocalizerTest, NoLockWhereThePriorMapHasNothingNearTheHint) {
     EXPECT_LT(l.stats().lock_on_map, 0.6);
 }
 
+TEST(LocalizerTest, PlacedAgainWhereTheOperatorStandsNowItLocks) {
+    // The first hint 12 m outside the room: no lock. Then the operator, having walked 1 m on
+    // (the odometry says so), taps roughly where they stand now.
+    const Eigen::Isometry3d truth = pose(3.2, 2.4, 1.3, 40);
+    Localizer l(atNextSweep(), roomPrior(), pose(-12, 3.5, 1.3, 0));
+    TimeNs t = 1000 * kNsPerSec;
+    feed(l, 9, t, truth, Eigen::Isometry3d::Identity());
+    EXPECT_FALSE(l.settle());
+    ASSERT_EQ(l.lockState(), LockState::kNotLocked);
+    const Eigen::Isometry3d walked = pose(1.0, 0.0, 0.0, 0.0);
+    const Eigen::Isometry3d now = truth * walked;
+    EXPECT_TRUE(l.placeAt(pose(now.translation().x() + 0.8, now.translation().y() - 0.6, 1.3, 50)));
+    feed(l, 5, t, now, walked);
+    EXPECT_TRUE(l.settle());
+    ASSERT_TRUE(l.locked());
+    const Eigen::Isometry3d est = l.priorFromOdom() * walked;
+    EXPECT_LT((est.translation() - now.translation()).norm(), 0.01);
+    EXPECT_LT(angleDeg(est, now), 0.2);
+    EXPECT_FALSE(l.placeAt(pose(0, 0, 1.3, 0)));  // locked: a tap changes nothing
+}
+
 TEST(LocalizerTest, AMovedObjectKeepsTheLockAndIsReportedWhereItNowStands) {
     const Eigen::Vector3d moved(-0.6, -0.5, 0.0);  // the cabinet, 0.78 m
     const Eigen::Isometry3d truth = pose(6.5, 3.0, 1.3, -20);

@@ -4,7 +4,8 @@
 //   continue [scan=NAME] [pose=...] -> the earlier scan loaded on a thread of its own (EarlierScan;
 //                        a long scan's journal takes seconds, longer than the watchdog allows
 //                        this loop), acked kInProgress; then a new scan localized on it
-//                        (PipelineThread::continueScan), acked kDone
+//                        (PipelineThread::continueScan), acked kDone; while that scan searches
+//                        for its place, continue pose=... places the operator again
 //   export [DIR|usb]  -> ExportJob (the code path of `handscan export`), acked kInProgress with
 //                        progress until it ends kDone ("safe to remove") or kFailed
 //   calibrate [rounds=N] -> CalibrateJob on the last scan's raw recording, acked kInProgress with
@@ -47,6 +48,9 @@ private:
     // Starts loading the scan to continue; the message for the kInProgress ack.
     Result<std::string> continueScan(const std::string& argument, std::uint64_t seq);
     void finishContinue();
+    // continue with a pose while scanning: where the operator stands now, for the continued
+    // scan still searching for its place.
+    Result<std::string> placeAgain(const std::string& argument);
     Outcome calibrate(const std::string& argument, std::uint64_t seq);
     void tickCalibration();
 

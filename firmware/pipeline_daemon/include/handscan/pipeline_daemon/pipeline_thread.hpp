@@ -26,7 +26,7 @@
 
 namespace handscan::pipeline_daemon {
 
-enum class ScanControl { kStart, kStop, kNewScan, kFinish, kContinue };
+enum class ScanControl { kStart, kStop, kNewScan, kFinish, kContinue, kPlace };
 
 struct WorkerInputs {
     // Status of every device (thread-safe snapshots), for the status block.
@@ -57,6 +57,9 @@ public:
     Result<std::string> continueScan(std::shared_ptr<const EarlierScan> earlier,
                                      std::optional<Eigen::Isometry3d> initial_pose,
                                      TimeNs timeout = 5 * kNsPerSec);
+    // While a continued scan searches for its place: the operator's new start hint (where they
+    // stand now), the search starts again around it.
+    Result<std::string> placeAgain(const Eigen::Isometry3d& where, TimeNs timeout = 5 * kNsPerSec);
     // Where the scans are journaled (one directory each).
     const std::string& journalRoot() const { return journal_root_; }
 

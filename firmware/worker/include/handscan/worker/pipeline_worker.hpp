@@ -118,6 +118,11 @@ public:
     bool colourising() const { return colouriser_ != nullptr; }
     // The visual-inertial odometry (null: not configured or cam0 unusable).
     const VisualStage* visual() const { return visual_.get(); }
+    // A new start hint for the localizer (see localize::Localizer::placeAt); false when there is
+    // no localizer or it has locked.
+    bool placeAgain(const Eigen::Isometry3d& hint) {
+        return localizer_ != nullptr && localizer_->placeAt(hint);
+    }
     // The localizer on the prior map (null without one).
     const localize::Localizer* localizer() const { return localizer_.get(); }
     // Sweeps left out of the outputs because the localizer had not locked within

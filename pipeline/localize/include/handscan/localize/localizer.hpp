@@ -82,6 +82,9 @@ public:
                   std::shared_ptr<const scan::FeatureCloud> features);
     // Waits for the running match, if any, and applies it; true when the estimate changed.
     bool settle();
+    // Not locked yet: the operator says where they stand now (their tap on the prior map); the
+    // search starts again around it from the next sweep (the odometry goes on). False once locked.
+    bool placeAt(const Eigen::Isometry3d& hint);
 
     bool locked() const { return locked_; }
     LockState lockState() const;
