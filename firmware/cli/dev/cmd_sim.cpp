@@ -2,6 +2,7 @@
 // REC.gt.tum; lists the built-in scenes; exports a scene's mesh as PLY.
 #include <chrono>
 #include <cstdio>
+#include <cstdlib>
 #include <iostream>
 #include <memory>
 
@@ -27,7 +28,35 @@ struct SimArgs {
     bool ascii_ply = false;
     std::string device;
     std::string calibration;
+    std::string blind_laser;  // T[:D]
+    std::string imu_gap;      // T[:D]
 };
+
+// "T" or "T:D" (seconds): when an incident starts and how long it lasts.
+bool parseIncident(const std::string& spec, double& at_s, double& for_s) {
+    if (spec.empty()) return true;
+    char* end = nullptr;
+    const double at = std::strtod(spec.c_str(), &end);
+    if (end == spec.c_str() || at < 0.0) return false;
+    if (*end == ':') {
+        const char* d = end + 1;
+        const double dur = std::strtod(d, &end);
+        if (end == d || dur <= 0.0) return false;
+        for_s = dur;
+    }
+    if (*end != '\0') return false;
+    at_s = at;
+    return true;
+}
+
+const auto incidentSpec = CLI::Validator(
+    [](std::string& spec) {
+        double at = 0.0, dur = 0.0;
+        return parseIncident(spec, at, dur)
+                   ? std::string()
+                   : "expected T or T:D in seconds (T >= 0, D > 0), got '" + spec + "'";
+    },
+    "T[:D]");
 
 std::string gtPathFor(const std::string& mcap) {
     const std::string stem = mcap.size() > 5 && mcap.substr(mcap.size() - 5) == ".mcap"
@@ -60,6 +89,9 @@ int runSim(const SimArgs& a) {
         return 0;
     }
     sim::SimOptions o = a.options;
+    (void)parseIncident(a.blind_laser, o.incidents.blind_laser_at_s,
+                        o.incidents.blind_laser_for_s);  // validated by CLI11
+    (void)parseIncident(a.imu_gap, o.incidents.imu_gap_at_s, o.incidents.imu_gap_for_s);
     o.cameras = !a.no_camera;
     o.colour_camera = !a.no_colour;
     const auto wall0 = std::chrono::steady_clock::now();
@@ -71,6 +103,16 @@ int runSim(const SimArgs& a) {
         o.duration_s, st.path_length_m, st.peak_rate_dps,
         st.loop_closed ? fmt::format("closed loop ({} lap{})", st.laps, st.laps > 1 ? "s" : "")
                        : std::string("open (too short to close the loop)"));
+    const sim::IncidentOptions& inc = o.incidents;
+    if (inc.blind_laser_at_s >= 0.0)
+        log().info("sim: the laser blinded from {:.2f} s for {:.2f} s", inc.blind_laser_at_s,
+                   inc.blind_laser_for_s);
+    if (inc.imu_gap_at_s >= 0.0)
+        log().info("sim: no IMU frames from {:.2f} s for {:.2f} s", inc.imu_gap_at_s,
+                   inc.imu_gap_for_s);
+    if (inc.drop_at_s >= 0.0)
+        log().info("sim: the scanner dropped at {:.2f} s, back in the hand {:.2f} s later",
+                   inc.drop_at_s, inc.drop_lie_s + inc.drop_pickup_s + 0.5);
     // On stdout, for scripts (tests/e2e/localize): what the second session should see changed.
     for (const sim::MovedObject& m : simulator.movedObjects())
         std::printf("moved %s from %.3f,%.3f,%.3f to %.3f,%.3f,%.3f, turned %.1f deg\n",
@@ -176,6 +218,15 @@ const RegisterCommand kSim{
         sub.add_option("--range-noise", a->options.hazards.range_noise_scale,
                        "range noise as a multiple of the datasheet's")
             ->check(CLI::Range(0.0, 20.0));
+        // One failure during the walk (tools/sim incidents.hpp).
+        sub.add_option("--blind-laser", a->blind_laser,
+                       "T[:D]: the laser's window covered for D s (default 5) from T s")
+            ->check(incidentSpec);
+        sub.add_option("--imu-gap", a->imu_gap, "T[:D]: no IMU frames for D s (default 2) from T s")
+            ->check(incidentSpec);
+        sub.add_option("--drop", a->options.incidents.drop_at_s,
+                       "T: the scanner falls to the floor at T s, lies 1.5 s, is picked up")
+            ->check(CLI::NonNegativeNumber);
         sub.add_option("--device", a->device, "device.yaml (default: <config dir>/device.yaml)");
         sub.add_option("--calibration", a->calibration,
                        "calibration.yaml (default: <config dir>/calibration.yaml)");

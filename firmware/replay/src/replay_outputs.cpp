@@ -42,6 +42,7 @@ Json trackingJson(const fusion::TrackingMonitor& m) {
     for (const auto& i : m.intervals()) {
         lost_sweeps += i.sweeps;
         intervals.push_back({{"begin_s", toSeconds(i.t_begin)},
+                             {"flagged_s", toSeconds(i.t_flagged)},
                              {"end_s", endSeconds(i.t_end)},
                              {"sweeps", i.sweeps},
                              {"reason", fusion::lostReasonName(i.reason)},

@@ -31,12 +31,19 @@ const char* lostReasonName(LostReason r) {
             return "prediction_disagrees";
         case LostReason::kImplausibleMotion:
             return "implausible_motion";
+        case LostReason::kLaserBlind:
+            return "laser_blind";
+        case LostReason::kImuSilent:
+            return "imu_silent";
+        case LostReason::kDropped:
+            return "dropped";
     }
     return "unknown";
 }
 
 LostReason TrackingMonitor::checkMotion(const SweepEvidence& e, std::string& detail) const {
-    if (!last_ || e.t <= last_->t) return LostReason::kNone;
+    // Speeds and accelerations across a failure (a fall, a gap) say nothing about the motion.
+    if (!last_ || e.t <= last_->t || last_failure_t_ >= last_->t) return LostReason::kNone;
     const double dt = toSeconds(e.t - last_->t);
     const Eigen::Vector3d v = (e.T_world_match.translation() - last_->T.translation()) / dt;
     if (v.norm() > config_.max_speed_mps) {
@@ -50,7 +57,8 @@ LostReason TrackingMonitor::checkMotion(const SweepEvidence& e, std::string& det
         return LostReason::kImplausibleMotion;
     }
     // Acceleration only between adjacent sweeps: across a gap the mean velocities say little.
-    if (before_last_ && dt < 2.0 && last_->t > before_last_->t) {
+    if (before_last_ && dt < 2.0 && last_->t > before_last_->t &&
+        before_last_->t > last_failure_t_) {
         const double dt0 = toSeconds(last_->t - before_last_->t);
         if (dt0 < 2.0) {
             const Eigen::Vector3d v0 =
@@ -113,7 +121,9 @@ TrackingVerdict TrackingMonitor::assess(const SweepEvidence& e) {
     v.reason = check(e, v.detail);
     v.consistent = v.reason == LostReason::kNone;
     v.fits_map = v.consistent || v.reason == LostReason::kPredictionDisagrees;
-    if (v.consistent) {
+    if (v.consistent && awaiting_relocalisation_) {
+        good_run_ = 0;  // consistent with an unknown pose proves nothing yet
+    } else if (v.consistent) {
         bad_run_ = 0;
         ++good_run_;
         before_last_ = last_;
@@ -130,7 +140,7 @@ TrackingVerdict TrackingMonitor::assess(const SweepEvidence& e) {
             bad_run_ >= config_.trip_after || v.reason == LostReason::kImplausibleMotion;
         if (!lost_ && trips) {
             lost_ = true;
-            intervals_.push_back({e.t, 0, v.reason, v.detail, 0});
+            intervals_.push_back({e.t, 0, v.reason, v.detail, 0, e.t});
         }
     }
     if (lost_) ++intervals_.back().sweeps;
@@ -140,6 +150,35 @@ TrackingVerdict TrackingMonitor::assess(const SweepEvidence& e) {
     v.enters_map = v.consistent && !lost_;
     if (lost_ && v.reason == LostReason::kNone) v.reason = intervals_.back().reason;
     return v;
+}
+
+TrackingVerdict TrackingMonitor::fail(TimeNs t, TimeNs t_seen, LostReason reason,
+                                      std::string detail, bool pose_unknown) {
+    TrackingVerdict v;
+    if (!config_.enabled) return v;
+    v.consistent = false;
+    v.fits_map = false;
+    v.enters_map = false;
+    v.reason = reason;
+    v.detail = std::move(detail);
+    good_run_ = 0;
+    bad_run_ = std::max(bad_run_, config_.trip_after);
+    last_failure_t_ = std::max(last_failure_t_, t);
+    awaiting_relocalisation_ = awaiting_relocalisation_ || pose_unknown;
+    if (!lost_) {
+        lost_ = true;
+        intervals_.push_back({t, 0, reason, v.detail, 0, t_seen});
+    }
+    v.lost = true;
+    return v;
+}
+
+void TrackingMonitor::relocalised(TimeNs t, const std::string& detail) {
+    if (!awaiting_relocalisation_) return;
+    awaiting_relocalisation_ = false;
+    good_run_ = 0;
+    last_failure_t_ = std::max(last_failure_t_, t);  // no motion judged across the jump
+    if (!intervals_.empty()) intervals_.back().detail += "; " + detail;
 }
 
 }  // namespace handscan::fusion

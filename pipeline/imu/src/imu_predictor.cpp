@@ -81,8 +81,10 @@ Status ImuPredictor::addImu(const ImuSample& s) {
     ImuHistoryEntry e;
     e.sample = s;
     e.reading = correctBiases(s, biases_);
-    e.state = integrateStep(prev.state, prev.reading, e.reading,
-                            toSeconds(s.t_host - prev.sample.t_host), gravity());
+    // Across a gap (the link lost) attitude and velocity are held, not integrated.
+    e.state =
+        integrateOrHold(prev.state, prev.reading, e.reading,
+                        toSeconds(s.t_host - prev.sample.t_host), gravity(), config_.max_gap_s);
     e.state.t = s.t_host;
     history_.push(e);
     history_.trimBefore(s.t_host - fromSeconds(config_.horizon_s));
@@ -171,6 +173,19 @@ Status ImuPredictor::correct(TimeNs t, const Eigen::Isometry3d& T_world_body,
     return status;
 }
 
+void ImuPredictor::moveWorld(const Eigen::Isometry3d& T_new_old) {
+    const Eigen::Matrix3d R = T_new_old.linear();
+    for (std::size_t k = 0; k < history_.size(); ++k) {
+        NavState& x = history_[k].state;
+        x.R_world_imu = orthonormalize(R * x.R_world_imu);
+        x.p_world_imu = T_new_old * x.p_world_imu;
+        x.v_world_imu = R * x.v_world_imu;
+    }
+    gravity_world_ = R * gravity_world_;
+    bias_estimator_.reset();
+    motion_prior_.reset();
+}
+
 void ImuPredictor::repropagateFrom(const NavState& x0) {
     std::size_t k = history_.nodeAt(x0.t, gravity());
     NavState x = x0;
@@ -180,7 +195,8 @@ void ImuPredictor::repropagateFrom(const NavState& x0) {
     for (++k; k < history_.size(); ++k) {
         ImuHistoryEntry& e = history_[k];
         e.reading = correctBiases(e.sample, biases_);
-        e.state = integrateStep(x, r, e.reading, toSeconds(e.sample.t_host - x.t), gravity());
+        e.state = integrateOrHold(x, r, e.reading, toSeconds(e.sample.t_host - x.t), gravity(),
+                                  config_.max_gap_s);
         e.state.t = e.sample.t_host;
         x = e.state;
         r = e.reading;

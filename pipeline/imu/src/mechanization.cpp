@@ -29,6 +29,15 @@ NavState integrateStep(const NavState& x, const ImuReading& r0, const ImuReading
     return y;
 }
 
+NavState integrateOrHold(const NavState& x, const ImuReading& r0, const ImuReading& r1, double dt_s,
+                         const Eigen::Vector3d& gravity_world, double max_gap_s) {
+    if (dt_s <= max_gap_s) return integrateStep(x, r0, r1, dt_s, gravity_world);
+    NavState y = x;
+    y.p_world_imu += x.v_world_imu * dt_s;
+    y.t = x.t + fromSeconds(dt_s);
+    return y;
+}
+
 Eigen::Isometry3d bodyPose(const NavState& x, const Eigen::Isometry3d& T_imu_body) {
     return x.T_world_imu() * T_imu_body;
 }

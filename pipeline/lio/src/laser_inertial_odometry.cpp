@@ -1,6 +1,7 @@
 #include "handscan/lio/laser_inertial_odometry.hpp"
 
 #include <cmath>
+#include <cstdio>
 
 #include "handscan/core/log.hpp"
 #include "handscan/core/se3.hpp"
@@ -16,7 +17,9 @@ LaserInertialOdometry::LaserInertialOdometry(const LioConfig& config,
       motion_(std::move(motion)),
       predictor_(config.imu, calibration.T_camera_imu()),
       integrator_(predictor_),
-      monitor_(config.tracking) {
+      monitor_(config.tracking),
+      incidents_(config.incidents),
+      relocaliser_(config.relocalise) {
     // Points are placed with the predicted body motion at each step's own time (no rigid sweep).
     // A time the predictor cannot answer (before gravity alignment, beyond its history) is
     // remembered: a sweep containing it is not placed (see matchSweep).
@@ -34,8 +37,21 @@ LaserInertialOdometry::LaserInertialOdometry(const LioConfig& config,
 
 LaserInertialOdometry::~LaserInertialOdometry() = default;
 
+void LaserInertialOdometry::noteIncident(const std::optional<Incident>& incident) {
+    // Only once there is a map to lose: before the first match nothing is tracked yet.
+    if (!incident || !integrator_.lastScanPose()) return;
+    const bool was_lost = monitor_.lost();
+    const fusion::TrackingVerdict v =
+        monitor_.fail(incident->t, incident->t_seen, incident->reason, incident->detail,
+                      incident->reason == fusion::LostReason::kImuSilent);
+    if (v.lost && !was_lost)
+        log().warn("tracking lost at t={} ns ({}): {}", incident->t,
+                   fusion::lostReasonName(incident->reason), incident->detail);
+}
+
 void LaserInertialOdometry::addImu(const ImuSample& sample) {
     ++stats_.imu_samples;
+    noteIncident(incidents_.addImu(sample));
     if (!predictor_.addImu(sample).isOk()) {
         ++stats_.rejected;
         return;
@@ -83,6 +99,7 @@ void LaserInertialOdometry::addEncoder(const EncoderSample& sample) {
 void LaserInertialOdometry::addScan(const LaserScan& scan) {
     ++stats_.scans;
     if (!config_.laser_enabled) return;
+    noteIncident(incidents_.addScan(scan));
     if (!assembler_->addScan(scan).isOk()) ++stats_.rejected;
     processSweeps();
 }
@@ -250,6 +267,7 @@ void LaserInertialOdometry::matchSweep(scan::Sweep sweep) {
         r.pose.solved_dof_mask = 0;
         r.solved_projector_world.setZero();
     }
+    if (monitor_.awaitingRelocalisation() && !reference) relocalise(sweep.t_start, r);
     PoseEstimate scan_pose = r.pose;
     scan_pose.t_host = sweep.t_start;
     scan_pose.source = PoseSource::kScanMatching;
@@ -276,6 +294,28 @@ void LaserInertialOdometry::matchSweep(scan::Sweep sweep) {
     }
     reg.sweep = sweep;
     sweeps_.push_back(std::move(reg));
+}
+
+void LaserInertialOdometry::relocalise(TimeNs t, scan::SweepResult& r) {
+    const auto T_map_odom = relocaliser_.addSweep(*odometry_, t, r.pose.T_world_body, r.features);
+    if (!T_map_odom) return;
+    const Eigen::Isometry3d& C = *T_map_odom;
+    predictor_.moveWorld(C);
+    if (auto last = integrator_.lastScanPose()) {
+        last->T_world_body = C * last->T_world_body;
+        integrator_.setScanPose(*last);
+    }
+    r.pose.T_world_body = C * r.pose.T_world_body;
+    r.T_world_prior = C * r.T_world_prior;
+    const double moved_m = C.translation().norm();
+    const double turned_deg = Eigen::AngleAxisd(C.linear()).angle() * 180.0 / M_PI;
+    char detail[128];
+    std::snprintf(detail, sizeof detail, "relocalised at %.2f s on the map: moved %.2f m, %.1f deg",
+                  toSeconds(t), moved_m, turned_deg);
+    monitor_.relocalised(t, detail);
+    ++stats_.relocalisations;
+    stats_.max_relocalisation_m = std::max(stats_.max_relocalisation_m, moved_m);
+    log().info("{}", detail);
 }
 
 void LaserInertialOdometry::feedBack(const scan::Sweep& sweep, const scan::SweepResult& r,

@@ -135,6 +135,73 @@ TEST(TrackingMonitor, TurnRateBeyondAHandHeldDevice) {
     EXPECT_EQ(fast.assess(e).reason, LostReason::kImplausibleMotion);  // ... above 172 deg/s not
 }
 
+TEST(TrackingMonitor, AnImuGapIsLostAtOnceAndRecoversOnlyAfterARelocalisation) {
+    TrackingMonitor m;
+    for (int k = 0; k < 5; ++k) m.assess(walking(k));
+    const TimeNs t_fall = walking(5).t - 100 * kNsPerMs;
+    const TrackingVerdict v =
+        m.fail(t_fall, t_fall + 150 * kNsPerMs, LostReason::kImuSilent, "no IMU", true);
+    EXPECT_TRUE(v.lost);
+    EXPECT_FALSE(v.enters_map);
+    EXPECT_TRUE(m.lost());
+    ASSERT_EQ(m.intervals().size(), 1u);
+    EXPECT_EQ(m.intervals()[0].t_begin, t_fall);
+    EXPECT_EQ(m.intervals()[0].reason, LostReason::kImuSilent);
+    EXPECT_EQ(m.intervals()[0].t_flagged, t_fall + 150 * kNsPerMs);
+    // A second report while lost opens no second interval.
+    EXPECT_TRUE(
+        m.fail(t_fall + kSweep, t_fall + kSweep, LostReason::kLaserBlind, "blind", false).lost);
+    EXPECT_EQ(m.intervals().size(), 1u);
+    // Consistent matches from an unknown pose prove nothing: no recovery until the relocaliser
+    // has found the old map.
+    EXPECT_TRUE(m.awaitingRelocalisation());
+    for (int k = 5; k < 9; ++k) {
+        const TrackingVerdict r = m.assess(walking(k));
+        EXPECT_TRUE(r.consistent) << k << ": " << r.detail;
+        EXPECT_FALSE(r.enters_map);
+        EXPECT_TRUE(r.lost);
+    }
+    m.relocalised(walking(9).t - kSweep / 2, "relocalised 3.00 m away");
+    EXPECT_FALSE(m.awaitingRelocalisation());
+    // The scanner was found 3 m away: no implausible motion across the jump, and three
+    // consistent sweeps against the old map recover.
+    for (int k = 9; k < 12; ++k) {
+        SweepEvidence e = walking(k);
+        e.T_world_prior.translation().y() += 3.0;
+        e.T_world_match.translation().y() += 3.0;
+        const TrackingVerdict r = m.assess(e);
+        EXPECT_TRUE(r.consistent) << k << ": " << r.detail;
+        EXPECT_TRUE(r.fits_map);
+        EXPECT_EQ(r.enters_map, k == 11) << k;
+    }
+    EXPECT_FALSE(m.lost());
+    EXPECT_EQ(m.intervals()[0].t_end, walking(11).t);
+    EXPECT_NE(m.intervals()[0].detail.find("relocalised 3.00 m"), std::string::npos);
+    EXPECT_STREQ(lostReasonName(LostReason::kDropped), "dropped");
+    EXPECT_STREQ(lostReasonName(LostReason::kLaserBlind), "laser_blind");
+    EXPECT_STREQ(lostReasonName(LostReason::kImuSilent), "imu_silent");
+}
+
+TEST(TrackingMonitor, AFallIsLostAtOnceAndRecoversAsAnyLoss) {
+    TrackingMonitor m;
+    for (int k = 0; k < 5; ++k) m.assess(walking(k));
+    EXPECT_TRUE(
+        m.fail(walking(5).t - kSweep / 4, walking(5).t, LostReason::kDropped, "free fall", false)
+            .lost);
+    EXPECT_FALSE(m.awaitingRelocalisation());
+    // Lying 1.2 m lower on the floor a sweep later: no implausible motion across the fall.
+    for (int k = 5; k < 8; ++k) {
+        SweepEvidence e = walking(k);
+        e.T_world_prior.translation().z() -= 1.2;
+        e.T_world_match.translation().z() -= 1.2;
+        const TrackingVerdict r = m.assess(e);
+        EXPECT_TRUE(r.consistent) << k << ": " << r.detail;
+        EXPECT_EQ(r.enters_map, k == 7) << k;
+    }
+    EXPECT_FALSE(m.lost());
+    EXPECT_EQ(m.intervals().at(0).reason, LostReason::kDropped);
+}
+
 TEST(TrackingMonitor, DisabledAcceptsEverything) {
     TrackingMonitor m(TrackingMonitorConfig{.enabled = false});
     for (int k = 0; k < 10; ++k) {

@@ -152,6 +152,56 @@ TEST(SimulatorTest, FaultsShowUpInTheStreams) {
     EXPECT_GE(xbus.stats().checksum_failures + xbus.stats().resyncs, 3u);
 }
 
+TEST(SimulatorTest, IncidentsShowUpInTheStreams) {
+    SimOptions o;
+    o.duration_s = 4.0;
+    o.cameras = false;
+    o.incidents.blind_laser_at_s = 1.0;
+    o.incidents.blind_laser_for_s = 1.0;
+    o.incidents.imu_gap_at_s = 2.5;
+    o.incidents.imu_gap_for_s = 0.5;
+    auto reader = recording::McapReader::fromBuffer(simulate(o));
+    ASSERT_TRUE(reader.isOk());
+    hokuyo::ScipStreamParser scip;
+    std::vector<hokuyo::ScipEvent> ev;
+    xsens::XbusParser xbus;
+    std::vector<TimeNs> imu_times;
+    ASSERT_TRUE((*reader)
+                    ->forEachMessage({},
+                                     [&](const recording::RecordedMessage& m) {
+                                         if (m.channel->topic == "/hokuyo/raw")
+                                             scip.feed(m.data, ev);
+                                         if (m.channel->topic == "/xsens/raw") {
+                                             xbus.feed(m.data);
+                                             while (auto f = xbus.next())
+                                                 if (f->mid == 0x36)
+                                                     imu_times.push_back(m.log_time);
+                                         }
+                                     })
+                    .isOk());
+    // Blind: every step of ~40 scans an error code (below DMIN), the others mostly ranges.
+    const std::uint32_t dmin = LaserConfig{}.dmin_mm;
+    int blind = 0, seeing = 0;
+    for (const auto& e : ev) {
+        if (!std::holds_alternative<hokuyo::ScipFrame>(e)) continue;
+        const auto& f = std::get<hokuyo::ScipFrame>(e);
+        if (!f.scan) continue;
+        std::size_t valid = 0;
+        for (std::uint32_t r : f.scan->ranges) valid += r >= dmin;
+        if (valid == 0) ++blind;
+        if (valid > f.scan->ranges.size() / 2) ++seeing;
+    }
+    EXPECT_NEAR(blind, 40, 1);
+    EXPECT_NEAR(seeing, 3.9 / 0.025 - 40, 2);
+    // The IMU gap: 0.5 s without a frame, the rest at 200 Hz.
+    EXPECT_NEAR(static_cast<double>(imu_times.size()), 200 * (3.95 - 0.5), 3);
+    TimeNs longest = 0;
+    for (std::size_t i = 1; i < imu_times.size(); ++i)
+        longest = std::max(longest, imu_times[i] - imu_times[i - 1]);
+    EXPECT_NEAR(toSeconds(longest), 0.5, 0.02);
+    EXPECT_EQ(xbus.stats().checksum_failures, 0u);
+}
+
 TEST(SimulatorTest, GroundTruthFileMatchesTheTrajectory) {
     SimOptions o;
     o.duration_s = 2.0;

@@ -131,6 +131,15 @@ Simulator::Simulator(const SimOptions& options, const DeviceConfig& device,
         stats_.loop_closed = false;
         opt_.duration_s = std::min(opt_.duration_s, trajectory_.duration());
     }
+    if (opt_.incidents.drop_at_s >= 0.0) {
+        // The floor under the hand where it slips: straight down from the device.
+        const Eigen::Vector3d p =
+            trajectory_.at(opt_.incidents.drop_at_s).T_world_body.translation();
+        const RayHit floor = raycaster_->cast(Ray{p.cast<float>(), -Eigen::Vector3f::UnitZ(), 5.f});
+        const double floor_z = floor.hit() ? p.z() - floor.t : p.z() - 1.3;
+        trajectory_ = withDrop(trajectory_, opt_.incidents.drop_at_s, floor_z,
+                               opt_.incidents.drop_lie_s, opt_.incidents.drop_pickup_s);
+    }
     stats_.peak_rate_dps = trajectory_.peakAngularRate() * 180.0 / std::numbers::pi;
     stats_.path_length_m = trajectory_.pathLength();
 }
@@ -229,8 +238,12 @@ Status Simulator::run(RecordingSink& sink, const std::function<void(double)>& pr
         // Laser scans whose step 0 falls in the window.
         for (; k_scan < n_scans && scanTime(k_scan) < w1; ++k_scan) {
             const double t0 = scanTime(k_scan);
-            const LaserScanTruth s = laser.scan(t0, [&](double t) { return laserPose(t); });
+            LaserScanTruth s = laser.scan(t0, [&](double t) { return laserPose(t); });
             ++stats_.laser_scans;
+            if (opt_.incidents.laserBlind(t0)) {  // something right over the window
+                std::fill(s.ranges_mm.begin(), s.ranges_mm.end(), dev_.laser.code_too_near);
+                std::fill(s.intensities.begin(), s.intensities.end(), 0u);
+            }
             if (takeSlot(reconnects, k_scan)) {
                 hokuyo_down_until = t0 + 1.0;  // the driver notices the silence and reconnects
             }
@@ -244,7 +257,9 @@ Status Simulator::run(RecordingSink& sink, const std::function<void(double)>& pr
         // IMU samples.
         for (; k_imu < n_imu && xsens.sampleTime(k_imu) < w1; ++k_imu) {
             const ImuMeasurement m = imu.sample(trajectory_.at(xsens.sampleTime(k_imu)));
-            xsens.sample(k_imu, m, takeSlot(xbus_faults, k_imu), batch);
+            const bool drop_byte = takeSlot(xbus_faults, k_imu);
+            if (opt_.incidents.imuSilent(xsens.sampleTime(k_imu))) continue;  // the link is down
+            xsens.sample(k_imu, m, drop_byte, batch);
             ++stats_.imu_samples;
         }
         can.generate(w0, w1, batch);

@@ -12,7 +12,9 @@
 // A sweep that fails a check is inconsistent: it must not enter the map. `trip_after`
 // inconsistent sweeps in a row (or one impossible motion) and tracking is lost, with the reason;
 // nothing enters the map until `recover_after` consistent sweeps in a row, matched against the map
-// built before the loss, say the operator is back in a place already scanned. Pure computation.
+// built before the loss, say the operator is back in a place already scanned. Failures the
+// pipeline sees without a match (a blinded laser, a silent IMU, a fall) lose tracking at once.
+// Pure computation.
 #pragma once
 
 #include <Eigen/Geometry>
@@ -33,6 +35,10 @@ enum class LostReason : std::uint8_t {
     kPoorFit = 3,              // the matched features lie far from their surfaces (rms)
     kPredictionDisagrees = 4,  // the match jumped away from the IMU prediction
     kImplausibleMotion = 5,    // speed, turn rate or acceleration no hand-held device makes
+    // Failures seen outside a match, each conclusive on its own (TrackingMonitor::fail):
+    kLaserBlind = 6,  // a whole sweep with (almost) no returns: the laser's window covered
+    kImuSilent = 7,   // no IMU samples while the laser runs: nothing carries the prediction
+    kDropped = 8,     // free fall: the scanner left the operator's hand
 };
 const char* lostReasonName(LostReason r);  // snake_case, for stats.json
 
@@ -95,6 +101,9 @@ struct LostInterval {
     LostReason reason = LostReason::kNone;
     std::string detail;
     std::uint64_t sweeps = 0;  // sweeps held out of the map during it
+    // When the pipeline knew: the failing sweep's start for a match's verdict (known once the
+    // sweep is complete), the sample it was seen at for fail().
+    TimeNs t_flagged = 0;
 };
 
 class TrackingMonitor {
@@ -103,6 +112,21 @@ public:
 
     // Judges one matched sweep (in time order) and advances the state.
     TrackingVerdict assess(const SweepEvidence& e);
+    // A failure the pipeline saw outside a match at time t (the laser blinded, the IMU silent,
+    // the scanner falling): no estimate made through it can be trusted, so tracking is lost at
+    // once (no `trip_after`), and recovers as after any loss. Motion is not judged across it.
+    // `pose_unknown`: the estimate cannot have survived it (the IMU silent) - see below.
+    // `t_seen`: the sample time it was recognised at (t: when it began).
+    TrackingVerdict fail(TimeNs t, TimeNs t_seen, LostReason reason, std::string detail,
+                         bool pose_unknown);
+    // After a failure with `pose_unknown` (the IMU silent: attitude and heading held across the
+    // gap while the walker may have turned a corner) a match from the held pose may settle in
+    // the wrong place and look consistent: recovery waits for a relocalisation (a search of the
+    // old map, lio::Relocaliser). A blinded laser or a fall keep the IMU running: the matches
+    // themselves recover, as after any loss.
+    bool awaitingRelocalisation() const { return awaiting_relocalisation_; }
+    // The relocaliser found the old map (`detail`: where); recovery counts from the next sweep.
+    void relocalised(TimeNs t, const std::string& detail);
 
     bool lost() const { return lost_; }
     const std::vector<LostInterval>& intervals() const { return intervals_; }
@@ -129,6 +153,8 @@ private:
         Eigen::Isometry3d T;
     };
     std::optional<Stamped> last_, before_last_;
+    TimeNs last_failure_t_ = 0;  // the latest fail()
+    bool awaiting_relocalisation_ = false;
     std::vector<LostInterval> intervals_;
 };
 

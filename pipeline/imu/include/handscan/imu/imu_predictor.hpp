@@ -72,6 +72,11 @@ public:
     [[nodiscard]] Status correct(TimeNs t, const Eigen::Isometry3d& T_world_body,
                                  const Matrix6d& solved);
 
+    // The world frame moved (a relocalisation found where the map really is: x' = T x): every
+    // kept state and gravity are carried into the new frame; the feedback window (poses in the
+    // old frame) and the motion prior start again. Biases are properties of the sensor: kept.
+    void moveWorld(const Eigen::Isometry3d& T_new_old);
+
     const ImuBiases& biases() const { return biases_; }
     TimeNs newestTime() const { return history_.empty() ? 0 : history_.back(); }
     TimeNs oldestTime() const { return history_.empty() ? 0 : history_.front(); }

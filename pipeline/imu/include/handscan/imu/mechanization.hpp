@@ -34,6 +34,14 @@ ImuReading lerp(const ImuReading& a, const ImuReading& b, double s);
 NavState integrateStep(const NavState& x, const ImuReading& r0, const ImuReading& r1, double dt_s,
                        const Eigen::Vector3d& gravity_world);
 
+// integrateStep, except across a gap longer than `max_gap_s` (the link lost): the readings at
+// its two edges say nothing about the motion in between, and integrating them would turn and
+// push the state by whatever the hand did at the edges for the whole gap (a 0.3 rad/s sway held
+// for 2 s: 34 degrees of attitude, with gravity leaking into the velocity). Across a gap the
+// attitude and the velocity are held (constant velocity); the scan matcher corrects the rest.
+NavState integrateOrHold(const NavState& x, const ImuReading& r0, const ImuReading& r1, double dt_s,
+                         const Eigen::Vector3d& gravity_world, double max_gap_s);
+
 // Pose and velocity of the body frame given the IMU state and the extrinsic T_imu_body
 // (= T_cam_imu^-1 from the camchain). omega_imu is the bias-corrected rate.
 Eigen::Isometry3d bodyPose(const NavState& x, const Eigen::Isometry3d& T_imu_body);

@@ -26,7 +26,9 @@
 #include "handscan/fusion/trajectory_smoother.hpp"
 #include "handscan/fusion/transform_integrator.hpp"
 #include "handscan/imu/imu_predictor.hpp"
+#include "handscan/lio/incident_watch.hpp"
 #include "handscan/lio/motion_override.hpp"
+#include "handscan/lio/relocaliser.hpp"
 #include "handscan/scan/laser_odometry.hpp"
 #include "handscan/scan/sweep_assembler.hpp"
 
@@ -41,6 +43,11 @@ struct LioConfig {
     // Divergence detection: an inconsistent match neither enters the map nor corrects the
     // predictor; a run of them is "tracking lost" until the old map agrees again.
     fusion::TrackingMonitorConfig tracking;
+    // Failures in the input streams (a blinded laser, a silent IMU, a fall) lose tracking at
+    // once, before any match could say so.
+    IncidentWatchConfig incidents;
+    // After such a failure the scanner is found again on its own map (Relocaliser).
+    localize::LocalizerConfig relocalise = relocaliserDefaults();
     // With feedback the matcher's prior is the corrected IMU prediction (eq. 18); its standard
     // deviations. Measured on simulated 60 s walks: the prediction at a sweep's start differs
     // from the match by 2-3 mm rms per axis. 5 mm (not 2 cm) lets the prior hold the matcher
@@ -95,6 +102,8 @@ struct LioStats {
     std::uint64_t unplaced_sweeps = 0;  // assembled without a motion estimate (before alignment)
     std::uint64_t rejected = 0;         // samples a module refused (out of order, not finite)
     std::uint64_t poses_out = 0;
+    std::uint64_t relocalisations = 0;  // the scanner found again after a failure (Relocaliser)
+    double max_relocalisation_m = 0.0;  // the largest correction a relocalisation made
 };
 
 class LaserInertialOdometry {
@@ -138,6 +147,11 @@ public:
     const fusion::TrackingMonitor& tracking() const { return monitor_; }
 
 private:
+    // A failure IncidentWatch saw: tracking is lost at once (TrackingMonitor::fail).
+    void noteIncident(const std::optional<Incident>& incident);
+    // A sweep while the monitor awaits a relocalisation; when the search locks, the predictor,
+    // the integrator and `r` move onto the map.
+    void relocalise(TimeNs t, scan::SweepResult& r);
     void processSweeps();
     // The pose at t carried forward from the newest anchor (the real-time output's chain).
     Result<Eigen::Isometry3d> carriedPose(TimeNs t) const;
@@ -163,6 +177,8 @@ private:
     std::unique_ptr<scan::SweepAssembler> assembler_;
     std::unique_ptr<scan::LaserOdometry> odometry_;
     fusion::TrackingMonitor monitor_;
+    IncidentWatch incidents_;
+    Relocaliser relocaliser_;
     std::vector<PoseEstimate> poses_;
     fusion::TrajectorySmoother trajectory_;
     std::vector<RegisteredSweep> sweeps_;

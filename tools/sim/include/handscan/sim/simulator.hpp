@@ -18,6 +18,7 @@
 #include "handscan/sim/can_stream.hpp"
 #include "handscan/sim/hokuyo_stream.hpp"
 #include "handscan/sim/imu_model.hpp"
+#include "handscan/sim/incidents.hpp"
 #include "handscan/sim/laser_model.hpp"
 #include "handscan/sim/raycaster.hpp"
 #include "handscan/sim/scene_change.hpp"
@@ -55,7 +56,8 @@ struct SimOptions {
     int imu_precision = 0;      // 0 float32 (as shipped), 1 fp12.20, 2 fp16.32, 3 float64
     TimeNs host_start_ns = 1000 * kNsPerSec;  // host CLOCK_MONOTONIC at the first sample
     FaultOptions faults;
-    HazardOptions hazards;  // a harder world for the laser (laser_hazards.hpp)
+    HazardOptions hazards;      // a harder world for the laser (laser_hazards.hpp)
+    IncidentOptions incidents;  // one failure during the walk (incidents.hpp)
 };
 
 // Every model's parameters, defaulted from the paper (section 10.2), device.yaml and the

@@ -39,6 +39,7 @@ public:
     BodyState at(double t) const;
     double duration() const;
     double knotSpacing() const { return dt_; }
+    const std::vector<Vector6d>& controlPoints() const { return c_; }
     // Largest |omega| over the trajectory, sampled every `step` seconds (rad/s).
     double peakAngularRate(double step = 0.005) const;
     // Path length of the {C} origin (m).
