@@ -154,8 +154,9 @@ TEST(LocalizerTest, AppliedWhenReadyTheLockDoesNotHoldUpTheSweeps) {
     TimeNs t = 1000 * kNsPerSec;
     feed(l, 5, t, truth, Eigen::Isometry3d::Identity());
     ASSERT_TRUE(l.matchRunning());
-    // Sweeps go on while it runs (no second match starts); it takes effect once done.
-    for (int i = 0; i < 200 && !l.locked(); ++i) {
+    // Sweeps go on while it runs (no second match starts); it takes effect once done. The
+    // search takes ~0.5 s here, several under ASan on a loaded machine (6.7 s seen): up to 60 s.
+    for (int i = 0; i < 3000 && !l.locked(); ++i) {
         feed(l, 1, t, truth, Eigen::Isometry3d::Identity());
         std::this_thread::sleep_for(std::chrono::milliseconds(20));
     }
