@@ -44,6 +44,32 @@ std::vector<std::uint8_t> simulate(const SimOptions& o, SimStats* stats = nullpt
     return (*sink)->takeBuffer();
 }
 
+// A recording's laser stream through the SCIP parser and its IMU stream through the Xbus parser,
+// with the log time of every MTData2 frame.
+struct LaserAndImu {
+    hokuyo::ScipStreamParser scip;
+    std::vector<hokuyo::ScipEvent> events;
+    xsens::XbusParser xbus;
+    std::vector<TimeNs> mtdata2_times;
+};
+
+void decodeLaserAndImu(std::vector<std::uint8_t> recording, LaserAndImu& d) {
+    auto reader = recording::McapReader::fromBuffer(std::move(recording));
+    ASSERT_TRUE(reader.isOk());
+    ASSERT_TRUE((*reader)
+                    ->forEachMessage({},
+                                     [&](const recording::RecordedMessage& m) {
+                                         if (m.channel->topic == "/hokuyo/raw")
+                                             d.scip.feed(m.data, d.events);
+                                         if (m.channel->topic != "/xsens/raw") return;
+                                         d.xbus.feed(m.data);
+                                         while (auto f = d.xbus.next())
+                                             if (f->mid == 0x36)
+                                                 d.mtdata2_times.push_back(m.log_time);
+                                     })
+                    .isOk());
+}
+
 TEST(SimulatorTest, RecordingHoldsEveryChannelAtItsDeviceRate) {
     SimOptions o;
     o.duration_s = 3.0;
@@ -121,25 +147,10 @@ TEST(SimulatorTest, FaultsShowUpInTheStreams) {
     o.faults.corrupt_scip_blocks = 2;
     o.faults.dropped_xbus_bytes = 3;
     o.faults.tcp_reconnects = 1;
-    auto reader = recording::McapReader::fromBuffer(simulate(o));
-    ASSERT_TRUE(reader.isOk());
-    hokuyo::ScipStreamParser scip;
-    std::vector<hokuyo::ScipEvent> ev;
-    xsens::XbusParser xbus;
-    int mtdata2 = 0;
-    ASSERT_TRUE((*reader)
-                    ->forEachMessage({},
-                                     [&](const recording::RecordedMessage& m) {
-                                         if (m.channel->topic == "/hokuyo/raw")
-                                             scip.feed(m.data, ev);
-                                         if (m.channel->topic == "/xsens/raw") {
-                                             xbus.feed(m.data);
-                                             while (auto f = xbus.next()) mtdata2 += f->mid == 0x36;
-                                         }
-                                     })
-                    .isOk());
+    LaserAndImu d;
+    ASSERT_NO_FATAL_FAILURE(decodeLaserAndImu(simulate(o), d));
     int scans = 0, handshakes = 0;
-    for (const auto& e : ev) {
+    for (const auto& e : d.events) {
         if (!std::holds_alternative<hokuyo::ScipFrame>(e)) continue;
         const auto& f = std::get<hokuyo::ScipFrame>(e);
         scans += f.scan.has_value();
@@ -147,9 +158,9 @@ TEST(SimulatorTest, FaultsShowUpInTheStreams) {
     }
     EXPECT_EQ(handshakes, 2);                     // the reconnect repeats the handshake
     EXPECT_NEAR(scans, 3.9 / 0.025 - 40 - 2, 2);  // 1 s lost to the reconnect, 2 corrupted
-    EXPECT_GE(scip.stats().checksum_failures, 2u);
-    EXPECT_NEAR(mtdata2, 200 * 3.95 - 3, 2);
-    EXPECT_GE(xbus.stats().checksum_failures + xbus.stats().resyncs, 3u);
+    EXPECT_GE(d.scip.stats().checksum_failures, 2u);
+    EXPECT_NEAR(static_cast<double>(d.mtdata2_times.size()), 200 * 3.95 - 3, 2);
+    EXPECT_GE(d.xbus.stats().checksum_failures + d.xbus.stats().resyncs, 3u);
 }
 
 TEST(SimulatorTest, IncidentsShowUpInTheStreams) {
@@ -160,29 +171,12 @@ TEST(SimulatorTest, IncidentsShowUpInTheStreams) {
     o.incidents.blind_laser_for_s = 1.0;
     o.incidents.imu_gap_at_s = 2.5;
     o.incidents.imu_gap_for_s = 0.5;
-    auto reader = recording::McapReader::fromBuffer(simulate(o));
-    ASSERT_TRUE(reader.isOk());
-    hokuyo::ScipStreamParser scip;
-    std::vector<hokuyo::ScipEvent> ev;
-    xsens::XbusParser xbus;
-    std::vector<TimeNs> imu_times;
-    ASSERT_TRUE((*reader)
-                    ->forEachMessage({},
-                                     [&](const recording::RecordedMessage& m) {
-                                         if (m.channel->topic == "/hokuyo/raw")
-                                             scip.feed(m.data, ev);
-                                         if (m.channel->topic == "/xsens/raw") {
-                                             xbus.feed(m.data);
-                                             while (auto f = xbus.next())
-                                                 if (f->mid == 0x36)
-                                                     imu_times.push_back(m.log_time);
-                                         }
-                                     })
-                    .isOk());
+    LaserAndImu d;
+    ASSERT_NO_FATAL_FAILURE(decodeLaserAndImu(simulate(o), d));
     // Blind: every step of ~40 scans an error code (below DMIN), the others mostly ranges.
     const std::uint32_t dmin = LaserConfig{}.dmin_mm;
     int blind = 0, seeing = 0;
-    for (const auto& e : ev) {
+    for (const auto& e : d.events) {
         if (!std::holds_alternative<hokuyo::ScipFrame>(e)) continue;
         const auto& f = std::get<hokuyo::ScipFrame>(e);
         if (!f.scan) continue;
@@ -194,12 +188,12 @@ TEST(SimulatorTest, IncidentsShowUpInTheStreams) {
     EXPECT_NEAR(blind, 40, 1);
     EXPECT_NEAR(seeing, 3.9 / 0.025 - 40, 2);
     // The IMU gap: 0.5 s without a frame, the rest at 200 Hz.
-    EXPECT_NEAR(static_cast<double>(imu_times.size()), 200 * (3.95 - 0.5), 3);
+    const std::vector<TimeNs>& imu = d.mtdata2_times;
+    EXPECT_NEAR(static_cast<double>(imu.size()), 200 * (3.95 - 0.5), 3);
     TimeNs longest = 0;
-    for (std::size_t i = 1; i < imu_times.size(); ++i)
-        longest = std::max(longest, imu_times[i] - imu_times[i - 1]);
+    for (std::size_t i = 1; i < imu.size(); ++i) longest = std::max(longest, imu[i] - imu[i - 1]);
     EXPECT_NEAR(toSeconds(longest), 0.5, 0.02);
-    EXPECT_EQ(xbus.stats().checksum_failures, 0u);
+    EXPECT_EQ(d.xbus.stats().checksum_failures, 0u);
 }
 
 TEST(SimulatorTest, GroundTruthFileMatchesTheTrajectory) {
