@@ -313,8 +313,6 @@ void LaserInertialOdometry::relocalise(TimeNs t, scan::SweepResult& r) {
     std::snprintf(detail, sizeof detail, "relocalised at %.2f s on the map: moved %.2f m, %.1f deg",
                   toSeconds(t), moved_m, turned_deg);
     monitor_.relocalised(t, detail);
-    ++stats_.relocalisations;
-    stats_.max_relocalisation_m = std::max(stats_.max_relocalisation_m, moved_m);
     log().info("{}", detail);
 }
 

@@ -37,10 +37,7 @@ std::optional<Eigen::Isometry3d> Relocaliser::addSweep(
         search_ = std::make_unique<localize::Localizer>(config_, std::move(map), T_odom_body);
     }
     const std::uint64_t attempts0 = search_->stats().attempts;
-    const double cpu0 = search_->stats().cpu_ms;
     (void)search_->addSweep(t, T_odom_body, std::move(features));
-    attempts_ += search_->stats().attempts - attempts0;
-    cpu_ms_ += search_->stats().cpu_ms - cpu0;
     if (!search_->locked()) {
         if (search_->stats().attempts > attempts0)
             log().info(

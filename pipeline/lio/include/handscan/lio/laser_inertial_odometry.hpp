@@ -102,8 +102,6 @@ struct LioStats {
     std::uint64_t unplaced_sweeps = 0;  // assembled without a motion estimate (before alignment)
     std::uint64_t rejected = 0;         // samples a module refused (out of order, not finite)
     std::uint64_t poses_out = 0;
-    std::uint64_t relocalisations = 0;  // the scanner found again after a failure (Relocaliser)
-    double max_relocalisation_m = 0.0;  // the largest correction a relocalisation made
 };
 
 class LaserInertialOdometry {

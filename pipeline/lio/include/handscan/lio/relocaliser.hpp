@@ -34,16 +34,10 @@ public:
     std::optional<Eigen::Isometry3d> addSweep(const scan::LaserOdometry& odometry, TimeNs t,
                                               const Eigen::Isometry3d& T_odom_body,
                                               std::shared_ptr<const scan::FeatureCloud> features);
-    bool searching() const { return search_ != nullptr; }
-    // Totals over every relocalisation so far (the search's attempts and CPU).
-    std::uint64_t attempts() const { return attempts_; }
-    double cpuMs() const { return cpu_ms_; }
 
 private:
     localize::LocalizerConfig config_;
     std::unique_ptr<localize::Localizer> search_;
-    std::uint64_t attempts_ = 0;
-    double cpu_ms_ = 0.0;
 };
 
 }  // namespace handscan::lio
