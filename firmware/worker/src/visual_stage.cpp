@@ -1,15 +1,9 @@
 #include "handscan/worker/visual_stage.hpp"
 
 #include "handscan/core/log.hpp"
-#include "handscan/core/se3.hpp"
 #include "handscan/scan/degeneracy.hpp"
 
 namespace handscan::worker {
-namespace {
-// VIO poses kept to place a sweep's points in the VIO's chain: a sweep is matched up to a couple
-// of sweeps after its start.
-constexpr TimeNs kChainHistory = 6 * kNsPerSec;
-}  // namespace
 
 VisualStage::VisualStage(const Calibration& calibration, const vio::VioConfig& config)
     : vio_(calibration.tracking, config) {}
@@ -38,6 +32,9 @@ void VisualStage::frame(const Image& image, lio::LaserInertialOdometry& lio) {
         imu_prev_cur = T_now->inverse() * *T_prev;
     }
     t_prev_ = t;
+    // The depth map is seen from where the laser-inertial odometry puts the camera: the laser
+    // points are in its frame, and the VIO's chain drifts away from it between matches.
+    if (auto T_map = lio.integratedPoseAt(t)) vio_.setLaserFramePose(T_map->T_world_body);
     auto r = vio_.processFrame(image, imu_prev_cur);
     if (!r) {
         if (stats_.errors++ == 0) log().warn("tracking camera: {}", r.status().message());
@@ -48,7 +45,6 @@ void VisualStage::frame(const Image& image, lio::LaserInertialOdometry& lio) {
     stats_.features_sum += r->features;
     stats_.laser_depth_sum += r->with_laser_depth;
     stats_.triangulated_sum += r->triangulated;
-    chain_.emplace_back(t, r->T_world_cam);
     solved_now_ = r->solved_dof_mask;
     if (first) return;  // a first frame has nothing to solve against
     if (r->solved_dof_mask == 0) {
@@ -64,29 +60,12 @@ void VisualStage::frame(const Image& image, lio::LaserInertialOdometry& lio) {
                       scan::bodyToWorldAxes(r->degeneracy.projection, r->T_world_cam.linear()));
 }
 
-std::optional<Eigen::Isometry3d> VisualStage::chainPoseAt(TimeNs t) const {
-    if (chain_.empty() || t < chain_.front().first || t > chain_.back().first) return std::nullopt;
-    for (std::size_t i = 1; i < chain_.size(); ++i) {
-        if (chain_[i].first < t) continue;
-        const auto& [t0, T0] = chain_[i - 1];
-        const auto& [t1, T1] = chain_[i];
-        return interpolate(T0, T1, static_cast<double>(t - t0) / static_cast<double>(t1 - t0));
-    }
-    return chain_.back().second;
-}
-
 void VisualStage::sweep(const lio::RegisteredSweep& sweep) {
-    if (chain_.empty() || sweep.points_world.empty() || !sweep.tracking.enters_map) return;
-    // The map frame -> the VIO's chain, from the match and the chain's pose at the sweep start.
-    // Without it (the chain started after the sweep) the chain is still where it started: the
-    // map frame.
-    Eigen::Isometry3d T_chain_world = Eigen::Isometry3d::Identity();
-    if (auto T_chain = chainPoseAt(sweep.sweep.t_start))
-        T_chain_world = *T_chain * sweep.result.pose.T_world_body.inverse();
+    if (sweep.points_world.empty() || !sweep.tracking.enters_map) return;
+    // In the laser-inertial odometry's frame, like the frames' setLaserFramePose.
     std::vector<Eigen::Vector3d> points;
     points.reserve(sweep.points_world.size());
-    for (const Eigen::Vector3f& p : sweep.points_world)
-        points.push_back(T_chain_world * p.cast<double>());
+    for (const Eigen::Vector3f& p : sweep.points_world) points.push_back(p.cast<double>());
     vio_.addLaserPoints(sweep.times.empty() ? sweep.sweep.t_start : sweep.times.back(), points);
 }
 

@@ -117,15 +117,30 @@ std::optional<double> DepthMap::depthOf(const Eigen::Vector2d& xbar) const {
     if (!sphere_->tree || sphere_->angles.size() < 3) return std::nullopt;
     const Eigen::Vector3d ray(xbar.x(), xbar.y(), 1.0);
     const Eigen::Vector2d q = sphereCoordinates(ray);
-    std::uint32_t idx[3];
-    double d2[3];
+    // The three closest points that span a plane. A spinning 2D laser lays its points along scan
+    // lines a cell apart and the lines several cells apart, so the three nearest are often on
+    // one line: their plane turns freely about it and the depth it gives is noise (measured on
+    // a simulated office walk: 35 % of the features were refused by the incidence check). The
+    // third point is the nearest that leaves the line of the first two.
+    constexpr std::size_t kCandidates = 24;  // reaches the next line where lines lie 4 cells apart
+    std::uint32_t idx[kCandidates];
+    double d2[kCandidates];
     const double query[2] = {q.x(), q.y()};
-    if (sphere_->tree->knnSearch(query, 3, idx, d2) < 3) return std::nullopt;
+    const std::size_t found = sphere_->tree->knnSearch(query, kCandidates, idx, d2);
+    if (found < 3) return std::nullopt;
     if (d2[0] > config_.max_neighbour_angle_rad * config_.max_neighbour_angle_rad)
         return std::nullopt;
     const Eigen::Vector3d& p0 = sphere_->points[idx[0]];
     const Eigen::Vector3d& p1 = sphere_->points[idx[1]];
-    const Eigen::Vector3d& p2 = sphere_->points[idx[2]];
+    const Eigen::Vector3d* third = nullptr;
+    const double min_sin2 = config_.min_triangle_sin * config_.min_triangle_sin;
+    for (std::size_t k = 2; k < found && third == nullptr; ++k) {
+        const Eigen::Vector3d& c = sphere_->points[idx[k]];
+        const Eigen::Vector3d a = p1 - p0, b = c - p0;
+        if (a.cross(b).squaredNorm() >= min_sin2 * a.squaredNorm() * b.squaredNorm()) third = &c;
+    }
+    if (third == nullptr) return std::nullopt;  // all on one line: no plane
+    const Eigen::Vector3d& p2 = *third;
     // Spread check: three points far apart in space likely lie on different objects.
     const double limit = config_.spread_m + config_.spread_fraction * p0.z();
     const double l2 = limit * limit;

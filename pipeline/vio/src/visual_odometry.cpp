@@ -169,6 +169,7 @@ Result<VioFrameResult> VisualInertialOdometry::processFrame(
         tracks_.emplace(feats[i].id, tr);
     }
     if (out.keyframe) startKeyframe(t, xbar);
+    laser_frame_pose_.reset();
     started_ = true;
     out.T_world_cam = T_world_cam_;
     out.features = static_cast<int>(feats.size());
@@ -176,7 +177,7 @@ Result<VioFrameResult> VisualInertialOdometry::processFrame(
 }
 
 void VisualInertialOdometry::startKeyframe(TimeNs t, const std::vector<Eigen::Vector2d>& xbar) {
-    depth_.build(t, T_world_cam_);
+    depth_.build(t, laser_frame_pose_.value_or(T_world_cam_));
     const auto& feats = tracker_.features();
     std::unordered_map<std::uint64_t, Track> kept;
     kept.reserve(feats.size());

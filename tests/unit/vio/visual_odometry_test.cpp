@@ -31,7 +31,12 @@ struct RunSummary {
     int frames = 0;
 };
 
-RunSummary run(int frames, bool laser, double brightness) {
+// `chain_from_world`: where the VIO's chain starts relative to the laser points' frame {W} (a
+// chain that has drifted from the map); with `laser_frame_pose` each frame's true pose in {W}
+// is given for the depth map.
+RunSummary run(int frames, bool laser, double brightness,
+               const Eigen::Isometry3d& chain_from_world = Eigen::Isometry3d::Identity(),
+               bool laser_frame_pose = false) {
     Calibration cal;
     loadCamchain(std::string(HANDSCAN_SOURCE_DIR) + "/config/camchain.yaml", cal);
     const test::SyntheticRoom room(7);
@@ -43,7 +48,7 @@ RunSummary run(int frames, bool laser, double brightness) {
     const Eigen::Vector3d gyro_bias(0.0, 0.0175, 0.0);
     const Eigen::Vector3d vel_err(0.2, 0.0, -0.1);
     const double dt = 1.0 / kRate;
-    Eigen::Isometry3d T_imu_only = test::trajectory(0.0, kPeriod);
+    Eigen::Isometry3d T_imu_only = chain_from_world * test::trajectory(0.0, kPeriod);
     vio.setWorldPose(T_imu_only);
     // The laser has already swept the room once before the first frame.
     if (laser) vio.addLaserPoints(0, test::laserPoints(room, T_imu_only, 60000, 0.01, rng));
@@ -65,6 +70,7 @@ RunSummary run(int frames, bool laser, double brightness) {
             vio.addLaserPoints(static_cast<TimeNs>(t * 1e9),
                                test::laserPoints(room, truth, 3000, 0.01, rng));
         const cv::Mat img = test::render(room, rays, 640, 512, truth, 1.0, rng, brightness);
+        if (laser_frame_pose) vio.setLaserFramePose(truth);
         const auto res = vio.processFrame(static_cast<TimeNs>(t * 1e9), img, imu);
         EXPECT_TRUE(res.isOk()) << res.status().message();
         if (!res) continue;
@@ -74,9 +80,10 @@ RunSummary run(int frames, bool laser, double brightness) {
         s.max_triangulated = std::max(s.max_triangulated, res->triangulated);
         s.frames_all_solved += res->solved_dof_mask == scan::kAllDof;
         s.frames_none_solved += res->solved_dof_mask == 0;
-        s.final_trans_err_m = (res->T_world_cam.translation() - truth.translation()).norm();
-        s.final_rot_err_rad = rotationAngle(res->T_world_cam.linear(), truth.linear());
-        s.imu_only_trans_err_m = (T_imu_only.translation() - truth.translation()).norm();
+        const Eigen::Isometry3d chain_truth = chain_from_world * truth;
+        s.final_trans_err_m = (res->T_world_cam.translation() - chain_truth.translation()).norm();
+        s.final_rot_err_rad = rotationAngle(res->T_world_cam.linear(), chain_truth.linear());
+        s.imu_only_trans_err_m = (T_imu_only.translation() - chain_truth.translation()).norm();
     }
     std::printf(
         "%d frames: VIO %.1f mm / %.2f deg from the truth, IMU alone %.1f mm; %d key-frames, "
@@ -95,6 +102,22 @@ TEST(VisualInertialOdometry, LaserDepthCorrectsADriftingImu) {
     EXPECT_LE(s.max_laser_depth, 300);
     EXPECT_GE(s.keyframes, 2);
     EXPECT_GE(s.frames_all_solved, s.frames - 1) << "all but the first frame";
+}
+
+TEST(VisualInertialOdometry, DepthMapIsSeenFromThePoseInTheLasersFrame) {
+    // The chain 0.4 m and 8 deg away from the map the laser points are in (the worker's VIO
+    // chain drifts from the laser-inertial odometry's map between matches): with the frames'
+    // poses in the map, the features get the same laser depth as without the offset ...
+    Eigen::Isometry3d offset = Eigen::Isometry3d::Identity();
+    offset.linear() = expSO3(Eigen::Vector3d(0.05, 0.12, -0.06));
+    offset.translation() = Eigen::Vector3d(0.3, -0.2, 0.2);
+    const RunSummary s = run(75, true, 1.0, offset, true);
+    EXPECT_GT(s.max_laser_depth, 200) << "features with laser depth in a frame";
+    EXPECT_LT(s.final_trans_err_m, 0.01) << "m after 1.5 s";
+    EXPECT_LT(s.final_rot_err_rad, 0.005);
+    // ... seen from the chain's pose the depth map is another place's: depth is wrong or none.
+    const RunSummary wrong = run(75, true, 1.0, offset, false);
+    EXPECT_GT(wrong.final_trans_err_m, 2.0 * s.final_trans_err_m);
 }
 
 TEST(VisualInertialOdometry, WithoutLaserFeaturesAreTriangulated) {

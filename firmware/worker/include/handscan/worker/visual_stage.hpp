@@ -3,8 +3,9 @@
 // motion since the previous frame (eq. 10) from the laser-inertial odometry's predictor, the VIO's
 // pose, and that pose handed to the laser-inertial odometry (addVisualPose: the prior of scan
 // matching, eq. 17, and the 200 Hz integration, section 7) unless the camera solved nothing.
-// Per registered sweep: its points as the VIO's laser depth (5.3), moved into the VIO's own chain
-// (the VIO integrates increments; the match says where that chain sits in the map).
+// Per registered sweep: its points as the VIO's laser depth (5.3), in the laser-inertial
+// odometry's frame; each frame's depth map is seen from the camera's pose there (its 200 Hz
+// output), not from the VIO's own chain, which drifts from the map between matches.
 //
 // Automatic reconfiguration (section 8): a frame that solves no direction (dark, texture-less,
 // covered lens) bypasses the module at once, and the laser-inertial odometry treats the hole in
@@ -14,7 +15,6 @@
 
 #include <Eigen/Geometry>
 #include <cstdint>
-#include <deque>
 #include <memory>
 #include <optional>
 #include <vector>
@@ -63,12 +63,8 @@ public:
     std::uint8_t solvedNow() const { return solved_now_; }
 
 private:
-    std::optional<Eigen::Isometry3d> chainPoseAt(TimeNs t) const;
-
     vio::VisualInertialOdometry vio_;
     std::optional<TimeNs> t_prev_;
-    // The VIO's poses of the last seconds (to place laser points in its chain).
-    std::deque<std::pair<TimeNs, Eigen::Isometry3d>> chain_;
     std::vector<BypassInterval> bypassed_;
     VisualStageStats stats_;
     std::uint8_t solved_now_ = 0;

@@ -4,7 +4,8 @@
 // sphere; a point is dropped where a neighbouring cell holds a much nearer one, so a surface
 // behind a nearer one does not leak through its gaps), projected on the unit sphere
 // around the camera centre and put in a 2D k-d tree (nanoflann) on their two angular coordinates.
-// depthOf() finds the three nearest points on the sphere for a feature, rejects them when they
+// depthOf() finds the three nearest points on the sphere for a feature that span a plane (not
+// three on one scan line), rejects them when they
 // lie too far apart in Cartesian space (likely two objects, e.g. a wall and something in front
 // of it), and interpolates the depth on the plane through them.
 #pragma once
@@ -30,6 +31,9 @@ struct DepthMapConfig {
     // The three points must lie within spread_m + spread_fraction * depth of each other.
     double spread_m = 0.1;
     double spread_fraction = 0.05;
+    // The three points must span a plane: the angle at the nearest between the other two has a
+    // sine of at least this (else the next nearest point is tried as the third).
+    double min_triangle_sin = 0.3;
     // The plane must not be seen edge-on: |cos| between its normal and the ray at least this.
     double min_incidence_cos = 0.1;
 };

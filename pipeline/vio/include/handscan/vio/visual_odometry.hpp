@@ -10,6 +10,8 @@
 // Poses: the body is the tracking camera {C}. The caller gives the IMU-predicted motion between
 // consecutive frames (T_{c-1}^c of eq. 10, from ImuPredictor poses at both frame times) and the
 // laser points registered in {W}; the VIO chains its poses from `T_world_cam` of the first frame.
+// A key-frame's depth map is seen from the frame's pose in {W} where the caller gives it
+// (setLaserFramePose), else from the chain's.
 #pragma once
 
 #include <cstdint>
@@ -74,6 +76,13 @@ public:
     }
     // The pose of the next frame (the first, or after a reset); later frames chain from it.
     void setWorldPose(const Eigen::Isometry3d& T_world_cam) { pending_world_ = T_world_cam; }
+    // The next frame's pose in {W}, the frame of the laser points, where the caller knows it
+    // better than the VIO's own chain (the laser-inertial odometry's pose: the chain drifts away
+    // from the map the points were registered in, and a depth map seen from the chain's pose
+    // would give features the depth of their neighbours). Without it the chain's pose is used.
+    void setLaserFramePose(const Eigen::Isometry3d& T_world_cam) {
+        laser_frame_pose_ = T_world_cam;
+    }
 
     // One frame (CV_8UC1, the camera's resolution). `imu_prev_cur`: T_{c-1}^c predicted by the
     // IMU (X_c = T X_{c-1}); without it the motion since the last frame is assumed zero.
@@ -109,6 +118,7 @@ private:
     MotionEstimator estimator_;
     std::unordered_map<std::uint64_t, Track> tracks_;
     std::optional<Eigen::Isometry3d> pending_world_;
+    std::optional<Eigen::Isometry3d> laser_frame_pose_;  // of the next frame only
     bool started_ = false;
     TimeNs keyframe_t_ = 0;
     int keyframe_features_ = 0;
