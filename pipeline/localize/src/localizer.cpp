@@ -49,6 +49,7 @@ bool Localizer::addSweep(TimeNs t_start, const Eigen::Isometry3d& T_odom_body,
         // The hint (or the prior session's start) is where this session's first sweep began.
         have_first_ = true;
         T_prior_odom_ = priorFromOdomAtHint(hint_ ? *hint_ : prior_->start(), T_odom_body);
+        first_position_odom_ = T_odom_body.translation();
         last_attempt_t_ = t_start;
     }
     newest_t_ = t_start;
@@ -84,11 +85,30 @@ void Localizer::launch() {
     // The thread gets copies (the stack's sweeps are shared, immutable) and the prior map, which
     // is read-only; the localizer waits for it before it goes.
     const Eigen::Isometry3d T_start = T_prior_odom_ * running_on_.T_odom_new;
-    running_ = std::async(std::launch::async, [this, stack = stack_, T_start, lock = !locked_] {
-        const scan::FeatureCloud stacked = stack.stack();
-        return lock ? searchLock(config_, *prior_, stacked, T_start, &cancel_)
-                    : trackPrior(config_, *prior_, stacked, T_start);
-    });
+    std::optional<Eigen::Vector3d> pivot;
+    if (config_.search_turns_about_first) pivot = T_prior_odom_ * first_position_odom_;
+    running_ =
+        std::async(std::launch::async, [this, stack = stack_, T_start, pivot, lock = !locked_] {
+            const scan::FeatureCloud stacked = stack.stack();
+            return lock ? searchLock(config_, *prior_, stacked, T_start, &cancel_, pivot)
+                        : trackPrior(config_, *prior_, stacked, T_start);
+        });
+}
+
+bool Localizer::confirmed(const PriorMatchOutcome& o) {
+    const bool candidate = config_.confirm_margin > 0.0 && !o.cancelled &&
+                           o.on_map >= config_.lock_min_on_map &&
+                           o.on_map - o.runner_up >= config_.confirm_margin;
+    if (!candidate) {
+        unconfirmed_.reset();
+        return false;
+    }
+    const Eigen::Isometry3d T = o.T_prior_new * running_on_.T_odom_new.inverse();
+    const std::optional<Eigen::Isometry3d> before = std::exchange(unconfirmed_, T);
+    if (!before) return false;
+    const Eigen::Isometry3d d = before->inverse() * T;
+    return d.translation().norm() <= config_.distinct_m &&
+           Eigen::AngleAxisd(d.linear()).angle() * 180.0 / M_PI <= config_.distinct_deg;
 }
 
 bool Localizer::apply(const PriorMatchOutcome& o) {
@@ -101,7 +121,8 @@ bool Localizer::apply(const PriorMatchOutcome& o) {
         stats_.lock_on_map = o.on_map;
         stats_.lock_runner_up = o.runner_up;
     }
-    if (!o.accepted) {
+    const bool alone = o.accepted && !(o.kind == MatchKind::kLock && config_.confirm_always);
+    if (!alone && !(o.kind == MatchKind::kLock && confirmed(o))) {
         if (o.kind == MatchKind::kTrack) ++stats_.rejected_updates;
         return false;
     }

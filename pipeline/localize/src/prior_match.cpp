@@ -59,22 +59,26 @@ void countChanges(const LocalizerConfig& config, const PriorMap& prior,
 // first.
 std::vector<Candidate> scoreGrid(const LocalizerConfig& config, const PriorMap& prior,
                                  const std::vector<Eigen::Vector3d>& sample,
-                                 const Eigen::Isometry3d& T_guess,
-                                 const std::atomic<bool>* cancel) {
+                                 const Eigen::Isometry3d& T_guess, const std::atomic<bool>* cancel,
+                                 const std::optional<Eigen::Vector3d>& pivot) {
     std::vector<Candidate> grid;
     const int nr = static_cast<int>(std::floor(config.search_radius_m / config.search_step_m));
     const int ny = static_cast<int>(std::floor(config.search_yaw_deg / config.search_yaw_step_deg));
     for (int iy = -ny; iy <= ny && !isCancelled(cancel); ++iy) {
         const double yaw = iy * config.search_yaw_step_deg * std::numbers::pi / 180.0;
-        const Eigen::Matrix3d R =
-            Eigen::AngleAxisd(yaw, Eigen::Vector3d::UnitZ()).toRotationMatrix() * T_guess.linear();
+        const Eigen::Matrix3d Rz =
+            Eigen::AngleAxisd(yaw, Eigen::Vector3d::UnitZ()).toRotationMatrix();
+        const Eigen::Matrix3d R = Rz * T_guess.linear();
+        const Eigen::Vector3d centre =
+            pivot ? Eigen::Vector3d(*pivot + Rz * (T_guess.translation() - *pivot))
+                  : T_guess.translation();
         for (int ix = -nr; ix <= nr; ++ix) {
             for (int jy = -nr; jy <= nr; ++jy) {
                 const Eigen::Vector2d d(ix * config.search_step_m, jy * config.search_step_m);
                 if (d.norm() > config.search_radius_m + 1e-9) continue;
                 Candidate c;
                 c.T.linear() = R;
-                c.T.translation() = T_guess.translation() + Eigen::Vector3d(d.x(), d.y(), 0.0);
+                c.T.translation() = centre + Eigen::Vector3d(d.x(), d.y(), 0.0);
                 c.score = shareOnMap(config, prior, sample, c.T);
                 grid.push_back(c);
             }
@@ -103,6 +107,17 @@ std::vector<Eigen::Vector3d> samplePoints(const scan::FeatureCloud& cloud, int c
 double shareOnMap(const LocalizerConfig& config, const PriorMap& prior,
                   const std::vector<Eigen::Vector3d>& pts, const Eigen::Isometry3d& T) {
     if (pts.empty()) return 0.0;
+    const double n = static_cast<double>(pts.size());
+    if (config.score_min_covered > 0.0) {
+        std::size_t on = 0, covered = 0;
+        for (const Eigen::Vector3d& p : pts) {
+            const double d = prior.nearestDistance(T * p);
+            on += d <= config.on_map_m ? 1 : 0;
+            covered += d <= config.covered_m ? 1 : 0;
+        }
+        return static_cast<double>(on) /
+               std::max(static_cast<double>(covered), config.score_min_covered * n);
+    }
     const double r2 = config.on_map_m * config.on_map_m;
     std::size_t on = 0;
     Eigen::Vector3d nb;
@@ -116,17 +131,18 @@ double shareOnMap(const LocalizerConfig& config, const PriorMap& prior,
             }
         }
     }
-    return static_cast<double>(on) / static_cast<double>(pts.size());
+    return static_cast<double>(on) / n;
 }
 
 PriorMatchOutcome searchLock(const LocalizerConfig& config, const PriorMap& prior,
                              const scan::FeatureCloud& stacked, const Eigen::Isometry3d& T_guess,
-                             const std::atomic<bool>* cancel) {
+                             const std::atomic<bool>* cancel,
+                             const std::optional<Eigen::Vector3d>& pivot) {
     const double cpu0 = threadCpuMs();
     PriorMatchOutcome out;
     out.kind = MatchKind::kLock;
-    const std::vector<Candidate> grid =
-        scoreGrid(config, prior, samplePoints(stacked, config.search_points), T_guess, cancel);
+    const std::vector<Candidate> grid = scoreGrid(
+        config, prior, samplePoints(stacked, config.search_points), T_guess, cancel, pivot);
     // 2. The best few distinct seeds, refined by the scan matcher (robust, no prior).
     const scan::ScanMatcher matcher(config.matcher);
     std::vector<Candidate> refined;
@@ -144,6 +160,12 @@ PriorMatchOutcome searchLock(const LocalizerConfig& config, const PriorMap& prio
         seeds.push_back(c.T);
         const scan::MatchResult m = matcher.match(stacked, prior.voxels(), {}, &c.T);
         if (!m.enough_matches) continue;
+        if (config.refine_max_steps > 0.0) {
+            const auto [dm, ddeg] = separation(c.T, m.T_world_body);
+            if (dm > config.refine_max_steps * config.search_step_m ||
+                ddeg > config.refine_max_steps * config.search_yaw_step_deg)
+                continue;
+        }
         refined.push_back({m.T_world_body, shareOnMap(config, prior, check, m.T_world_body)});
     }
     out.cancelled = isCancelled(cancel);

@@ -1,7 +1,8 @@
 // The localizer of section 9 on a synthetic room: the lock from a hint 1 m and 15 deg off, no
-// lock where the prior map has nothing to match, a moved object that neither breaks the lock nor
-// goes unreported, odometry drift corrected at each match; the sweep stack and the prior map's
-// voxels.
+// lock where the prior map has nothing to match, a lock confirmed by two searches, headings
+// searched about the hint's place, new ground left out of the score, a moved object that neither
+// breaks the lock nor goes unreported, odometry drift corrected at each match; the sweep stack and
+// the prior map's voxels.
 #include "handscan/localize/localizer.hpp"
 
 #include <gtest/gtest.h>
@@ -180,6 +181,102 @@ TEST(LocalizerTest, AHintGivesPositionAndHeadingTheOdometryKeepsItsTilt) {
     const Eigen::Vector3d x = body.linear().col(0);
     EXPECT_NEAR(std::atan2(x.y(), x.x()) * 180.0 / M_PI, 100.0, 1e-9);
     EXPECT_NEAR(body.linear().col(2).z(), odom.linear().col(2).z(), 1e-12);  // tilt kept
+}
+
+// Confirmation (LocalizerConfig::confirm_margin): a place no single search wins by
+// lock_margin locks when the next search, on another stack, puts the odometry's world there too.
+TEST(LocalizerTest, TwoSearchesAgreeingOnThePlaceLock) {
+    const Eigen::Isometry3d truth = pose(3.2, 2.4, 1.3, 40);
+    LocalizerConfig c = atNextSweep();
+    c.lock_margin = 2.0;  // no search locks on its own
+    {
+        Localizer alone(c, roomPrior(), pose(4.0, 3.0, 1.3, 55));
+        TimeNs t = 1000 * kNsPerSec;
+        feed(alone, 9, t, truth, Eigen::Isometry3d::Identity());
+        alone.settle();
+        EXPECT_EQ(alone.stats().lock_attempts, 2u);
+        EXPECT_FALSE(alone.locked());  // confirmation off
+    }
+    c.confirm_margin = 0.05;
+    Localizer l(c, roomPrior(), pose(4.0, 3.0, 1.3, 55));
+    TimeNs t = 1000 * kNsPerSec;
+    feed(l, 5, t, truth, Eigen::Isometry3d::Identity());
+    EXPECT_FALSE(l.settle());  // the first search alone
+    EXPECT_FALSE(l.locked());
+    feed(l, 4, t, truth, Eigen::Isometry3d::Identity());
+    EXPECT_TRUE(l.settle());  // the second agrees
+    ASSERT_TRUE(l.locked());
+    EXPECT_EQ(l.stats().lock_attempts, 2u);
+    EXPECT_LT((l.priorFromOdom().translation() - truth.translation()).norm(), 0.01);
+    EXPECT_LT(angleDeg(l.priorFromOdom(), truth), 0.2);
+}
+
+TEST(LocalizerTest, TwoSearchesPuttingTheOdometryInDifferentPlacesDoNotLock) {
+    // The odometry says it stood still, but the second stack was seen 2 m away: the searches
+    // place the odometry's world 2 m apart; neither is confirmed.
+    LocalizerConfig c = atNextSweep();
+    c.lock_margin = 2.0;
+    c.confirm_margin = 0.05;
+    Localizer l(c, roomPrior(), pose(4.0, 3.0, 1.3, 40));
+    TimeNs t = 1000 * kNsPerSec;
+    feed(l, 5, t, pose(3.2, 2.4, 1.3, 40), Eigen::Isometry3d::Identity());
+    EXPECT_FALSE(l.settle());
+    feed(l, 4, t, pose(5.2, 2.4, 1.3, 40), Eigen::Isometry3d::Identity());
+    EXPECT_FALSE(l.settle());
+    EXPECT_EQ(l.stats().lock_attempts, 2u);
+    EXPECT_FALSE(l.locked());
+}
+
+// search_turns_about_first: the hint's heading 50 deg off at the first sweep, the operator 6 m
+// on since; turned about the newest sweep the candidates miss it by 5 m, about the first sweep's
+// place they reach it.
+TEST(LocalizerTest, AHeadingLostAtTheFirstSweepIsSearchedAboutItsPlace) {
+    const Eigen::Isometry3d first = pose(2.0, 3.5, 1.3, 0);
+    const Eigen::Isometry3d now = pose(8.0, 3.5, 1.3, 0);
+    const Eigen::Isometry3d odom_now = first.inverse() * now;  // the odometry started at `first`
+    const Eigen::Isometry3d hint = pose(2.3, 3.3, 1.3, 50);
+    for (const bool about_first : {false, true}) {
+        LocalizerConfig c = atNextSweep();
+        c.search_radius_m = 1.5;
+        c.search_yaw_deg = 60.0;
+        c.search_turns_about_first = about_first;
+        Localizer l(c, roomPrior(), hint);
+        TimeNs t = 1000 * kNsPerSec;
+        feed(l, 1, t, first, Eigen::Isometry3d::Identity());
+        feed(l, 4, t, now, odom_now);
+        l.settle();
+        EXPECT_EQ(l.stats().lock_attempts, 1u);
+        ASSERT_EQ(l.locked(), about_first);
+        if (!about_first) continue;
+        const Eigen::Isometry3d est = l.priorFromOdom() * odom_now;
+        EXPECT_LT((est.translation() - now.translation()).norm(), 0.01);
+        EXPECT_LT(angleDeg(est, now), 0.2);
+    }
+}
+
+// score_min_covered: half of the stack new ground (a room the prior map never saw) halves the
+// share on the map; scored where the map reaches it is whole again, and a pose putting the stack
+// beside the map scores nothing.
+TEST(PriorMatchTest, ScoredWhereThePriorMapReachesNewGroundDoesNotCount) {
+    const auto prior = roomPrior();
+    const Eigen::Isometry3d truth = pose(3.2, 2.4, 1.3, 40);
+    const std::vector<Eigen::Vector3d> seen = samplePoints(test::sweepAt(truth), 300);
+    std::vector<Eigen::Vector3d> pts = seen;
+    for (const Eigen::Vector3d& p : seen)  // as much again, 30 m beyond the room
+        pts.push_back(p + truth.linear().transpose() * Eigen::Vector3d(30.0, 0.0, 0.0));
+    LocalizerConfig c;
+    EXPECT_NEAR(shareOnMap(c, *prior, pts, truth), 0.5, 0.05);
+    c.score_min_covered = 0.3;
+    EXPECT_GT(shareOnMap(c, *prior, pts, truth), 0.9);
+    EXPECT_LT(shareOnMap(c, *prior, pts, pose(40.0, 2.4, 1.3, 40)), 0.01);
+    // Few points covered (a sixth here, under 30 %) are scored against 30 % of them all.
+    const std::size_t n_seen = seen.size() / 5;
+    std::vector<Eigen::Vector3d> mostly_new(seen.begin(), seen.begin() + n_seen);
+    mostly_new.insert(mostly_new.end(), pts.begin() + seen.size(), pts.end());
+    EXPECT_LT(shareOnMap(c, *prior, mostly_new, truth),
+              static_cast<double>(n_seen) / (0.3 * mostly_new.size()) + 1e-9);
+    EXPECT_GT(shareOnMap(c, *prior, mostly_new, truth),
+              0.9 * static_cast<double>(n_seen) / (0.3 * mostly_new.size()));
 }
 
 TEST(SweepStackTest, StacksIntoTheNewestSweepsFrameThinnedAndWithinItsSpan) {

@@ -105,6 +105,9 @@ private:
     };
     void launch();
     bool apply(const PriorMatchOutcome& o);
+    // A lock search not accepted on its own: true when it and the previous one agree (see
+    // LocalizerConfig::confirm_margin).
+    bool confirmed(const PriorMatchOutcome& o);
 
     LocalizerConfig config_;
     std::shared_ptr<const PriorMap> prior_;
@@ -113,6 +116,10 @@ private:
     bool locked_ = false;
     bool have_first_ = false;
     Eigen::Isometry3d T_prior_odom_ = Eigen::Isometry3d::Identity();
+    Eigen::Vector3d first_position_odom_ = Eigen::Vector3d::Zero();  // the hint's place
+    // The last search's best place for the odometry's world, when it passed confirm_margin
+    // but not lock_margin: a lock once the next search agrees.
+    std::optional<Eigen::Isometry3d> unconfirmed_;
     TimeNs last_attempt_t_ = 0;
     TimeNs newest_t_ = 0;
     LocalizerStats stats_;

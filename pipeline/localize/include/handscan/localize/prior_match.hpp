@@ -12,6 +12,7 @@
 #include <atomic>
 #include <cstdint>
 #include <map>
+#include <optional>
 #include <tuple>
 #include <vector>
 
@@ -38,17 +39,20 @@ struct PriorMatchOutcome {
     std::map<std::tuple<int, int, int>, std::uint64_t> change_cells;  // cell -> points
 };
 
-// The lock search around `T_guess` (the stacked cloud's pose as the hint puts it). `cancel`
-// (may be null) ends it early with `cancelled` set.
+// The lock search around `T_guess` (the stacked cloud's pose as the hint puts it), headings
+// turned about `pivot` (prior frame; none: about T_guess). `cancel` (may be null) ends it early
+// with `cancelled` set.
 PriorMatchOutcome searchLock(const LocalizerConfig& config, const PriorMap& prior,
                              const scan::FeatureCloud& stacked, const Eigen::Isometry3d& T_guess,
-                             const std::atomic<bool>* cancel = nullptr);
+                             const std::atomic<bool>* cancel = nullptr,
+                             const std::optional<Eigen::Vector3d>& pivot = std::nullopt);
 
 // A tracking match from `T_init` (the stacked cloud's pose as the current estimate puts it).
 PriorMatchOutcome trackPrior(const LocalizerConfig& config, const PriorMap& prior,
                              const scan::FeatureCloud& stacked, const Eigen::Isometry3d& T_init);
 
-// The share of `pts` (body frame) within config.on_map_m of a prior point at pose T.
+// The share of `pts` (body frame) within config.on_map_m of a prior point at pose T (among
+// those the prior map covers: config.score_min_covered).
 double shareOnMap(const LocalizerConfig& config, const PriorMap& prior,
                   const std::vector<Eigen::Vector3d>& pts, const Eigen::Isometry3d& T);
 
