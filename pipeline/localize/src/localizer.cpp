@@ -6,6 +6,7 @@
 #include <utility>
 
 #include "handscan/core/se3.hpp"
+#include "handscan/scan/voxel_key.hpp"
 
 namespace handscan::localize {
 namespace {
@@ -30,7 +31,13 @@ Eigen::Isometry3d priorFromOdomAtHint(const Eigen::Isometry3d& hint,
 
 Localizer::Localizer(const LocalizerConfig& config, std::shared_ptr<const PriorMap> prior,
                      std::optional<Eigen::Isometry3d> hint)
-    : config_(config), prior_(std::move(prior)), hint_(std::move(hint)), stack_(config.stack) {}
+    : config_(config),
+      prior_(std::move(prior)),
+      hint_(std::move(hint)),
+      stack_(config.stack),
+      seen_(prior_->seenSpace()) {
+    seen_.clear();
+}
 
 Localizer::~Localizer() {
     cancel_.store(true, std::memory_order_relaxed);
@@ -145,19 +152,37 @@ bool Localizer::apply(const PriorMatchOutcome& o) {
         change_cells_[cell].points += n;
         ++change_cells_[cell].matches;
     }
+    seen_.add(o.seen_cells);
     return true;
 }
 
 std::vector<ChangeCell> Localizer::changes() const {
     std::vector<ChangeCell> out;
+    const auto min_points = static_cast<std::uint64_t>(config_.change_cell_min_points);
+    auto centre = [&](const std::tuple<int, int, int>& k) {
+        const auto [x, y, z] = k;
+        return Eigen::Vector3d((Eigen::Vector3d(x, y, z).array() + 0.5) * config_.change_cell_m);
+    };
     for (const auto& [k, n] : change_cells_) {
-        if (n.points < static_cast<std::uint64_t>(config_.change_cell_min_points) ||
+        if (n.points < min_points ||
             n.matches < static_cast<std::uint64_t>(config_.change_cell_min_matches))
             continue;
-        const auto [x, y, z] = k;
-        out.push_back({(Eigen::Vector3d(x, y, z).array() + 0.5) * config_.change_cell_m, n.points,
-                       n.matches});
+        out.push_back({centre(k), ChangeKind::kAppeared, n.points, n.matches});
     }
+    // Vanished: prior points whose place this session's rays went through, into their surface.
+    const std::vector<Eigen::Vector3f>& planars = prior_->points().planars;
+    const std::vector<Eigen::Vector3f>& normals = prior_->planarNormals();
+    if (seen_.empty()) return out;
+    std::map<std::tuple<int, int, int>, std::uint64_t> vanished;
+    for (std::size_t i = 0; i < planars.size() && i < normals.size(); ++i) {
+        if (!normals[i].allFinite()) continue;
+        const Eigen::Vector3d p = planars[i].cast<double>();
+        if (!seen_.seenThrough(p, normals[i].cast<double>())) continue;
+        const scan::VoxelKey k = scan::voxelOf(p, config_.change_cell_m);
+        ++vanished[{k.x(), k.y(), k.z()}];
+    }
+    for (const auto& [k, n] : vanished)
+        if (n >= min_points) out.push_back({centre(k), ChangeKind::kVanished, n, 0});
     return out;
 }
 

@@ -35,24 +35,38 @@ bool isCancelled(const std::atomic<bool>* cancel) {
     return cancel != nullptr && cancel->load(std::memory_order_relaxed);
 }
 
-// Stacked points far from the prior map where it is mapped, per change cell, at the accepted
-// pose; points with nothing near are new ground.
+// The change check at the accepted pose, on the stacked planar points (the ones that carry the
+// laser centre that saw them, and a surface normal): a point far from every prior point where
+// the earlier session's rays went through empty space into that surface has appeared; one far from
+// the prior where the earlier session never looked is new ground, not a change. The stack's rays
+// are handed back for the vanished check (Localizer::changes).
 void countChanges(const LocalizerConfig& config, const PriorMap& prior,
                   const scan::FeatureCloud& stacked, PriorMatchOutcome& out) {
-    auto check = [&](const Eigen::Vector3d& p_body) {
-        const Eigen::Vector3d q = out.T_prior_new * p_body;
-        const double d = prior.nearestDistance(q);
+    if (stacked.planar_origins.size() != stacked.planars.size()) return;
+    scan::FeatureMapPoints here;  // the stack in the prior's frame
+    for (std::size_t i = 0; i < stacked.planars.size(); ++i) {
+        here.planars.push_back((out.T_prior_new * stacked.planars[i]).cast<float>());
+        here.planar_origins.push_back((out.T_prior_new * stacked.planar_origins[i]).cast<float>());
+    }
+    const std::vector<Eigen::Vector3f> normals =
+        surfaceNormals(voxelTrees(here, {}), here.planars, here.planar_origins);
+    const SeenSpace& seen = prior.seenSpace();
+    for (std::size_t i = 0; i < here.planars.size(); ++i) {
+        const Eigen::Vector3d q = here.planars[i].cast<double>();
+        const Eigen::Vector3d o = here.planar_origins[i].cast<double>();
+        if (!o.allFinite()) continue;
+        seen.cellsAlong(o, q, out.seen_cells);
+        if (!normals[i].allFinite()) continue;  // no surface to judge
         ++out.points_checked;
-        if (d > config.covered_m) {
+        if (prior.nearestDistance(q) <= config.change_m) continue;
+        if (!seen.seenThrough(q, normals[i].cast<double>())) {
             ++out.new_points;
-        } else if (d > config.change_m) {
-            ++out.changed_points;
-            const scan::VoxelKey k = scan::voxelOf(q, config.change_cell_m);
-            ++out.change_cells[{k.x(), k.y(), k.z()}];
+            continue;
         }
-    };
-    for (const Eigen::Vector3d& p : stacked.edges) check(p);
-    for (const Eigen::Vector3d& p : stacked.planars) check(p);
+        ++out.changed_points;
+        const scan::VoxelKey k = scan::voxelOf(q, config.change_cell_m);
+        ++out.change_cells[{k.x(), k.y(), k.z()}];
+    }
 }
 
 // 1. The grid over x, y and yaw around the guess, scored by the share on the prior map, best

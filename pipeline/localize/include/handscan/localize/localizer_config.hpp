@@ -58,13 +58,16 @@ struct LocalizerConfig {
     double track_min_on_map = 0.5;
     double max_correction_m = 0.3;
     double max_correction_deg = 3.0;
-    // Changes: farther than change_m from every prior point with a prior point within covered_m.
+    // Changes (judged on planar points, which carry the laser centre that saw them): a point of
+    // this session farther than change_m from every prior point, where the earlier session saw
+    // through empty space (PriorMap::seenSpace), has appeared; a prior point where this session
+    // sees through empty space has vanished. Space the earlier session never looked at is new
+    // ground, not a change.
     double change_m = 0.3;
-    double covered_m = 1.5;
     double change_cell_m = 0.5;
     int change_cell_min_points = 3;  // a cell is reported from this many points up
-    // ... seen changed by this many matches (stacks 2 s apart, other viewpoints): what one view
-    // alone finds far from the prior (vegetation's unrepeatable returns, a grazing ray) is noise.
+    // ... an appeared cell seen by this many matches (stacks 2 s apart, other viewpoints): what
+    // one view alone finds (vegetation's unrepeatable returns, a grazing ray) is noise.
     int change_cell_min_matches = 2;
     scan::ScanMatcherConfig matcher;
     // When a match (run on the localizer's own thread) takes effect: as soon as it is done
