@@ -44,6 +44,7 @@ struct LocalizerConfig {
     // points as covered, so that a pose putting the stack beside the map scores nothing;
     // 0: among all the points (a new session starting where the earlier one did).
     double score_min_covered = 0.0;
+    double covered_m = 1.5;
     double distinct_m = 0.5;
     double distinct_deg = 10.0;
     // Or: two successive searches (other stacks, other views) put the odometry's world at the
