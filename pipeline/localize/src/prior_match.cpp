@@ -127,7 +127,7 @@ double shareOnMap(const LocalizerConfig& config, const PriorMap& prior,
         for (const Eigen::Vector3d& p : pts) {
             const double d = prior.nearestDistance(T * p);
             on += d <= config.on_map_m ? 1 : 0;
-            covered += d <= config.score_covered_m ? 1 : 0;
+            covered += d <= config.covered_m ? 1 : 0;
         }
         return static_cast<double>(on) /
                std::max(static_cast<double>(covered), config.score_min_covered * n);

@@ -39,13 +39,12 @@ struct LocalizerConfig {
     double lock_min_on_map = 0.6;
     double lock_margin = 0.1;
     // The share on the map is taken among the stacked points with a prior point within
-    // score_covered_m (the rest is new ground: a scanner relocalising on its own map while the
-    // operator walks on into rooms not scanned yet), counting at least score_min_covered of all
-    // the points as covered, so that a pose putting the stack beside the map scores nothing;
-    // score_min_covered 0: among all the points (a new session starting where the earlier one
-    // did).
+    // covered_m (the rest is new ground: a scanner relocalising on its own map while the
+    // operator walks on into rooms not scanned yet), counting at least this share of all the
+    // points as covered, so that a pose putting the stack beside the map scores nothing;
+    // 0: among all the points (a new session starting where the earlier one did).
     double score_min_covered = 0.0;
-    double score_covered_m = 1.5;
+    double covered_m = 1.5;
     double distinct_m = 0.5;
     double distinct_deg = 10.0;
     // Or: two successive searches (other stacks, other views) put the odometry's world at the
