@@ -50,6 +50,8 @@ Result<worker::WorkerConfig> workerConfig(const ReplayOptions& o, const DeviceCo
     c.lio.laser_enabled = o.use_laser;
     c.lio.imu_feedback = o.imu_feedback;
     c.lio.odometry.max_threads = 1;  // replay is deterministic: sweeps are matched in order
+    // Likewise a relocalisation's search (on its own thread) takes effect at the next sweep.
+    if (o.fast) c.lio.relocalise.apply = localize::MatchApply::kAtNextSweep;
     if (!o.reference_motion.empty()) {
         auto reference = ReferenceMotion::load(
             o.reference_motion, o.reference_perturb_m, o.reference_perturb_deg * M_PI / 180.0,
@@ -92,10 +94,12 @@ public:
     }
 
     Status trajectoryPose(const PoseEstimate& p) override {
+        // Poses guessed while tracking is lost are not the scan's trajectory (neither in
+        // trajectory.tum nor in the journal): the IMU's alone, or after an IMU gap those of
+        // the lost sweeps' own map, in a frame the relocalisation has yet to find.
+        if (p.tracking_lost) return Status::ok();
         if (Status st = outputs_.addPose(p); !st.isOk()) return st;
-        // Poses guessed while tracking is lost are not the scan's trajectory.
-        if (journal_ && !p.tracking_lost)
-            (void)journal_->appendPose(live_output::trajectoryPose(p));
+        if (journal_) (void)journal_->appendPose(live_output::trajectoryPose(p));
         return Status::ok();
     }
 

@@ -80,17 +80,23 @@ Json visualJson(const worker::VisualStage& v) {
 }
 
 // The localization on a prior map (section 9): the lock, the matches to the prior at 0.5 Hz,
-// their cost, and where the scene changed (cells with points far from the prior map).
+// their cost, and where the scene changed (cells where something appeared in space the earlier
+// session saw through, or vanished from where this session sees through).
 Json localizationJson(const localize::Localizer& l, std::uint64_t sweeps_before_lock,
                       std::uint64_t sweeps_held, double recording_s) {
     const localize::LocalizerStats& s = l.stats();
     Json changes = Json::array();
-    for (const localize::ChangeCell& c : l.changes())
+    std::uint64_t appeared = 0, vanished = 0;
+    for (const localize::ChangeCell& c : l.changes()) {
+        const bool app = c.kind == localize::ChangeKind::kAppeared;
+        ++(app ? appeared : vanished);
         changes.push_back({{"x", c.centre.x()},
                            {"y", c.centre.y()},
                            {"z", c.centre.z()},
+                           {"kind", app ? "appeared" : "vanished"},
                            {"points", c.points},
                            {"matches", c.matches}});
+    }
     const Eigen::Isometry3d& T = l.priorFromOdom();
     const Eigen::Quaterniond q(T.linear());
     return {{"locked", l.locked()},
@@ -118,7 +124,10 @@ Json localizationJson(const localize::Localizer& l, std::uint64_t sweeps_before_
              {{"points", s.points_checked},
               {"changed", s.changed_points},
               {"new", s.new_points},
+              {"appeared_cells", appeared},
+              {"vanished_cells", vanished},
               {"cell_m", l.config().change_cell_m},
+              {"seen_cell_m", l.prior().seenSpace().cellSize()},
               {"far_m", l.config().change_m}}},
             {"changes", changes}};
 }

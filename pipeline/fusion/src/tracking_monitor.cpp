@@ -111,6 +111,16 @@ LostReason TrackingMonitor::check(const SweepEvidence& e, std::string& detail) c
 
 TrackingVerdict TrackingMonitor::assess(const SweepEvidence& e) {
     TrackingVerdict v;
+    if (config_.enabled && e.founds_map && awaiting_relocalisation_) {
+        // The lost sweeps' own map (LaserInertialOdometry while relocalising) is founded: still
+        // lost, and nothing of it enters the scan's map.
+        v.consistent = false;
+        v.enters_map = false;
+        v.lost = lost_;
+        if (!intervals_.empty()) v.reason = intervals_.back().reason;
+        if (lost_) ++intervals_.back().sweeps;
+        return v;
+    }
     if (!config_.enabled || e.founds_map) {
         if (e.founds_map) {
             before_last_ = last_;

@@ -186,6 +186,33 @@ void ImuPredictor::moveWorld(const Eigen::Isometry3d& T_new_old) {
     motion_prior_.reset();
 }
 
+Result<double> ImuPredictor::relevel(TimeNs t0, TimeNs t1) {
+    Eigen::Vector3d f_world = Eigen::Vector3d::Zero();
+    std::size_t n = 0, first = history_.size();
+    for (std::size_t k = 0; k < history_.size(); ++k) {
+        const ImuHistoryEntry& e = history_[k];
+        if (e.sample.t_host < t0 || e.sample.t_host > t1) continue;
+        first = std::min(first, k);
+        f_world += e.state.R_world_imu * e.reading.accel_mps2;
+        ++n;
+    }
+    if (n < 10)
+        return Status(StatusCode::kInvalidArgument,
+                      "IMU prediction: relevel over " + std::to_string(n) +
+                          " samples (at least 10 needed); attitude kept");
+    // The smallest rotation taking the measured "up" onto gravity's up.
+    const Eigen::Matrix3d C =
+        Eigen::Quaterniond::FromTwoVectors(f_world.normalized(), -gravity().normalized())
+            .toRotationMatrix();
+    NavState x = history_[first].state;
+    x.R_world_imu = orthonormalize(C * x.R_world_imu);
+    repropagateFrom(x);
+    // The feedback window's poses lie before the gap, which the held states do not connect to:
+    // a velocity or a bias estimated across it is wrong by the gap's unknown motion.
+    bias_estimator_.reset();
+    return rotationAngle(C, Eigen::Matrix3d::Identity());
+}
+
 void ImuPredictor::repropagateFrom(const NavState& x0) {
     std::size_t k = history_.nodeAt(x0.t, gravity());
     NavState x = x0;

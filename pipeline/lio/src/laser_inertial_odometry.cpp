@@ -44,6 +44,10 @@ void LaserInertialOdometry::noteIncident(const std::optional<Incident>& incident
     const fusion::TrackingVerdict v =
         monitor_.fail(incident->t, incident->t_seen, incident->reason, incident->detail,
                       incident->reason == fusion::LostReason::kImuSilent);
+    if (incident->reason == fusion::LostReason::kImuSilent) {
+        relevel_pending_ = true;
+        imu_back_t_ = 0;
+    }
     if (v.lost && !was_lost)
         log().warn("tracking lost at t={} ns ({}): {}", incident->t,
                    fusion::lostReasonName(incident->reason), incident->detail);
@@ -57,6 +61,7 @@ void LaserInertialOdometry::addImu(const ImuSample& sample) {
         return;
     }
     if (!predictor_.initialized()) return;
+    if (relevel_pending_ && !motion_) relevelAfterGap(sample.t_host);
     if (motion_) {
         // Diagnostics: nothing corrects the IMU prediction, so the override stands in for the
         // VIO of section 7 - the 200 Hz output is the last match carried forward by the
@@ -181,12 +186,22 @@ void LaserInertialOdometry::matchSweep(scan::Sweep sweep) {
     // Without a motion estimate for every step (before gravity alignment) the sweep cannot be
     // placed: matching it would put a wrongly oriented copy of the scene into the map.
     if (!predictor_.initialized() || sweep.points.size() < 100 ||
-        sweep.t_start <= last_unknown_pose_t_) {
+        sweep.t_start <= last_unknown_pose_t_ || relevel_pending_) {
         ++stats_.unplaced_sweeps;
         return;
     }
     // Diagnostics (a motion override): the matcher alone, from the override, no feedback.
     const bool reference = static_cast<bool>(motion_);
+    // The pose is unknown (an IMU gap): the held velocity and heading would place the sweeps
+    // smeared and drifting away, and matching them to the scan's map from there converges to
+    // a wrong place. The scan's map is frozen for the relocaliser; the lost sweeps are tracked
+    // on a map of their own (the IMU's frame since the loss), which the matches' feedback keeps
+    // the predictor honest on, until the relocaliser finds that map's place on the scan's.
+    const bool relocating = monitor_.awaitingRelocalisation() && !reference;
+    if (relocating && !frozen_) {
+        frozen_ = std::move(odometry_);
+        odometry_ = std::make_unique<scan::LaserOdometry>(config_.odometry);
+    }
     std::optional<std::vector<scan::PosePrior>> priors;
     // The directions the VIO solved since the previous match: its increment carries the prior
     // there (eq. 17); elsewhere the prior holds the IMU prediction's uncertainty (eq. 22).
@@ -255,6 +270,8 @@ void LaserInertialOdometry::matchSweep(scan::Sweep sweep) {
                     static_cast<std::size_t>(m.match.plane_matches);
         e.rms_m = m.match.rms_m;
         verdict = monitor_.assess(e);
+        // The lost sweeps' own map grows with every consistent one; none enters the scan's.
+        if (relocating) return verdict.consistent || m.first_sweep;
         return verdict.enters_map;
     };
     scan::SweepResult r = odometry_->process(sweep, priors, gate);
@@ -267,7 +284,7 @@ void LaserInertialOdometry::matchSweep(scan::Sweep sweep) {
         r.pose.solved_dof_mask = 0;
         r.solved_projector_world.setZero();
     }
-    if (monitor_.awaitingRelocalisation() && !reference) relocalise(sweep.t_start, r);
+    if (relocating) relocalise(sweep.t_start, r);
     PoseEstimate scan_pose = r.pose;
     scan_pose.t_host = sweep.t_start;
     scan_pose.source = PoseSource::kScanMatching;
@@ -296,9 +313,26 @@ void LaserInertialOdometry::matchSweep(scan::Sweep sweep) {
     sweeps_.push_back(std::move(reg));
 }
 
+void LaserInertialOdometry::relevelAfterGap(TimeNs t) {
+    if (imu_back_t_ == 0) imu_back_t_ = t;
+    if (toSeconds(t - imu_back_t_) < config_.relevel_window_s) return;
+    relevel_pending_ = false;
+    // Sweeps holding a time before this were placed with the tilt still in: not placed.
+    last_unknown_pose_t_ = std::max(last_unknown_pose_t_, t);
+    const auto tilt = predictor_.relevel(imu_back_t_, t);
+    if (!tilt.isOk()) {
+        log().warn("after the IMU gap: {}", tilt.status().message());
+        return;
+    }
+    log().info("after the IMU gap: attitude levelled from the accelerometer by {:.1f} deg",
+               *tilt * 180.0 / M_PI);
+}
+
 void LaserInertialOdometry::relocalise(TimeNs t, scan::SweepResult& r) {
-    const auto T_map_odom = relocaliser_.addSweep(*odometry_, t, r.pose.T_world_body, r.features);
+    const auto T_map_odom = relocaliser_.addSweep(*frozen_, t, r.pose.T_world_body, r.features);
     if (!T_map_odom) return;
+    // The scan goes on in its own frame and map; the lost sweeps' map is dropped with them.
+    odometry_ = std::move(frozen_);
     const Eigen::Isometry3d& C = *T_map_odom;
     predictor_.moveWorld(C);
     if (auto last = integrator_.lastScanPose()) {

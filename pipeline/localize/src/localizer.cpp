@@ -6,6 +6,7 @@
 #include <utility>
 
 #include "handscan/core/se3.hpp"
+#include "handscan/scan/voxel_key.hpp"
 
 namespace handscan::localize {
 namespace {
@@ -30,7 +31,13 @@ Eigen::Isometry3d priorFromOdomAtHint(const Eigen::Isometry3d& hint,
 
 Localizer::Localizer(const LocalizerConfig& config, std::shared_ptr<const PriorMap> prior,
                      std::optional<Eigen::Isometry3d> hint)
-    : config_(config), prior_(std::move(prior)), hint_(std::move(hint)), stack_(config.stack) {}
+    : config_(config),
+      prior_(std::move(prior)),
+      hint_(std::move(hint)),
+      stack_(config.stack),
+      seen_(prior_->seenSpace()) {
+    seen_.clear();
+}
 
 Localizer::~Localizer() {
     cancel_.store(true, std::memory_order_relaxed);
@@ -49,6 +56,7 @@ bool Localizer::addSweep(TimeNs t_start, const Eigen::Isometry3d& T_odom_body,
         // The hint (or the prior session's start) is where this session's first sweep began.
         have_first_ = true;
         T_prior_odom_ = priorFromOdomAtHint(hint_ ? *hint_ : prior_->start(), T_odom_body);
+        first_position_odom_ = T_odom_body.translation();
         last_attempt_t_ = t_start;
     }
     newest_t_ = t_start;
@@ -84,11 +92,30 @@ void Localizer::launch() {
     // The thread gets copies (the stack's sweeps are shared, immutable) and the prior map, which
     // is read-only; the localizer waits for it before it goes.
     const Eigen::Isometry3d T_start = T_prior_odom_ * running_on_.T_odom_new;
-    running_ = std::async(std::launch::async, [this, stack = stack_, T_start, lock = !locked_] {
-        const scan::FeatureCloud stacked = stack.stack();
-        return lock ? searchLock(config_, *prior_, stacked, T_start, &cancel_)
-                    : trackPrior(config_, *prior_, stacked, T_start);
-    });
+    std::optional<Eigen::Vector3d> pivot;
+    if (config_.search_turns_about_first) pivot = T_prior_odom_ * first_position_odom_;
+    running_ =
+        std::async(std::launch::async, [this, stack = stack_, T_start, pivot, lock = !locked_] {
+            const scan::FeatureCloud stacked = stack.stack();
+            return lock ? searchLock(config_, *prior_, stacked, T_start, &cancel_, pivot)
+                        : trackPrior(config_, *prior_, stacked, T_start);
+        });
+}
+
+bool Localizer::confirmed(const PriorMatchOutcome& o) {
+    const bool candidate = config_.confirm_margin > 0.0 && !o.cancelled &&
+                           o.on_map >= config_.lock_min_on_map &&
+                           o.on_map - o.runner_up >= config_.confirm_margin;
+    if (!candidate) {
+        unconfirmed_.reset();
+        return false;
+    }
+    const Eigen::Isometry3d T = o.T_prior_new * running_on_.T_odom_new.inverse();
+    const std::optional<Eigen::Isometry3d> before = std::exchange(unconfirmed_, T);
+    if (!before) return false;
+    const Eigen::Isometry3d d = before->inverse() * T;
+    return d.translation().norm() <= config_.distinct_m &&
+           Eigen::AngleAxisd(d.linear()).angle() * 180.0 / M_PI <= config_.distinct_deg;
 }
 
 bool Localizer::apply(const PriorMatchOutcome& o) {
@@ -101,7 +128,8 @@ bool Localizer::apply(const PriorMatchOutcome& o) {
         stats_.lock_on_map = o.on_map;
         stats_.lock_runner_up = o.runner_up;
     }
-    if (!o.accepted) {
+    const bool alone = o.accepted && !(o.kind == MatchKind::kLock && config_.confirm_always);
+    if (!alone && !(o.kind == MatchKind::kLock && confirmed(o))) {
         if (o.kind == MatchKind::kTrack) ++stats_.rejected_updates;
         return false;
     }
@@ -124,19 +152,37 @@ bool Localizer::apply(const PriorMatchOutcome& o) {
         change_cells_[cell].points += n;
         ++change_cells_[cell].matches;
     }
+    seen_.add(o.seen_cells);
     return true;
 }
 
 std::vector<ChangeCell> Localizer::changes() const {
     std::vector<ChangeCell> out;
+    const auto min_points = static_cast<std::uint64_t>(config_.change_cell_min_points);
+    auto centre = [&](const std::tuple<int, int, int>& k) {
+        const auto [x, y, z] = k;
+        return Eigen::Vector3d((Eigen::Vector3d(x, y, z).array() + 0.5) * config_.change_cell_m);
+    };
     for (const auto& [k, n] : change_cells_) {
-        if (n.points < static_cast<std::uint64_t>(config_.change_cell_min_points) ||
+        if (n.points < min_points ||
             n.matches < static_cast<std::uint64_t>(config_.change_cell_min_matches))
             continue;
-        const auto [x, y, z] = k;
-        out.push_back({(Eigen::Vector3d(x, y, z).array() + 0.5) * config_.change_cell_m, n.points,
-                       n.matches});
+        out.push_back({centre(k), ChangeKind::kAppeared, n.points, n.matches});
     }
+    // Vanished: prior points whose place this session's rays went through, into their surface.
+    const std::vector<Eigen::Vector3f>& planars = prior_->points().planars;
+    const std::vector<Eigen::Vector3f>& normals = prior_->planarNormals();
+    if (seen_.empty()) return out;
+    std::map<std::tuple<int, int, int>, std::uint64_t> vanished;
+    for (std::size_t i = 0; i < planars.size() && i < normals.size(); ++i) {
+        if (!normals[i].allFinite()) continue;
+        const Eigen::Vector3d p = planars[i].cast<double>();
+        if (!seen_.seenThrough(p, normals[i].cast<double>())) continue;
+        const scan::VoxelKey k = scan::voxelOf(p, config_.change_cell_m);
+        ++vanished[{k.x(), k.y(), k.z()}];
+    }
+    for (const auto& [k, n] : vanished)
+        if (n >= min_points) out.push_back({centre(k), ChangeKind::kVanished, n, 0});
     return out;
 }
 

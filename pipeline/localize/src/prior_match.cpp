@@ -35,46 +35,64 @@ bool isCancelled(const std::atomic<bool>* cancel) {
     return cancel != nullptr && cancel->load(std::memory_order_relaxed);
 }
 
-// Stacked points far from the prior map where it is mapped, per change cell, at the accepted
-// pose; points with nothing near are new ground.
+// The change check at the accepted pose, on the stacked planar points (the ones that carry the
+// laser centre that saw them, and a surface normal): a point far from every prior point where
+// the earlier session's rays went through empty space into that surface has appeared; one far from
+// the prior where the earlier session never looked is new ground, not a change. The stack's rays
+// are handed back for the vanished check (Localizer::changes).
 void countChanges(const LocalizerConfig& config, const PriorMap& prior,
                   const scan::FeatureCloud& stacked, PriorMatchOutcome& out) {
-    auto check = [&](const Eigen::Vector3d& p_body) {
-        const Eigen::Vector3d q = out.T_prior_new * p_body;
-        const double d = prior.nearestDistance(q);
+    if (stacked.planar_origins.size() != stacked.planars.size()) return;
+    scan::FeatureMapPoints here;  // the stack in the prior's frame
+    for (std::size_t i = 0; i < stacked.planars.size(); ++i) {
+        here.planars.push_back((out.T_prior_new * stacked.planars[i]).cast<float>());
+        here.planar_origins.push_back((out.T_prior_new * stacked.planar_origins[i]).cast<float>());
+    }
+    const std::vector<Eigen::Vector3f> normals =
+        surfaceNormals(voxelTrees(here, {}), here.planars, here.planar_origins);
+    const SeenSpace& seen = prior.seenSpace();
+    for (std::size_t i = 0; i < here.planars.size(); ++i) {
+        const Eigen::Vector3d q = here.planars[i].cast<double>();
+        const Eigen::Vector3d o = here.planar_origins[i].cast<double>();
+        if (!o.allFinite()) continue;
+        seen.cellsAlong(o, q, out.seen_cells);
+        if (!normals[i].allFinite()) continue;  // no surface to judge
         ++out.points_checked;
-        if (d > config.covered_m) {
+        if (prior.nearestDistance(q) <= config.change_m) continue;
+        if (!seen.seenThrough(q, normals[i].cast<double>())) {
             ++out.new_points;
-        } else if (d > config.change_m) {
-            ++out.changed_points;
-            const scan::VoxelKey k = scan::voxelOf(q, config.change_cell_m);
-            ++out.change_cells[{k.x(), k.y(), k.z()}];
+            continue;
         }
-    };
-    for (const Eigen::Vector3d& p : stacked.edges) check(p);
-    for (const Eigen::Vector3d& p : stacked.planars) check(p);
+        ++out.changed_points;
+        const scan::VoxelKey k = scan::voxelOf(q, config.change_cell_m);
+        ++out.change_cells[{k.x(), k.y(), k.z()}];
+    }
 }
 
 // 1. The grid over x, y and yaw around the guess, scored by the share on the prior map, best
 // first.
 std::vector<Candidate> scoreGrid(const LocalizerConfig& config, const PriorMap& prior,
                                  const std::vector<Eigen::Vector3d>& sample,
-                                 const Eigen::Isometry3d& T_guess,
-                                 const std::atomic<bool>* cancel) {
+                                 const Eigen::Isometry3d& T_guess, const std::atomic<bool>* cancel,
+                                 const std::optional<Eigen::Vector3d>& pivot) {
     std::vector<Candidate> grid;
     const int nr = static_cast<int>(std::floor(config.search_radius_m / config.search_step_m));
     const int ny = static_cast<int>(std::floor(config.search_yaw_deg / config.search_yaw_step_deg));
     for (int iy = -ny; iy <= ny && !isCancelled(cancel); ++iy) {
         const double yaw = iy * config.search_yaw_step_deg * std::numbers::pi / 180.0;
-        const Eigen::Matrix3d R =
-            Eigen::AngleAxisd(yaw, Eigen::Vector3d::UnitZ()).toRotationMatrix() * T_guess.linear();
+        const Eigen::Matrix3d Rz =
+            Eigen::AngleAxisd(yaw, Eigen::Vector3d::UnitZ()).toRotationMatrix();
+        const Eigen::Matrix3d R = Rz * T_guess.linear();
+        const Eigen::Vector3d centre =
+            pivot ? Eigen::Vector3d(*pivot + Rz * (T_guess.translation() - *pivot))
+                  : T_guess.translation();
         for (int ix = -nr; ix <= nr; ++ix) {
             for (int jy = -nr; jy <= nr; ++jy) {
                 const Eigen::Vector2d d(ix * config.search_step_m, jy * config.search_step_m);
                 if (d.norm() > config.search_radius_m + 1e-9) continue;
                 Candidate c;
                 c.T.linear() = R;
-                c.T.translation() = T_guess.translation() + Eigen::Vector3d(d.x(), d.y(), 0.0);
+                c.T.translation() = centre + Eigen::Vector3d(d.x(), d.y(), 0.0);
                 c.score = shareOnMap(config, prior, sample, c.T);
                 grid.push_back(c);
             }
@@ -103,6 +121,17 @@ std::vector<Eigen::Vector3d> samplePoints(const scan::FeatureCloud& cloud, int c
 double shareOnMap(const LocalizerConfig& config, const PriorMap& prior,
                   const std::vector<Eigen::Vector3d>& pts, const Eigen::Isometry3d& T) {
     if (pts.empty()) return 0.0;
+    const double n = static_cast<double>(pts.size());
+    if (config.score_min_covered > 0.0) {
+        std::size_t on = 0, covered = 0;
+        for (const Eigen::Vector3d& p : pts) {
+            const double d = prior.nearestDistance(T * p);
+            on += d <= config.on_map_m ? 1 : 0;
+            covered += d <= config.covered_m ? 1 : 0;
+        }
+        return static_cast<double>(on) /
+               std::max(static_cast<double>(covered), config.score_min_covered * n);
+    }
     const double r2 = config.on_map_m * config.on_map_m;
     std::size_t on = 0;
     Eigen::Vector3d nb;
@@ -116,17 +145,18 @@ double shareOnMap(const LocalizerConfig& config, const PriorMap& prior,
             }
         }
     }
-    return static_cast<double>(on) / static_cast<double>(pts.size());
+    return static_cast<double>(on) / n;
 }
 
 PriorMatchOutcome searchLock(const LocalizerConfig& config, const PriorMap& prior,
                              const scan::FeatureCloud& stacked, const Eigen::Isometry3d& T_guess,
-                             const std::atomic<bool>* cancel) {
+                             const std::atomic<bool>* cancel,
+                             const std::optional<Eigen::Vector3d>& pivot) {
     const double cpu0 = threadCpuMs();
     PriorMatchOutcome out;
     out.kind = MatchKind::kLock;
-    const std::vector<Candidate> grid =
-        scoreGrid(config, prior, samplePoints(stacked, config.search_points), T_guess, cancel);
+    const std::vector<Candidate> grid = scoreGrid(
+        config, prior, samplePoints(stacked, config.search_points), T_guess, cancel, pivot);
     // 2. The best few distinct seeds, refined by the scan matcher (robust, no prior).
     const scan::ScanMatcher matcher(config.matcher);
     std::vector<Candidate> refined;
@@ -144,6 +174,12 @@ PriorMatchOutcome searchLock(const LocalizerConfig& config, const PriorMap& prio
         seeds.push_back(c.T);
         const scan::MatchResult m = matcher.match(stacked, prior.voxels(), {}, &c.T);
         if (!m.enough_matches) continue;
+        if (config.refine_max_steps > 0.0) {
+            const auto [dm, ddeg] = separation(c.T, m.T_world_body);
+            if (dm > config.refine_max_steps * config.search_step_m ||
+                ddeg > config.refine_max_steps * config.search_yaw_step_deg)
+                continue;
+        }
         refined.push_back({m.T_world_body, shareOnMap(config, prior, check, m.T_world_body)});
     }
     out.cancelled = isCancelled(cancel);

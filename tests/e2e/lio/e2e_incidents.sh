@@ -6,26 +6,27 @@
 # Each must be flagged (stats.json tracking.lost_intervals, with its reason) within 1 s of its
 # start; no sweep of a lost interval may enter the map; after a drop or a blinded laser the walk
 # recovers and the map stays as good as without the incident (no doubled walls: map error
-# median within 1.3x + 1 mm of the clean walk's); after the IMU gap the pipeline either found
-# the map again (same map check) or is still lost at the end, with nothing of the walk since
-# the gap in the map - never a wrong map merged unflagged.
-# Measured (house 60 s seed 61, incidents at 25 s): clean ATE 2.5 mm, map median 5.3 mm; drop
-# flagged 0.12 s after the fall began, recovered 0.9 s later, ATE 2.3 mm, median 5.3 mm; blind
-# flagged after 0.27 s, recovered 0.45 s after the laser came back, ATE 18 mm (5 s on the IMU),
-# median 5.9 mm; IMU gap flagged after 0.17 s, not relocalised (lost to the end).
+# median within 1.3x + 1 mm of the clean walk's); after the IMU gap (heading and velocity lost)
+# the scanner is found again on its own map (lio::Relocaliser) as the walk comes back into
+# what was scanned, with the same map check.
+# Measured (house 60 s seed 63, incidents at 25 s): clean ATE 3.2 mm, map median 5.4 mm; see
+# the figures printed by each case. Held out (60 s walks, 2 s gap): house s61 and s63
+# relocalised 10.5 s after the gap began, office s81 and courtyard s71 on coming back 28 s
+# later, maps within 0.3 mm of clean; house s62, office s82, courtyard s72 stayed lost (no
+# confirmed place), nothing of the lost walk in the map.
 # Usage: e2e_incidents.sh HANDSCAN_BIN WORK_DIR
 set -euo pipefail
 source "$(dirname "$0")/../e2e_lib.sh"
 e2e_begin e2e_incidents "$1" "$2"
 
 "$bin" -q sim --scene house --export-mesh "$work/house.ply" > /dev/null
-at=15
+at=25
 
 # run NAME [SIM ARGS]: prints "intervals reason flag_delay_s recovered leaked median_mm ate_mm".
 run() {
   local name=$1
   shift
-  "$bin" -q sim --scene house --duration 40 --seed 7 --no-camera --out "$work/$name.mcap" "$@" > /dev/null
+  "$bin" -q sim --scene house --duration 60 --seed 63 --no-camera --out "$work/$name.mcap" "$@" > /dev/null
   "$bin" -q replay "$work/$name.mcap" --out "$work/$name" --fast > /dev/null
   "$bin" -q eval --gt "$work/$name.gt.tum" --est "$work/$name/trajectory.tum" \
     --map "$work/$name/map.ply" --mesh "$work/house.ply" > "$work/$name.eval.txt"
@@ -72,16 +73,7 @@ python3 -c "import sys; sys.exit(0 if $median <= $bound else 1)" || fail "blind:
 
 read -r n reason delay recovered leaked median ate < <(run gap --imu-gap $at:2)
 check gap imu_silent "$n" "$reason" "$delay" "$recovered" "$leaked" "$median" "$ate"
-if [ "$recovered" -eq 1 ]; then
-  python3 -c "import sys; sys.exit(0 if $median <= $bound else 1)" || fail "IMU gap: relocalised, but the map median is $median mm > $bound mm (a wrong place)"
-else
-  # Still lost: the map holds the walk before the gap only.
-  python3 - "$work/gap/stats.json" "$at" <<'PY' || fail "IMU gap: sweeps after the gap entered the map while lost"
-import json, sys
-s = json.load(open(sys.argv[1]))
-at = 1000.0 + float(sys.argv[2])
-after = [p for p in s["per_sweep"] if p["in_map"] and p["t_start_s"] > at]
-sys.exit(1 if after else 0)
-PY
-fi
+[ "$recovered" -eq 1 ] || fail "IMU gap: never relocalised"
+grep -q relocalised "$work/gap/stats.json" || fail "IMU gap: recovered without a relocalisation"
+python3 -c "import sys; sys.exit(0 if $median <= $bound else 1)" || fail "IMU gap: relocalised, but the map median is $median mm > $bound mm (a wrong place)"
 echo "e2e_incidents: ok"

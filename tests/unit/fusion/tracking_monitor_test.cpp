@@ -155,6 +155,15 @@ TEST(TrackingMonitor, AnImuGapIsLostAtOnceAndRecoversOnlyAfterARelocalisation) {
     // Consistent matches from an unknown pose prove nothing: no recovery until the relocaliser
     // has found the old map.
     EXPECT_TRUE(m.awaitingRelocalisation());
+    // The lost sweeps' own map (the odometry tracking them meanwhile) is founded: still lost,
+    // nothing of it enters the scan's map.
+    SweepEvidence founding = walking(5);
+    founding.founds_map = true;
+    const TrackingVerdict f = m.assess(founding);
+    EXPECT_TRUE(f.lost);
+    EXPECT_FALSE(f.enters_map);
+    EXPECT_FALSE(f.consistent);
+    EXPECT_EQ(f.reason, LostReason::kImuSilent);
     for (int k = 5; k < 9; ++k) {
         const TrackingVerdict r = m.assess(walking(k));
         EXPECT_TRUE(r.consistent) << k << ": " << r.detail;

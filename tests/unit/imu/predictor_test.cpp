@@ -367,6 +367,48 @@ TEST(UnsolvedMotionPrior, AnOddSolvedSweepBuysOnlyItsOwnPeriod) {
     EXPECT_NEAR(loop.prior.strength(), 0.525, 1e-9);  // -20 + 10 - 0.5 s of a 20 s ramp
 }
 
+// After a gap the held attitude misses the turn made in it (integrateOrHold): gravity's share
+// along the missed tilt leaks into the acceleration until relevel() takes the tilt out.
+TEST(ImuPredictor, AfterAGapTheHeldAttitudesTiltIsLevelledFromTheAccelerometer) {
+    // Walking steadily at 1 m/s along x, level; in a 2 s gap the body rolled 7 deg and turned
+    // 40 deg, and walks on as steadily.
+    ImuPredictor p({}, Eigen::Isometry3d::Identity());
+    NavState x0;
+    x0.v_world_imu = Eigen::Vector3d(1.0, 0.0, 0.0);
+    p.initialize(x0, {});
+    const Eigen::Matrix3d R1 = (Eigen::AngleAxisd(40.0 * M_PI / 180.0, Eigen::Vector3d::UnitZ()) *
+                                Eigen::AngleAxisd(7.0 * M_PI / 180.0, Eigen::Vector3d::UnitX()))
+                                   .toRotationMatrix();
+    auto add = [&](int from, int to, const Eigen::Matrix3d& R) {
+        for (int k = from; k < to; ++k) {
+            ImuSample s;
+            s.t_host = k * 5 * kNsPerMs;
+            s.accel_mps2_imu = R.transpose() * Eigen::Vector3d(0, 0, 9.81);
+            ASSERT_TRUE(p.addImu(s).isOk());
+        }
+    };
+    add(0, 201, Eigen::Matrix3d::Identity());  // 0 .. 1 s
+    add(600, 1001, R1);                        // the gap 1 .. 3 s, then 3 .. 5 s
+    const TimeNs back = 3 * kNsPerSec, end = 5 * kNsPerSec;
+    const Eigen::Vector3d v_back = p.stateAt(back)->v_world_imu;
+    EXPECT_LT((v_back - x0.v_world_imu).norm(), 1e-9);  // held across the gap
+    // 7 deg of gravity: 1.2 m/s^2 for 2 s.
+    EXPECT_NEAR((p.stateAt(end)->v_world_imu - v_back).norm(),
+                9.81 * std::sin(7.0 * M_PI / 180.0) * 2.0, 0.05);
+
+    EXPECT_FALSE(p.relevel(end, end).isOk());  // one sample: not enough
+    const auto tilt = p.relevel(back, back + kNsPerSec);
+    ASSERT_TRUE(tilt.isOk()) << tilt.status().message();
+    EXPECT_NEAR(*tilt * 180.0 / M_PI, 7.0, 1e-6);
+    const auto x = p.stateAt(end);
+    ASSERT_TRUE(x.isOk());
+    const Eigen::Vector3d up_est = x->R_world_imu.transpose() * Eigen::Vector3d::UnitZ();
+    const Eigen::Vector3d up_true = R1.transpose() * Eigen::Vector3d::UnitZ();
+    EXPECT_LT((up_est - up_true).norm(), 1e-6);
+    EXPECT_LT((x->v_world_imu - v_back).norm(), 1e-6);  // no gravity in the acceleration
+    EXPECT_LT((x->p_world_imu - p.stateAt(back)->p_world_imu - 2.0 * v_back).norm(), 1e-6);
+}
+
 TEST(ImuPredictor, StaticStartTakesTheAccelBiasAlongGravity) {
     const Eigen::Matrix3d R0 = expSO3(Eigen::Vector3d(0.1, -0.2, 0.3));
     const Eigen::Vector3d up_imu = R0.transpose() * Eigen::Vector3d::UnitZ();

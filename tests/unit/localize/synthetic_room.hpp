@@ -4,6 +4,7 @@
 #pragma once
 
 #include <Eigen/Geometry>
+#include <algorithm>
 #include <cmath>
 #include <vector>
 
@@ -55,38 +56,83 @@ inline void sampleBox(const Box& b, double step, double phase, bool inside,
     }
 }
 
-// The room in world coordinates; `moved`: the cabinet shifted by this much (a changed scene).
-inline scan::FeatureMapPoints roomWorld(double step, double phase,
-                                        const Eigen::Vector3d& moved = Eigen::Vector3d::Zero()) {
-    scan::FeatureMapPoints m;
-    std::vector<Eigen::Vector3d> planars, edges;
-    sampleBox({{0, 0, 0}, {10, 7, 3}}, step, phase, true, planars, edges);
+// Whether the segment from `from` to `p` passes through one of the boxes (each shrunk by a
+// millimetre, so that a point on a box's face seen from outside is not hidden by its own box).
+inline bool hidden(const Eigen::Vector3d& from, const Eigen::Vector3d& p,
+                   const std::vector<Box>& boxes) {
+    const Eigen::Vector3d d = p - from;
+    for (const Box& b : boxes) {
+        double t0 = 0.0, t1 = 1.0;
+        for (int a = 0; a < 3 && t0 <= t1; ++a) {
+            const double lo = b.lo[a] + 1e-3, hi = b.hi[a] - 1e-3;
+            if (std::abs(d[a]) < 1e-12) {
+                if (from[a] < lo || from[a] > hi) t0 = 2.0;
+                continue;
+            }
+            double ta = (lo - from[a]) / d[a], tb = (hi - from[a]) / d[a];
+            if (ta > tb) std::swap(ta, tb);
+            t0 = std::max(t0, ta);
+            t1 = std::min(t1, tb);
+        }
+        if (t0 <= t1) return true;
+    }
+    return false;
+}
+
+inline std::vector<Box> furnitureMoved(const Eigen::Vector3d& moved) {
     std::vector<Box> f = furniture();
     f[2].lo += moved;
     f[2].hi += moved;
+    return f;
+}
+
+// The room in world coordinates; `moved`: the cabinet shifted by this much (a changed scene).
+// `viewpoints` empty: every surface point, its laser centre unknown (NaN); else only the planar
+// points one of them sees past the furniture, each with the first that does as its laser centre
+// (what a feature map of a session standing there keeps).
+inline scan::FeatureMapPoints roomWorld(double step, double phase,
+                                        const Eigen::Vector3d& moved = Eigen::Vector3d::Zero(),
+                                        const std::vector<Eigen::Vector3d>& viewpoints = {}) {
+    scan::FeatureMapPoints m;
+    std::vector<Eigen::Vector3d> planars, edges;
+    sampleBox({{0, 0, 0}, {10, 7, 3}}, step, phase, true, planars, edges);
+    const std::vector<Box> f = furnitureMoved(moved);
     for (const Box& b : f) sampleBox(b, step, phase, false, planars, edges);
     for (const auto& p : edges) m.edges.push_back(p.cast<float>());
     for (const auto& p : planars) {
+        Eigen::Vector3f origin = Eigen::Vector3f::Constant(std::nanf(""));
+        if (!viewpoints.empty()) {
+            const auto seen = std::find_if(viewpoints.begin(), viewpoints.end(),
+                                           [&](const auto& v) { return !hidden(v, p, f); });
+            if (seen == viewpoints.end()) continue;
+            origin = seen->template cast<float>();
+        }
         m.planars.push_back(p.cast<float>());
-        m.planar_origins.push_back(Eigen::Vector3f::Constant(std::nanf("")));
+        m.planar_origins.push_back(origin);
     }
     return m;
 }
 
-// What a sensor at T_world_body sees of the room (within `range`), in its body frame.
+// What a sensor at T_world_body sees of the room (within `range`, past the furniture), in its
+// body frame, the planar points with the laser centre (the body's origin).
 inline scan::FeatureCloud sweepAt(const Eigen::Isometry3d& T_world_body,
                                   const Eigen::Vector3d& moved = Eigen::Vector3d::Zero(),
                                   double range = 8.0) {
     const scan::FeatureMapPoints w = roomWorld(0.2, 0.07, moved);
+    const std::vector<Box> f = furnitureMoved(moved);
+    const Eigen::Vector3d o = T_world_body.translation();
     const Eigen::Isometry3d T = T_world_body.inverse();
     scan::FeatureCloud c;
     auto keep = [&](const Eigen::Vector3f& p) {
-        return (p.cast<double>() - T_world_body.translation()).norm() < range;
+        return (p.cast<double>() - o).norm() < range && !hidden(o, p.cast<double>(), f);
     };
     for (const auto& p : w.edges)
         if (keep(p)) c.edges.push_back(T * p.cast<double>());
-    for (const auto& p : w.planars)
-        if (keep(p)) c.planars.push_back(T * p.cast<double>());
+    for (const auto& p : w.planars) {
+        if (!keep(p)) continue;
+        c.planars.push_back(T * p.cast<double>());
+        c.planar_origins.push_back(Eigen::Vector3d::Zero());
+    }
     return c;
 }
 

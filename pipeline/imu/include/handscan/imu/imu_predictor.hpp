@@ -76,6 +76,14 @@ public:
     // kept state and gravity are carried into the new frame; the feedback window (poses in the
     // old frame) and the motion prior start again. Biases are properties of the sensor: kept.
     void moveWorld(const Eigen::Isometry3d& T_new_old);
+    // After a gap (attitude held while the body turned, integrateOrHold): the tilt the held
+    // attitude left, from the mean specific force in {W} over the samples in [t0, t1] (it is -g
+    // where the body's mean acceleration is small next to g: a walker over a step or two), is
+    // taken out of every state from t0 on, which are integrated again: uncorrected, gravity
+    // leaks into the acceleration (7 deg of tilt: 1.2 m/s^2, metres within seconds). Yaw stays
+    // unknown. The feedback window and the motion prior start again (as in moveWorld). Returns the
+    // tilt corrected (rad); an error when [t0, t1] holds too few samples.
+    [[nodiscard]] Result<double> relevel(TimeNs t0, TimeNs t1);
 
     const ImuBiases& biases() const { return biases_; }
     TimeNs newestTime() const { return history_.empty() ? 0 : history_.back(); }

@@ -48,6 +48,10 @@ struct LioConfig {
     IncidentWatchConfig incidents;
     // After such a failure the scanner is found again on its own map (Relocaliser).
     localize::LocalizerConfig relocalise = relocaliserDefaults();
+    // After an IMU gap the held attitude's tilt is levelled from the accelerometer's mean over
+    // this long (ImuPredictor::relevel): a walker's mean acceleration over two steps is a few
+    // tenths of m/s^2 (1-2 deg of tilt); sweeps before it are not placed.
+    double relevel_window_s = 2.0;
     // With feedback the matcher's prior is the corrected IMU prediction (eq. 18); its standard
     // deviations. Measured on simulated 60 s walks: the prediction at a sweep's start differs
     // from the match by 2-3 mm rms per axis. 5 mm (not 2 cm) lets the prior hold the matcher
@@ -138,7 +142,8 @@ public:
     Result<PoseEstimate> integratedPoseAt(TimeNs t) const { return integrator_.poseAt(t); }
     bool aligned() const { return predictor_.initialized(); }
     const imu::ImuPredictor& predictor() const { return predictor_; }
-    const scan::LaserOdometry& odometry() const { return *odometry_; }
+    // The scan's odometry (its map); while a relocalisation is awaited, the one frozen at the loss.
+    const scan::LaserOdometry& odometry() const { return frozen_ ? *frozen_ : *odometry_; }
     const scan::SweepAssemblerStats& assemblerStats() const { return assembler_->stats(); }
     const LioStats& stats() const { return stats_; }
     // Divergence detection: the state, and the intervals with tracking lost (stats.json).
@@ -150,6 +155,9 @@ private:
     // A sweep while the monitor awaits a relocalisation; when the search locks, the predictor,
     // the integrator and `r` move onto the map.
     void relocalise(TimeNs t, scan::SweepResult& r);
+    // An IMU sample at t after an IMU gap: once config.relevel_window_s of them are back, the
+    // attitude's tilt is levelled from their mean specific force.
+    void relevelAfterGap(TimeNs t);
     void processSweeps();
     // The pose at t carried forward from the newest anchor (the real-time output's chain).
     Result<Eigen::Isometry3d> carriedPose(TimeNs t) const;
@@ -174,6 +182,10 @@ private:
     fusion::TransformIntegrator integrator_;
     std::unique_ptr<scan::SweepAssembler> assembler_;
     std::unique_ptr<scan::LaserOdometry> odometry_;
+    // While a relocalisation is awaited: the scan's odometry, frozen at the loss (the search's
+    // map), and odometry_ is a fresh one tracking the lost sweeps on a map of their own, so that
+    // they are placed by matches rather than by an IMU whose velocity the gap left unknown.
+    std::unique_ptr<scan::LaserOdometry> frozen_;
     fusion::TrackingMonitor monitor_;
     IncidentWatch incidents_;
     Relocaliser relocaliser_;
@@ -181,6 +193,10 @@ private:
     fusion::TrajectorySmoother trajectory_;
     std::vector<RegisteredSweep> sweeps_;
     TimeNs last_unknown_pose_t_ = 0;
+    // After an IMU gap: the first sample back (0: none yet), and whether the attitude's tilt
+    // still waits to be levelled from the accelerometer (ImuPredictor::relevel).
+    TimeNs imu_back_t_ = 0;
+    bool relevel_pending_ = false;
     // The solved subspace of the last feedback in world axes (rot, trans). Before the first one
     // the prediction comes from the static start (gravity alignment): trusted everywhere.
     Matrix6d last_solved_world_ = Matrix6d::Identity();

@@ -13,9 +13,11 @@
 // candidate as good lies elsewhere (a symmetric building waits for a view that tells). Until it
 // locks nothing of the session enters the map.
 //
-// Changes: after each match, stacked points far from any prior point although the prior map
-// covers their surroundings are counted per change cell (moved furniture, a closed door);
-// points with no prior point near at all are new ground (a room the first session did not see).
+// Changes: after each match, stacked points far from any prior point where the earlier session's
+// laser saw through empty space are counted per change cell (something appeared: moved
+// furniture, a closed door); the stack's rays are kept, and a prior point where this session
+// sees through empty space has vanished. Surfaces far from the prior map that the earlier session
+// never looked at are new ground (a room it did not see, the far side of a box), not changes.
 #pragma once
 
 #include <Eigen/Geometry>
@@ -50,15 +52,21 @@ struct LocalizerStats {
     double max_attempt_ms = 0.0;
     // How long the match's result came after its stack (sweep time), longest (kWhenReady).
     double max_apply_delay_s = 0.0;
-    std::uint64_t points_checked = 0;  // stacked points tested for change
-    std::uint64_t changed_points = 0;  // far from the prior map where it is mapped
-    std::uint64_t new_points = 0;      // where the prior map has nothing near
+    std::uint64_t points_checked = 0;  // stacked planar points tested for change
+    std::uint64_t changed_points = 0;  // far from the prior map where it saw through (appeared)
+    std::uint64_t new_points = 0;      // far from the prior map where it never looked
+};
+
+enum class ChangeKind {
+    kAppeared,  // this session's surface where the earlier session saw through empty space
+    kVanished,  // the earlier session's surface where this session sees through empty space
 };
 
 struct ChangeCell {
     Eigen::Vector3d centre = Eigen::Vector3d::Zero();
-    std::uint64_t points = 0;
-    std::uint64_t matches = 0;  // matches that found points of it far from the prior map
+    ChangeKind kind = ChangeKind::kAppeared;
+    std::uint64_t points = 0;   // this session's (appeared) or the prior's (vanished) points
+    std::uint64_t matches = 0;  // appeared: the matches that found points of it
 };
 
 // Before the lock: no match finished yet, or the last one found no lock.
@@ -92,9 +100,12 @@ public:
     // The odometry's world in the prior map's frame (the hint's guess before the lock).
     const Eigen::Isometry3d& priorFromOdom() const { return T_prior_odom_; }
     const LocalizerStats& stats() const { return stats_; }
-    // Change cells with at least config.change_cell_min_points points, seen by at least
-    // config.change_cell_min_matches matches, by position.
+    // Change cells with at least config.change_cell_min_points points (appeared ones seen by at
+    // least config.change_cell_min_matches matches), appeared first, each kind by position.
+    // Goes over the prior's points for what vanished: call it when the report is wanted.
     std::vector<ChangeCell> changes() const;
+    // This session's seen-through space so far, in the prior's SeenSpace cells.
+    const SeenSpace& seenSpace() const { return seen_; }
     const PriorMap& prior() const { return *prior_; }
     const LocalizerConfig& config() const { return config_; }
 
@@ -105,6 +116,9 @@ private:
     };
     void launch();
     bool apply(const PriorMatchOutcome& o);
+    // A lock search not accepted on its own: true when it and the previous one agree (see
+    // LocalizerConfig::confirm_margin).
+    bool confirmed(const PriorMatchOutcome& o);
 
     LocalizerConfig config_;
     std::shared_ptr<const PriorMap> prior_;
@@ -113,6 +127,10 @@ private:
     bool locked_ = false;
     bool have_first_ = false;
     Eigen::Isometry3d T_prior_odom_ = Eigen::Isometry3d::Identity();
+    Eigen::Vector3d first_position_odom_ = Eigen::Vector3d::Zero();  // the hint's place
+    // The last search's best place for the odometry's world, when it passed confirm_margin
+    // but not lock_margin: a lock once the next search agrees.
+    std::optional<Eigen::Isometry3d> unconfirmed_;
     TimeNs last_attempt_t_ = 0;
     TimeNs newest_t_ = 0;
     LocalizerStats stats_;
@@ -120,6 +138,7 @@ private:
         std::uint64_t points = 0, matches = 0;
     };
     std::map<std::tuple<int, int, int>, CellCount> change_cells_;
+    SeenSpace seen_;  // this session's rays of accepted matches, in the prior's cells
     // The match on the localizer's thread (invalid: none running) and what it was started on.
     std::future<PriorMatchOutcome> running_;
     Running running_on_;

@@ -4,14 +4,17 @@
 // share of stacked points on the prior map, the best few distinct seeds refined by the scan
 // matcher; locked when the best is clearly on the map and no distinct other comes close) and the
 // tracking match once locked (the matcher from the current estimate, used when it keeps most
-// points on the map and moves the estimate little). Both also count the stacked points far from
-// the prior map where it is mapped (the change report), in the accepted pose.
+// points on the map and moves the estimate little). Both also check the stacked points for
+// change in the accepted pose: far from the prior map where the earlier session saw through
+// empty space, its rays going into the point's surface (appeared), and hand back the cells the
+// stack's rays crossed (for what vanished).
 #pragma once
 
 #include <Eigen/Geometry>
 #include <atomic>
 #include <cstdint>
 #include <map>
+#include <optional>
 #include <tuple>
 #include <vector>
 
@@ -33,22 +36,28 @@ struct PriorMatchOutcome {
     double runner_up = 0.0;  // kLock: the best distinct other candidate's share
     double correction_m = 0.0;
     double cpu_ms = 0.0;  // thread CPU time of the match
-    // The change check of an accepted match (see LocalizerConfig::change_m).
+    // The change check of an accepted match (see LocalizerConfig::change_m): planar points
+    // checked, far from the prior where the earlier session saw through (appeared), far from it
+    // where it never looked (new ground).
     std::uint64_t points_checked = 0, changed_points = 0, new_points = 0;
-    std::map<std::tuple<int, int, int>, std::uint64_t> change_cells;  // cell -> points
+    std::map<std::tuple<int, int, int>, std::uint64_t> change_cells;  // appeared: cell -> points
+    std::vector<SeenSpace::Crossing> seen_cells;  // the prior's SeenSpace cells the rays crossed
 };
 
-// The lock search around `T_guess` (the stacked cloud's pose as the hint puts it). `cancel`
-// (may be null) ends it early with `cancelled` set.
+// The lock search around `T_guess` (the stacked cloud's pose as the hint puts it), headings
+// turned about `pivot` (prior frame; none: about T_guess). `cancel` (may be null) ends it early
+// with `cancelled` set.
 PriorMatchOutcome searchLock(const LocalizerConfig& config, const PriorMap& prior,
                              const scan::FeatureCloud& stacked, const Eigen::Isometry3d& T_guess,
-                             const std::atomic<bool>* cancel = nullptr);
+                             const std::atomic<bool>* cancel = nullptr,
+                             const std::optional<Eigen::Vector3d>& pivot = std::nullopt);
 
 // A tracking match from `T_init` (the stacked cloud's pose as the current estimate puts it).
 PriorMatchOutcome trackPrior(const LocalizerConfig& config, const PriorMap& prior,
                              const scan::FeatureCloud& stacked, const Eigen::Isometry3d& T_init);
 
-// The share of `pts` (body frame) within config.on_map_m of a prior point at pose T.
+// The share of `pts` (body frame) within config.on_map_m of a prior point at pose T (among
+// those the prior map covers: config.score_min_covered).
 double shareOnMap(const LocalizerConfig& config, const PriorMap& prior,
                   const std::vector<Eigen::Vector3d>& pts, const Eigen::Isometry3d& T);
 
