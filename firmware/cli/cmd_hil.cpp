@@ -35,6 +35,9 @@ const RegisterCommand kHil{
                        "the recording's device.yaml; transports are pointed at the fakes "
                        "(default: config dir)");
         sub.add_option("--calibration", o->calibration, "calibration.yaml (default: config dir)");
+        sub.add_option("--field-calibration", o->field_calibration,
+                       "the daemon's field calibration: what --calibrate writes, read instead of "
+                       "--calibration once it exists (default: none)");
         sub.add_option("--startup", o->startup_s,
                        "seconds the daemon gets to open the devices and start the scan before the "
                        "recording plays")
@@ -58,7 +61,8 @@ const RegisterCommand kHil{
                        "x,y,z,qx,qy,qz,qw (default: where that scan started)");
         sub.add_option("--calibrate", o->calibrate_rounds,
                        "after the export, the UI's calibrate on the scan with at most N rounds: "
-                       "the daemon replaces --calibration's file, keeping it as .prev")
+                       "the daemon writes --field-calibration (else replaces --calibration's "
+                       "file), keeping the file it replaces as .prev")
             ->check(CLI::Range(1, 10));
         sub.add_flag("--no-hokuyo", *no_hokuyo, "no laser (the daemon finds nothing listening)");
         sub.add_flag("--no-xsens", *no_xsens, "no IMU (the daemon finds no tty)");

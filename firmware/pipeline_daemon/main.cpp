@@ -24,6 +24,9 @@ int main(int argc, char** argv) {
                    "device configuration (default: <config dir>/device.yaml)");
     app.add_option("--calibration", o.calibration,
                    "calibration (default: <config dir>/calibration.yaml)");
+    app.add_option("--field-calibration", o.field_calibration,
+                   "the calibration the UI's \"calibrate\" writes, read instead of --calibration "
+                   "once it exists (default: none; calibrate replaces --calibration's file)");
     app.add_option("--journal-dir", o.journal_dir,
                    "where scans are journaled (default: storage.journal_dir)");
     app.add_option("--prior-map", o.prior_map_dir,

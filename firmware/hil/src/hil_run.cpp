@@ -176,13 +176,17 @@ Result<HilReport> runHil(const HilOptions& o) {
     const std::string shm_name = "/handscan-hil-" + std::to_string(::getpid());
     const fs::path log = out / "daemon.log";
     fs::remove(log, ec);
-    const std::vector<std::string> argv{o.daemon.empty() ? defaultDaemon() : o.daemon,
-                                        "--config",
-                                        device_yaml.string(),
-                                        "--calibration",
-                                        calibration,
-                                        "--shm",
-                                        shm_name};
+    std::vector<std::string> argv{o.daemon.empty() ? defaultDaemon() : o.daemon,
+                                  "--config",
+                                  device_yaml.string(),
+                                  "--calibration",
+                                  calibration,
+                                  "--shm",
+                                  shm_name};
+    if (!o.field_calibration.empty()) {
+        argv.push_back("--field-calibration");
+        argv.push_back(o.field_calibration);
+    }
     DaemonRuns daemon;
     if (Status s = daemon.process.start(argv, log); !s.isOk()) return s;
     shm::ReaderOptions ro;

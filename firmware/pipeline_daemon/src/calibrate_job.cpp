@@ -34,6 +34,11 @@ void idlePriority() {
 
 }  // namespace
 
+std::string calibrationInUse(const std::string& factory, const std::string& field) {
+    std::error_code ec;
+    return !field.empty() && fs::is_regular_file(field, ec) ? field : factory;
+}
+
 Status installKeepingPrevious(const std::string& fresh, const std::string& target) {
     const std::string prev = target + ".prev", prev_tmp = target + ".prev.tmp";
     if (fs::exists(target)) {
@@ -86,7 +91,7 @@ void CalibrateJob::run(std::string recording, int rounds) {
     idlePriority();
     calibrate::SelfCalibrationOptions o;
     o.recording = recording;
-    o.start_calibration = calibration_yaml_;
+    o.start_calibration = calibrationInUse(factory_yaml_, calibration_yaml_);
     o.device_config = device_yaml_;
     o.out = calibration_yaml_ + ".new";
     o.max_rounds = rounds;
@@ -94,7 +99,9 @@ void CalibrateJob::run(std::string recording, int rounds) {
         log().info("calibration: {}", line);
         step(line, rounds);
     };
-    log().info("calibration on {} (starting from {})", recording, calibration_yaml_);
+    log().info("calibration on {} (starting from {})", recording, o.start_calibration);
+    std::error_code ec;
+    fs::create_directories(fs::path(calibration_yaml_).parent_path(), ec);  // named if it fails
     Result<calibrate::SelfCalibrationReport> report =
         Status(StatusCode::kDeviceError, "calibration did not run");
     try {
@@ -107,7 +114,6 @@ void CalibrateJob::run(std::string recording, int rounds) {
     running_ = false;
     if (!report.isOk() || !installed.isOk()) {
         const Status& failure = report.isOk() ? installed : report.status();
-        std::error_code ec;
         fs::remove(o.out, ec);
         status_.state = static_cast<std::uint8_t>(shm::CalibrationState::kFailed);
         shm::setText(status_.message, failure.message());
@@ -132,12 +138,15 @@ void CalibrateJob::run(std::string recording, int rounds) {
         v.written = p.written ? 1 : 0;
         written += p.written;
     }
+    // What replaced what: the first field calibration leaves the factory's as the previous one.
+    const bool over_factory = o.start_calibration != calibration_yaml_;
     char msg[200];
     std::snprintf(msg, sizeof msg,
-                  "calibrated: %d of %zu values written, consistency %.2f -> %.2f mm; previous "
-                  "kept as %s.prev; applies at the next start",
+                  "calibrated: %d of %zu values written, consistency %.2f -> %.2f mm; %s; "
+                  "applies at the next start",
                   written, report->parameters.size(), status_.consistency_before_mm,
-                  status_.consistency_after_mm, fs::path(calibration_yaml_).filename().c_str());
+                  status_.consistency_after_mm,
+                  over_factory ? "factory calibration kept" : "previous kept as .prev");
     shm::setText(status_.message, msg);
     result_ = std::string(msg);
     log().info("{} ({})", msg, calibration_yaml_);

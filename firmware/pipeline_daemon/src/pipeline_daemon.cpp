@@ -48,10 +48,14 @@ Status PipelineDaemon::open() {
     const std::string config_dir = defaultConfigDir();
     const std::string device_yaml =
         options_.device_config.empty() ? config_dir + "/device.yaml" : options_.device_config;
+    const std::string factory_calibration =
+        options_.calibration.empty() ? config_dir + "/calibration.yaml" : options_.calibration;
+    const std::string calibration_yaml =
+        calibrationInUse(factory_calibration, options_.field_calibration);
+    log().info("calibration: {}", calibration_yaml);
     RealtimeConfig realtime;
     try {
-        calibration_ = loadCalibration(
-            options_.calibration.empty() ? config_dir + "/calibration.yaml" : options_.calibration);
+        calibration_ = loadCalibration(calibration_yaml);
         // The latencies calibration.yaml measured (`handscan calibrate`) replace device.yaml's,
         // as in replay.
         device_ = withCalibratedLatencies(loadDeviceConfig(device_yaml), calibration_);
@@ -84,8 +88,8 @@ Status PipelineDaemon::open() {
             static_cast<std::uint64_t>(device_.storage.min_free_gib * double(1ull << 30))});
     session->setRecorder(parts_->recorder.get());
     parts_->calibration = std::make_unique<CalibrateJob>(
-        device_yaml,
-        options_.calibration.empty() ? config_dir + "/calibration.yaml" : options_.calibration);
+        device_yaml, factory_calibration,
+        options_.field_calibration.empty() ? factory_calibration : options_.field_calibration);
     // A scan cut short by a crash or power cut is taken back, so the UI can still export it.
     if (auto recovered = session->recoverUnfinished(); !recovered.isOk())
         log().error("{}", recovered.status().message());

@@ -154,6 +154,16 @@ TrackingVerdict TrackingMonitor::assess(const SweepEvidence& e) {
         }
     }
     if (lost_) ++intervals_.back().sweeps;
+    // Sweeps the matcher could try on (it found correspondences) count towards giving it up.
+    unrecovered_ = lost_ && e.enough_matches ? unrecovered_ + 1 : lost_ ? unrecovered_ : 0;
+    if (lost_ && !awaiting_relocalisation_ && config_.relocalise_after > 0 &&
+        unrecovered_ >= config_.relocalise_after) {
+        awaiting_relocalisation_ = true;
+        good_run_ = 0;
+        intervals_.back().detail += "; not recovered by " +
+                                    std::to_string(config_.relocalise_after) +
+                                    " sweeps' matches: relocalising";
+    }
     v.lost = lost_;
     // While lost, consistent sweeps only count towards recovery: the one that completes it is
     // the first to enter the map again.
@@ -187,6 +197,7 @@ void TrackingMonitor::relocalised(TimeNs t, const std::string& detail) {
     if (!awaiting_relocalisation_) return;
     awaiting_relocalisation_ = false;
     good_run_ = 0;
+    unrecovered_ = 0;
     last_failure_t_ = std::max(last_failure_t_, t);  // no motion judged across the jump
     if (!intervals_.empty()) intervals_.back().detail += "; " + detail;
 }

@@ -4,9 +4,11 @@
 # started with a wrong START calibration (laser 0.4 deg roll and 0.4 deg pitch off on its shaft,
 # encoder zero 0.2 deg off). The daemon records the scan's raw streams beside its journal; the
 # calibrate command (sent as the UI does, after the export) runs `handscan calibrate` on that
-# recording on an idle-priority thread and replaces the calibration file. Checked: the scan has
-# its raw.mcap, the new file is nearer the truth than START (laser rotation, encoder zero), and
-# calibration.yaml.prev is START byte for byte.
+# recording on an idle-priority thread and writes the field calibration (--field-calibration, as
+# the installed unit: /var/lib/handscan/calibration), the factory file staying untouched
+# (/etc/handscan is read-only under the unit's ProtectSystem=strict). Checked: the scan has its
+# raw.mcap, the field file is new and nearer the truth than START (laser rotation, encoder
+# zero), START is unchanged, and there is no .prev yet (the factory file is the previous one).
 # Usage: e2e_hil_calibrate.sh HANDSCAN_BIN HANDSCAN_PIPELINE_BIN WORK_DIR
 set -euo pipefail
 source "$(dirname "$0")/../e2e_lib.sh"
@@ -28,16 +30,21 @@ encoder_zero_offset_deg: 0.2
 camchain: camchain.yaml
 YAML
 cp "$work/cal/calibration.yaml" "$work/start.yaml"
+field="$work/state/calibration/calibration.yaml"
 
 "$bin" -q hil "$work/walk.mcap" --out "$work/hil" --daemon "$daemon" --no-camera \
-  --calibration "$work/cal/calibration.yaml" --calibrate 2 | tee "$work/hil.txt"
-grep -q "^calibrate: calibrated" "$work/hil.txt" || fail "the daemon did not answer calibrated"
+  --calibration "$work/cal/calibration.yaml" --field-calibration "$field" --calibrate 2 |
+  tee "$work/hil.txt"
+grep -q "^calibrate: calibrated.*factory calibration kept" "$work/hil.txt" || fail "the daemon did not answer calibrated"
+grep -q "calibration: $work/cal/calibration.yaml" "$work/hil/daemon.log" ||
+  fail "the daemon did not start from the factory calibration (no field calibration yet)"
 ls "$work"/hil/journal/scan-*/raw.mcap > /dev/null || fail "the daemon recorded no raw.mcap beside the journal"
-cmp -s "$work/start.yaml" "$work/cal/calibration.yaml.prev" || fail "calibration.yaml.prev is not START"
-cmp -s "$work/start.yaml" "$work/cal/calibration.yaml" && fail "calibration.yaml was not replaced"
-grep -q "Written by \`handscan calibrate\`" "$work/cal/calibration.yaml" || fail "the new calibration.yaml is not calibrate's"
+cmp -s "$work/start.yaml" "$work/cal/calibration.yaml" || fail "the factory calibration was changed"
+[ -f "$field" ] || fail "no field calibration written at $field"
+[ -e "$field.prev" ] && fail "$field.prev exists after the first calibration"
+grep -q "Written by \`handscan calibrate\`" "$field" || fail "the field calibration is not calibrate's"
 
-python3 - "$config/calibration.yaml" "$work/start.yaml" "$work/cal/calibration.yaml" <<'PY' || fail "the new calibration is not nearer the truth"
+python3 - "$config/calibration.yaml" "$work/start.yaml" "$field" <<'PY' || fail "the new calibration is not nearer the truth"
 import math, re, sys
 
 def mul(A, B):

@@ -181,8 +181,10 @@ maintscripts)
     grep -q "^handscan-ui:" "$croot/etc/passwd" || fail "postinst made no handscan-ui user"
     grep -Eq "^handscan:[^:]*:[0-9]+:(.*,)?handscan-ui(,|$)" "$croot/etc/group" ||
         fail "handscan-ui is not in group handscan: $(grep ^handscan: "$croot/etc/group")"
-    [ "$(stat -c %u "$croot/var/lib/handscan/journal")" = "$uid" ] ||
-        fail "/var/lib/handscan/journal is not the handscan user's (tmpfiles)"
+    for d in journal calibration; do
+        [ "$(stat -c %u "$croot/var/lib/handscan/$d")" = "$uid" ] ||
+            fail "/var/lib/handscan/$d is not the handscan user's (tmpfiles)"
+    done
     grep -q "handscan-pipeline.service" "$out/maintscripts.log" || fail "the units were not enabled"
     echo "maintainer scripts: users handscan ($uid) and handscan-ui, journal dir, units enabled; remove and purge clean"
     ;;

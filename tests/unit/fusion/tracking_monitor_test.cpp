@@ -191,6 +191,42 @@ TEST(TrackingMonitor, AnImuGapIsLostAtOnceAndRecoversOnlyAfterARelocalisation) {
     EXPECT_STREQ(lostReasonName(LostReason::kImuSilent), "imu_silent");
 }
 
+TEST(TrackingMonitor, ALossTheMatchesDoNotRecoverWaitsForARelocalisation) {
+    TrackingMonitor m;
+    for (int k = 0; k < 5; ++k) m.assess(walking(k));
+    // The prediction 0.6 m off the map's answer, sweep after sweep (drifted beyond the
+    // matcher's reach): lost after trip_after, and after relocalise_after sweeps with
+    // correspondences the pose is taken as unknown.
+    const int give_up = m.config().relocalise_after;
+    for (int k = 5; k < 5 + m.config().trip_after + give_up; ++k) {
+        const TrackingVerdict v = m.assess(walking(k, 0.6));
+        EXPECT_FALSE(v.consistent);
+        EXPECT_FALSE(v.enters_map);
+    }
+    EXPECT_TRUE(m.lost());
+    EXPECT_TRUE(m.awaitingRelocalisation());
+    EXPECT_NE(m.intervals()[0].detail.find("relocalising"), std::string::npos)
+        << m.intervals()[0].detail;
+    // Consistent sweeps now prove nothing until the relocaliser found the map.
+    int k = 5 + m.config().trip_after + give_up;
+    for (int i = 0; i < 4; ++i, ++k) EXPECT_FALSE(m.assess(walking(k)).enters_map);
+    EXPECT_TRUE(m.lost());
+    m.relocalised(walking(k).t - kSweep / 2, "relocalised 0.60 m away");
+    for (int i = 0; i < m.config().recover_after; ++i, ++k) m.assess(walking(k));
+    EXPECT_FALSE(m.lost());
+    EXPECT_FALSE(m.awaitingRelocalisation());
+}
+
+TEST(TrackingMonitor, SweepsWithoutCorrespondencesDoNotGiveUpTheMatches) {
+    TrackingMonitorConfig c;
+    c.relocalise_after = 2;
+    TrackingMonitor m(c);
+    for (int k = 0; k < 5; ++k) m.assess(walking(k));
+    for (int k = 5; k < 15; ++k) m.assess(walking(k, 0.0, 5));  // nothing seen: nothing tried
+    EXPECT_TRUE(m.lost());
+    EXPECT_FALSE(m.awaitingRelocalisation());
+}
+
 TEST(TrackingMonitor, AFallIsLostAtOnceAndRecoversAsAnyLoss) {
     TrackingMonitor m;
     for (int k = 0; k < 5; ++k) m.assess(walking(k));

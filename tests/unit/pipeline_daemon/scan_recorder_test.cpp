@@ -113,5 +113,17 @@ TEST_F(ScanRecorderTest, InstallKeepsThePreviousFile) {
     EXPECT_EQ(a, "new");
 }
 
+TEST_F(ScanRecorderTest, TheFieldCalibrationOnceWrittenIsTheOneInUse) {
+    const fs::path factory = dir_ / "etc" / "calibration.yaml";
+    const fs::path field = dir_ / "var" / "calibration.yaml";
+    EXPECT_EQ(calibrationInUse(factory.string(), ""), factory.string());
+    EXPECT_EQ(calibrationInUse(factory.string(), field.string()), factory.string());
+    fs::create_directories(field);  // a directory of that name is no calibration
+    EXPECT_EQ(calibrationInUse(factory.string(), field.string()), factory.string());
+    fs::remove(field);
+    std::ofstream(field) << "T_shaft_laser: {}\n";
+    EXPECT_EQ(calibrationInUse(factory.string(), field.string()), field.string());
+}
+
 }  // namespace
 }  // namespace handscan::pipeline_daemon

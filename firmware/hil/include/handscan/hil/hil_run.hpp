@@ -29,9 +29,10 @@ namespace handscan::hil {
 struct HilOptions {
     std::string recording;
     std::string out_dir;
-    std::string daemon;         // handscan-pipeline (default: found next to this program)
-    std::string device_config;  // the recording's device.yaml (default: the config dir's)
-    std::string calibration;    // default: the config dir's calibration.yaml
+    std::string daemon;             // handscan-pipeline (default: found next to this program)
+    std::string device_config;      // the recording's device.yaml (default: the config dir's)
+    std::string calibration;        // default: the config dir's calibration.yaml
+    std::string field_calibration;  // the daemon's --field-calibration ("": none)
     FakesOptions fakes;
     // kill -9 the daemon this many seconds into the recording, start it again: the journal must
     // be recovered and its export (DIR/export-recovered) must contain the scan up to the kill;

@@ -4,11 +4,15 @@
 // running) and the outcome (every value with its standard deviation, which were written) are kept
 // as the status block's CalibrationStatus for the UI.
 //
-// The new calibration replaces the daemon's calibration.yaml only when the run succeeded, and the
-// previous file is kept as calibration.yaml.prev: the new file is written beside it under a
-// temporary name, the old one hard-linked to .prev (atomic rename), then the new one renamed over
-// it - at every moment calibration.yaml is one whole file. The running pipeline keeps the
-// calibration it started with; the new one applies from the next start of the daemon.
+// The factory calibration (/etc/handscan/calibration.yaml, read-only on the device: the unit's
+// ProtectSystem=strict) is never written: the result goes to the field calibration
+// (/var/lib/handscan/calibration/calibration.yaml), which the daemon reads instead of the
+// factory's once it exists, and which the next calibration starts from. It is installed only
+// when the run succeeded, and a previous field calibration is kept as calibration.yaml.prev:
+// the new file is written beside it under a temporary name, the old one hard-linked to .prev
+// (atomic rename), then the new one renamed over it - at every moment calibration.yaml is one
+// whole file. Deleting the field calibration goes back to the factory's. The running pipeline
+// keeps the calibration it started with; the new one applies from the next start of the daemon.
 #pragma once
 
 #include <mutex>
@@ -23,9 +27,12 @@ namespace handscan::pipeline_daemon {
 
 class CalibrateJob {
 public:
-    // The files the daemon runs with: its device.yaml and the calibration.yaml to replace.
-    CalibrateJob(std::string device_yaml, std::string calibration_yaml)
-        : device_yaml_(std::move(device_yaml)), calibration_yaml_(std::move(calibration_yaml)) {}
+    // The daemon's device.yaml, the factory calibration and the field calibration to write
+    // (the same path: the factory file itself is replaced, as on a development machine).
+    CalibrateJob(std::string device_yaml, std::string factory_yaml, std::string field_yaml)
+        : device_yaml_(std::move(device_yaml)),
+          factory_yaml_(std::move(factory_yaml)),
+          calibration_yaml_(std::move(field_yaml)) {}
     ~CalibrateJob();
     CalibrateJob(const CalibrateJob&) = delete;
     CalibrateJob& operator=(const CalibrateJob&) = delete;
@@ -42,13 +49,17 @@ private:
     void run(std::string recording, int rounds);
     void step(const std::string& line, int rounds);
 
-    const std::string device_yaml_, calibration_yaml_;
+    const std::string device_yaml_, factory_yaml_, calibration_yaml_;
     mutable std::mutex mutex_;
     shm::CalibrationStatus status_{};
     bool running_ = false;
     std::optional<Result<std::string>> result_;
     std::thread thread_;
 };
+
+// The calibration the daemon runs with: the field calibration once one was written, else the
+// factory's (`field` empty: the factory's).
+std::string calibrationInUse(const std::string& factory, const std::string& field);
 
 // Replaces `target` with `fresh` (a complete file beside it), keeping the old one as
 // `target`.prev; each step an atomic rename, the directory synced.

@@ -26,7 +26,10 @@ namespace handscan::pipeline_daemon {
 struct DaemonOptions {
     std::string device_config;  // default: <config dir>/device.yaml
     std::string calibration;    // default: <config dir>/calibration.yaml
-    std::string journal_dir;    // default: device.yaml storage.journal_dir
+    // The field calibration (CalibrateJob): read instead of `calibration` once it exists, and
+    // where "calibrate" writes; "": "calibrate" replaces `calibration` itself.
+    std::string field_calibration;
+    std::string journal_dir;  // default: device.yaml storage.journal_dir
     std::string shm_name = shm::kDefaultRegionName;
     std::size_t map_capacity_points = std::size_t{4} << 20;
     TimeNs ready_timeout = 5 * kNsPerSec;  // READY=1 at the latest after this, devices or not

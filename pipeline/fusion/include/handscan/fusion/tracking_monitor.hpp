@@ -66,6 +66,12 @@ struct TrackingMonitorConfig {
     double max_accel_mps2 = 30.0;
     int trip_after = 2;     // inconsistent sweeps in a row before tracking is lost
     int recover_after = 3;  // consistent sweeps in a row (against the old map) to recover
+    // A loss the matches have not recovered within this many sweeps with correspondences (3 s)
+    // is a lost pose: the prediction has drifted beyond the matcher's reach, from where it
+    // converges to a wrong place as readily as to the right one (an office walk after 5 s of
+    // blinded laser never came back). Recovery then waits for a relocalisation, as after an IMU
+    // gap. 0: never.
+    int relocalise_after = 6;
 };
 
 // What the matcher of one sweep reports (scan::SweepResult, kept free of the scan library).
@@ -123,7 +129,8 @@ public:
     // gap while the walker may have turned a corner) a match from the held pose may settle in
     // the wrong place and look consistent: recovery waits for a relocalisation (a search of the
     // old map, lio::Relocaliser). A blinded laser or a fall keep the IMU running: the matches
-    // themselves recover, as after any loss.
+    // themselves recover, as after any loss - unless they have not within relocalise_after
+    // sweeps.
     bool awaitingRelocalisation() const { return awaiting_relocalisation_; }
     // The relocaliser found the old map (`detail`: where); recovery counts from the next sweep.
     void relocalised(TimeNs t, const std::string& detail);
@@ -155,6 +162,7 @@ private:
     std::optional<Stamped> last_, before_last_;
     TimeNs last_failure_t_ = 0;  // the latest fail()
     bool awaiting_relocalisation_ = false;
+    int unrecovered_ = 0;  // lost sweeps with correspondences since the loss or relocalisation
     std::vector<LostInterval> intervals_;
 };
 
