@@ -210,6 +210,36 @@ TEST(LocalizerTest, AppliedWhenReadyTheLockDoesNotHoldUpTheSweeps) {
     EXPECT_LT((l.priorFromOdom().translation() - truth.translation()).norm(), 0.01);
 }
 
+// The localizer's thread against the worker's (run under ThreadSanitizer by tools/test): a small
+// search, so that the lock and a tracking match run while sweeps keep coming, each applied when
+// ready; then a localizer destroyed with a match still running (cancelled and waited for).
+TEST(LocalizerThreadTest, MatchesRunBesideTheSweepsAndEndWithTheLocalizer) {
+    LocalizerConfig c;  // kWhenReady, as on the device
+    c.search_radius_m = 0.5;
+    c.search_yaw_deg = 10.0;
+    c.search_points = 100;
+    c.refine_candidates = 1;
+    c.period_s = 0.5;
+    const Eigen::Isometry3d truth = pose(3.2, 2.4, 1.3, 40);
+    const auto prior = roomPrior();
+    {
+        Localizer l(c, prior, pose(3.4, 2.5, 1.3, 45));
+        TimeNs t = 1000 * kNsPerSec;
+        for (int i = 0; i < 3000 && l.stats().updates < 1; ++i) {
+            feed(l, 1, t, truth, Eigen::Isometry3d::Identity());
+            std::this_thread::sleep_for(std::chrono::milliseconds(5));
+        }
+        ASSERT_TRUE(l.locked());
+        EXPECT_GE(l.stats().updates, 1u);
+        EXPECT_LT((l.priorFromOdom().translation() - truth.translation()).norm(), 0.01);
+        EXPECT_TRUE(l.changes().empty());  // nothing moved
+    }
+    Localizer running(c, prior, pose(3.4, 2.5, 1.3, 45));
+    TimeNs t = 1000 * kNsPerSec;
+    feed(running, 3, t, truth, Eigen::Isometry3d::Identity());
+    EXPECT_TRUE(running.matchRunning());  // and it goes out of scope so
+}
+
 TEST(LocalizerTest, AHintGivesPositionAndHeadingTheOdometryKeepsItsTilt) {
     // The body tilted 10 deg about its x axis and heading 30 deg in the odometry's world; a level
     // hint (the operator's tap) heading 100 deg at (4, 2, 1.3).
