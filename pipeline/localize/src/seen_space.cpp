@@ -24,10 +24,10 @@ const std::array<Eigen::Vector3d, 26>& directions() {
 
 std::uint8_t directionOf(const Eigen::Vector3d& u) {
     const auto& dirs = directions();
-    std::uint8_t best = 0;
-    for (std::uint8_t i = 1; i < dirs.size(); ++i)
+    std::size_t best = 0;
+    for (std::size_t i = 1; i < dirs.size(); ++i)
         if (dirs[i].dot(u) > dirs[best].dot(u)) best = i;
-    return best;
+    return static_cast<std::uint8_t>(best);
 }
 
 }  // namespace
