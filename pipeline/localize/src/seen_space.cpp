@@ -49,11 +49,11 @@ SeenSpace::SeenSpace(const Eigen::AlignedBox3d& box, const SeenSpaceConfig& conf
 
 bool SeenSpace::indexOf(const Eigen::Vector3d& p, std::uint32_t& index) const {
     if (masks_.empty()) return false;
-    const Eigen::Vector3d f = (p - box_.min()) / cell_;
-    const Eigen::Vector3i i(static_cast<int>(std::floor(f.x())),
-                            static_cast<int>(std::floor(f.y())),
-                            static_cast<int>(std::floor(f.z())));
-    if ((i.array() < 0).any() || (i.array() >= dims_.array()).any()) return false;
+    const Eigen::Vector3d f = ((p - box_.min()) / cell_).array().floor();
+    // Compared as doubles first: a far (or non-finite) point must not reach the int conversion.
+    if (!(f.array() >= 0.0).all() || !(f.array() < dims_.cast<double>().array()).all())
+        return false;
+    const Eigen::Vector3i i = f.cast<int>();
     index = static_cast<std::uint32_t>((i.z() * dims_.y() + i.y()) * dims_.x() + i.x());
     return true;
 }

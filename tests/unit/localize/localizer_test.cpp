@@ -408,6 +408,8 @@ TEST(SeenSpaceTest, ARayClaimsTheSpaceItWentThroughInItsDirectionShortOfItsRetur
     EXPECT_FALSE(seen.seenThrough({2.0, 0.35, 0.05}, facing_it));   // a cell over
     EXPECT_TRUE(seen.crossed({2.0, 0.05, 0.05}));
     EXPECT_FALSE(seen.crossed({20.0, 0.05, 0.05}));  // outside the box
+    EXPECT_FALSE(seen.crossed({1e30, 0.05, 0.05}));  // far outside: no int overflow
+    EXPECT_FALSE(seen.crossed({std::nan(""), 0.05, 0.05}));
 }
 
 }  // namespace
