@@ -192,11 +192,12 @@ void LaserInertialOdometry::matchSweep(scan::Sweep sweep) {
     }
     // Diagnostics (a motion override): the matcher alone, from the override, no feedback.
     const bool reference = static_cast<bool>(motion_);
-    // The pose is unknown (an IMU gap): the held velocity and heading would place the sweeps
-    // smeared and drifting away, and matching them to the scan's map from there converges to
-    // a wrong place. The scan's map is frozen for the relocaliser; the lost sweeps are tracked
-    // on a map of their own (the IMU's frame since the loss), which the matches' feedback keeps
-    // the predictor honest on, until the relocaliser finds that map's place on the scan's.
+    // The pose is unknown (an IMU gap, or a loss the matches did not recover): the prediction
+    // would place the sweeps smeared and drifting away (after a gap its velocity and heading are
+    // held ones), and matching them to the scan's map from there converges to a wrong place. The
+    // scan's map is frozen for the relocaliser; the lost sweeps are tracked on a map of their own
+    // (the IMU's frame since the loss), which the matches' feedback keeps the predictor honest on,
+    // until the relocaliser finds that map's place on the scan's.
     const bool relocating = monitor_.awaitingRelocalisation() && !reference;
     if (relocating && !frozen_) {
         frozen_ = std::move(odometry_);

@@ -1,13 +1,14 @@
-// Relocaliser: after a failure that leaves the pose unknown (TrackingMonitor::fail: the IMU
-// silent, the laser blinded, the scanner dropped), finds the scanner again on the map it built
-// before the failure, with the search a new session uses on an earlier session's map (section 9,
-// localize::Localizer): the odometry's own feature map, frozen at the loss, is the prior map; the
-// IMU's pose is the hint; each lost sweep's features are stacked with the IMU's poses (matches do
-// not correct them while the monitor waits). The search covers a few metres and a wide turn
-// about the vertical (a 2 s IMU gap holds the heading while the walker may turn 60 degrees).
-// While the operator is elsewhere (a room not yet scanned) it does not lock and keeps trying
-// every period; "go back to a place already scanned" is what the live status says meanwhile.
-// When it locks, T_map_odom carries the drifted frame of the IMU's poses back onto the map.
+// Relocaliser: after a failure that leaves the pose unknown (an IMU gap; a loss the matches did
+// not recover: TrackingMonitor::awaitingRelocalisation), finds the scanner again on the map it
+// built before, with the search a new session uses on an earlier session's map (section 9,
+// localize::Localizer): the scan's feature map, frozen at the loss, is the prior map; the lost
+// sweeps are stacked with the poses of their own map (LaserInertialOdometry tracks them on a fresh
+// LaserOdometry meanwhile), whose frame is the IMU's at the loss: the hint. The search covers a
+// few metres and a wide turn about where the loss began (a 2 s IMU gap holds the heading while
+// the walker may turn 60 degrees), and locks only where two searches agree. While the operator is
+// elsewhere (a room not yet scanned) it does not lock and keeps trying every period; "go back to
+// a place already scanned" is what the live status says meanwhile. When it locks, T_map_odom
+// carries the lost map's frame onto the scan's map.
 #pragma once
 
 #include <Eigen/Geometry>
@@ -29,8 +30,9 @@ public:
         : config_(config) {}
 
     // A sweep while the monitor awaits a relocalisation: its features (body frame at t), and
-    // the IMU's pose at t. The first one of a loss freezes `odometry`'s map as the search's
-    // prior. Returns T_map_odom when the search locks (then the next loss starts afresh).
+    // its pose at t on the lost sweeps' own map. The first one of a loss takes `odometry`'s map
+    // (the scan's, frozen) as the search's prior. Returns T_map_odom when the search locks (then
+    // the next loss starts afresh).
     std::optional<Eigen::Isometry3d> addSweep(const scan::LaserOdometry& odometry, TimeNs t,
                                               const Eigen::Isometry3d& T_odom_body,
                                               std::shared_ptr<const scan::FeatureCloud> features);
