@@ -154,9 +154,11 @@ TrackingVerdict TrackingMonitor::assess(const SweepEvidence& e) {
         }
     }
     if (lost_) ++intervals_.back().sweeps;
-    // Sweeps the matcher could try on (it found correspondences) count towards giving it up.
-    unrecovered_ = lost_ && e.enough_matches ? unrecovered_ + 1 : lost_ ? unrecovered_ : 0;
-    if (lost_ && !awaiting_relocalisation_ && config_.relocalise_after > 0 &&
+    // Sweeps the matcher could try on (it found correspondences) count towards giving it up,
+    // sweeps that see nothing do not; it is given up at a failed one, so that a run of
+    // consistent sweeps under way may still complete the recovery.
+    unrecovered_ = !lost_ ? 0 : e.enough_matches ? unrecovered_ + 1 : unrecovered_;
+    if (lost_ && !awaiting_relocalisation_ && config_.relocalise_after > 0 && !v.consistent &&
         unrecovered_ >= config_.relocalise_after) {
         awaiting_relocalisation_ = true;
         good_run_ = 0;

@@ -217,6 +217,19 @@ TEST(TrackingMonitor, ALossTheMatchesDoNotRecoverWaitsForARelocalisation) {
     EXPECT_FALSE(m.awaitingRelocalisation());
 }
 
+TEST(TrackingMonitor, ARecoveryUnderWayIsNotCutShortByTheGivingUp) {
+    TrackingMonitor m;
+    for (int k = 0; k < 5; ++k) m.assess(walking(k));
+    // Failed sweeps one short of giving up, then the matches come back: they recover.
+    const int failed = m.config().trip_after - 1 + m.config().relocalise_after - 1;
+    int k = 5;
+    for (int i = 0; i < failed; ++i, ++k) EXPECT_FALSE(m.assess(walking(k, 0.6)).consistent);
+    ASSERT_TRUE(m.lost());
+    for (int i = 0; i < m.config().recover_after; ++i, ++k) m.assess(walking(k));
+    EXPECT_FALSE(m.awaitingRelocalisation());
+    EXPECT_FALSE(m.lost());
+}
+
 TEST(TrackingMonitor, SweepsWithoutCorrespondencesDoNotGiveUpTheMatches) {
     TrackingMonitorConfig c;
     c.relocalise_after = 2;

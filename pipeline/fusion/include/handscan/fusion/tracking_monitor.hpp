@@ -66,11 +66,11 @@ struct TrackingMonitorConfig {
     double max_accel_mps2 = 30.0;
     int trip_after = 2;     // inconsistent sweeps in a row before tracking is lost
     int recover_after = 3;  // consistent sweeps in a row (against the old map) to recover
-    // A loss the matches have not recovered within this many sweeps with correspondences (3 s)
-    // is a lost pose: the prediction has drifted beyond the matcher's reach, from where it
-    // converges to a wrong place as readily as to the right one (an office walk after 5 s of
-    // blinded laser never came back). Recovery then waits for a relocalisation, as after an IMU
-    // gap. 0: never.
+    // A loss the matches have not recovered within this many sweeps with correspondences (3 s;
+    // given up at a failed one) is a lost pose: the prediction has drifted beyond the matcher's
+    // reach, from where it converges to a wrong place as readily as to the right one (an office
+    // walk after 5 s of blinded laser never came back). Recovery then waits for a relocalisation,
+    // as after an IMU gap. 0: never.
     int relocalise_after = 6;
 };
 
