@@ -2,7 +2,6 @@
 
 #include <algorithm>
 #include <chrono>
-#include <cmath>
 #include <utility>
 
 #include "handscan/core/se3.hpp"
@@ -113,9 +112,8 @@ bool Localizer::confirmed(const PriorMatchOutcome& o) {
     const Eigen::Isometry3d T = o.T_prior_new * running_on_.T_odom_new.inverse();
     const std::optional<Eigen::Isometry3d> before = std::exchange(unconfirmed_, T);
     if (!before) return false;
-    const Eigen::Isometry3d d = before->inverse() * T;
-    return d.translation().norm() <= config_.distinct_m &&
-           Eigen::AngleAxisd(d.linear()).angle() * 180.0 / M_PI <= config_.distinct_deg;
+    const auto [dm, ddeg] = separation(*before, T);
+    return dm <= config_.distinct_m && ddeg <= config_.distinct_deg;
 }
 
 bool Localizer::apply(const PriorMatchOutcome& o) {

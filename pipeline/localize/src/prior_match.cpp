@@ -19,13 +19,6 @@ double threadCpuMs() {
     return static_cast<double>(ts.tv_sec) * 1e3 + static_cast<double>(ts.tv_nsec) * 1e-6;
 }
 
-// Translation (m) and rotation (deg) between two poses.
-std::pair<double, double> separation(const Eigen::Isometry3d& a, const Eigen::Isometry3d& b) {
-    const Eigen::Isometry3d d = a.inverse() * b;
-    return {(a.translation() - b.translation()).norm(),
-            Eigen::AngleAxisd(d.linear()).angle() * 180.0 / std::numbers::pi};
-}
-
 struct Candidate {
     Eigen::Isometry3d T;
     double score = 0.0;  // share on the map
@@ -104,6 +97,12 @@ std::vector<Candidate> scoreGrid(const LocalizerConfig& config, const PriorMap& 
 }
 
 }  // namespace
+
+std::pair<double, double> separation(const Eigen::Isometry3d& a, const Eigen::Isometry3d& b) {
+    const Eigen::Isometry3d d = a.inverse() * b;
+    return {(a.translation() - b.translation()).norm(),
+            Eigen::AngleAxisd(d.linear()).angle() * 180.0 / std::numbers::pi};
+}
 
 std::vector<Eigen::Vector3d> samplePoints(const scan::FeatureCloud& cloud, int count) {
     const std::size_t n = cloud.edges.size() + cloud.planars.size();

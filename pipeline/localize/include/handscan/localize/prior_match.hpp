@@ -16,6 +16,7 @@
 #include <map>
 #include <optional>
 #include <tuple>
+#include <utility>
 #include <vector>
 
 #include "handscan/localize/localizer_config.hpp"
@@ -55,6 +56,9 @@ PriorMatchOutcome searchLock(const LocalizerConfig& config, const PriorMap& prio
 // A tracking match from `T_init` (the stacked cloud's pose as the current estimate puts it).
 PriorMatchOutcome trackPrior(const LocalizerConfig& config, const PriorMap& prior,
                              const scan::FeatureCloud& stacked, const Eigen::Isometry3d& T_init);
+
+// Translation (m) and rotation (deg) between two poses.
+std::pair<double, double> separation(const Eigen::Isometry3d& a, const Eigen::Isometry3d& b);
 
 // The share of `pts` (body frame) within config.on_map_m of a prior point at pose T (among
 // those the prior map covers: config.score_min_covered).
