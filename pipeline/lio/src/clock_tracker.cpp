@@ -18,7 +18,13 @@ double clampToward(double current, double target, double max_step) {
 
 ClockTracker::ClockTracker(const ClockTrackerConfig& config, const Eigen::Matrix3d& R_body_imu,
                            const Eigen::Vector3d& axis_body)
-    : config_(config), R_body_imu_(R_body_imu), axis_(axis_body.normalized()) {}
+    : config_(config), R_body_imu_(R_body_imu), axis_(axis_body.normalized()) {
+    if (!config_.enabled) return;
+    stats_.imu_offset_s =
+        std::clamp(config_.start_imu_offset_s, -config_.imu_bound_s, config_.imu_bound_s);
+    stats_.encoder_offset_s = std::clamp(config_.start_encoder_offset_s, -config_.encoder_bound_s,
+                                         config_.encoder_bound_s);
+}
 
 void ClockTracker::addImu(const ImuSample& raw) {
     if (!config_.enabled) return;

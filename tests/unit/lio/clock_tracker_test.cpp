@@ -95,6 +95,19 @@ TEST(ClockTracker, TurningOnlyAboutTheShaftLeavesTheEncoderAlone) {
     EXPECT_NEAR(c.stats().imu_offset_s * 1e3, 2.0, 0.1);
 }
 
+TEST(ClockTracker, StartsFromThePreviousScansOffsetsWithinTheBounds) {
+    ClockTrackerConfig config;
+    config.start_imu_offset_s = -0.002;
+    config.start_encoder_offset_s = 0.009;  // beyond the 5 ms bound
+    ClockTracker c(config, Eigen::Matrix3d::Identity(), kAxis);
+    EXPECT_EQ(c.imuOffset(), fromSeconds(-0.002));
+    EXPECT_EQ(c.encoderOffset(), fromSeconds(config.encoder_bound_s));
+    // Already right: a walk with those clocks leaves the IMU's where it is.
+    walk(c, handHeld(), -0.002, 0.0, 30.0);
+    EXPECT_NEAR(c.stats().imu_offset_s * 1e3, -2.0, 0.1);
+    EXPECT_NEAR(c.stats().encoder_offset_s * 1e3, 0.0, 0.05);
+}
+
 TEST(ClockTracker, DisabledDoesNothing) {
     ClockTrackerConfig config;
     config.enabled = false;

@@ -49,6 +49,11 @@ struct ClockTrackerConfig {
     // The shaft must turn at least this fast for eps to be a time (a stopped shaft has no clock
     // to show).
     double min_shaft_speed_radps = 1.0;
+    // The offsets applied from the first sample (held within the bounds): what the previous scan
+    // of the session tracked (PipelineWorker::reset), so a new scan does not start from the
+    // configured clocks again.
+    double start_imu_offset_s = 0.0;
+    double start_encoder_offset_s = 0.0;
 };
 
 struct ClockTrackerStats {
