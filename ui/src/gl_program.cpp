@@ -54,4 +54,12 @@ Status GlProgram::build(const std::string& name, const char* vertex_src, const c
 
 int GlProgram::uniform(const char* name) const { return glGetUniformLocation(id_, name); }
 
+void describePositionColourVertices() {
+    glEnableVertexAttribArray(0);
+    glVertexAttribPointer(0, 3, GL_FLOAT, GL_FALSE, 6 * sizeof(float), nullptr);
+    glEnableVertexAttribArray(1);
+    glVertexAttribPointer(1, 3, GL_FLOAT, GL_FALSE, 6 * sizeof(float),
+                          reinterpret_cast<void*>(3 * sizeof(float)));
+}
+
 }  // namespace handscan::ui

@@ -121,11 +121,7 @@ Status MapRenderer::init() {
     glBindVertexArray(device_vao_);
     glBindBuffer(GL_ARRAY_BUFFER, device_vbo_);
     glBufferData(GL_ARRAY_BUFFER, 64 * 6 * sizeof(float), nullptr, GL_DYNAMIC_DRAW);
-    glEnableVertexAttribArray(0);
-    glVertexAttribPointer(0, 3, GL_FLOAT, GL_FALSE, 6 * sizeof(float), nullptr);
-    glEnableVertexAttribArray(1);
-    glVertexAttribPointer(1, 3, GL_FLOAT, GL_FALSE, 6 * sizeof(float),
-                          reinterpret_cast<void*>(3 * sizeof(float)));
+    describePositionColourVertices();
     glBindVertexArray(0);
     return Status::ok();
 }

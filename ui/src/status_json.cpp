@@ -33,6 +33,11 @@ std::string statusJson(const StatusTexts& t, const FrameFacts& f) {
     j["message"] = t.message;
     j["localization"] = line(t.localization);
     j["can_continue"] = t.can_continue;
+    j["changes"] = {{"text", t.changes.text},
+                    {"health", toString(t.changes.health)},
+                    {"appeared", t.changes_appeared},
+                    {"vanished", t.changes_vanished},
+                    {"cells_drawn", f.change_cells_drawn}};
     j["dof"] = Json::array();
     for (int i = 0; t.dof_valid && i < shm::kDofCount; ++i) j["dof"].push_back(toString(t.dof[i]));
     Json view_proj = Json::array();

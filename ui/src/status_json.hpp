@@ -24,7 +24,8 @@ struct FrameFacts {
     std::size_t points_drawn = 0;
     std::size_t track_points = 0;
     std::uint64_t epoch = 0;
-    PreviewFacts preview;  // the export screen's picture of the map
+    std::size_t change_cells_drawn = 0;  // a continued scan's change cells on the 3D view
+    PreviewFacts preview;                // the export screen's picture of the map
     // Continue scan: placing the start on the earlier map, and the pose placed ("" if none).
     bool placing = false;
     bool placed = false;

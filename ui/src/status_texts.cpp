@@ -286,4 +286,18 @@ StatusTexts describeStatus(shm::Connection connection, const std::string& connec
     return t;
 }
 
+void describeChanges(const shm::ChangeReport& r, StatusTexts& t) {
+    t.changes_appeared = r.appeared;
+    t.changes_vanished = r.vanished;
+    const std::uint64_t total = std::uint64_t{r.appeared} + r.vanished;
+    if (total == 0) {
+        t.changes = {};
+        return;
+    }
+    std::string text = "CHANGED SINCE THE EARLIER SCAN: " + groupThousands(r.appeared) +
+                       " appeared (orange), " + groupThousands(r.vanished) + " vanished (blue)";
+    if (r.count < total) text += ", the " + groupThousands(r.count) + " largest drawn";
+    t.changes = {text, Health::kWarning};
+}
+
 }  // namespace handscan::ui

@@ -15,6 +15,7 @@
 #include <limits>
 #include <thread>
 
+#include "change_cells_renderer.hpp"
 #include "export_preview.hpp"
 #include "gl_api.hpp"
 #include "handscan/core/log.hpp"
@@ -102,6 +103,8 @@ private:
     void drawOverlay(const ScreenLayout& l);
     void drawCoverage(const ScreenLayout& l);
     void drawDegeneracyBar(ImDrawList* dl, ImVec2 origin, float cell);
+    void readChanges();
+    void drawChangesLegend(ImDrawList* dl, const ScreenLayout& l);
     void send(shm::CommandType type, const std::string& argument = {});
     void trackCommand();
     bool bigButton(const char* label, ImVec4 colour, float w, float h, bool enabled = true);
@@ -114,6 +117,9 @@ private:
     GLFWwindow* window_ = nullptr;
     bool imgui_ready_ = false;
     MapRenderer renderer_;
+    ChangeCellsRenderer changes_renderer_;
+    shm::ChangesCursor changes_cursor_;
+    shm::ChangeReport changes_;  // the one drawn (its epoch the map's), empty if none
     ViewCamera camera_;
     ColourMode colour_;
     bool coverage_view_;
@@ -199,6 +205,7 @@ Status UiApp::initWindow() {
     ImGui_ImplGlfw_InitForOpenGL(window_, true);
     ImGui_ImplOpenGL3_Init("#version 330 core");
     imgui_ready_ = true;
+    if (Status s = changes_renderer_.init(); !s) return s;
     return renderer_.init();
 }
 
@@ -207,6 +214,11 @@ void UiApp::ingest() {
     if (c == shm::Connection::kWaiting || c == shm::Connection::kIncompatible) {
         status_.reset();
         pose_.reset();
+        if (changes_.count > 0 || changes_.appeared + changes_.vanished > 0) {
+            changes_.count = changes_.appeared = changes_.vanished = 0;
+            changes_renderer_.set(changes_);
+        }
+        changes_cursor_ = {};
     } else {
         if (reader_.readMap(cursor_, delta_, kUploadBudgetPoints)) {
             if (delta_.reset) {
@@ -214,6 +226,7 @@ void UiApp::ingest() {
                 coverage_.clear();
                 track_cpu_.clear();
                 top_down_follows_device_ = true;
+                changes_cursor_ = {};  // read the new scan's report again, whatever came first
             }
             renderer_.appendPoints(delta_.points);
             renderer_.appendTrack(delta_.track);
@@ -228,10 +241,22 @@ void UiApp::ingest() {
             status_seen_ = s->t_ns != 0 || status_seen_;
         }
         pose_ = reader_.latestPose();
+        readChanges();
     }
     renderer_.setDevice(pose_);
     texts_ = describeStatus(c, reader_.message(), status_seen_ ? status_ : std::nullopt, pose_);
+    describeChanges(changes_, texts_);
     trackCommand();
+}
+
+void UiApp::readChanges() {
+    shm::ChangeReport r;
+    if (!reader_.readChanges(changes_cursor_, r)) return;
+    // A report of another scan than the map's (read across a new scan) is not drawn; the new
+    // scan's own comes with the next publication, or is read again at the map's reset.
+    if (r.epoch != cursor_.epoch) r.count = r.appeared = r.vanished = 0;
+    changes_ = r;
+    changes_renderer_.set(changes_);
 }
 
 void UiApp::updateCamera() {
@@ -545,6 +570,7 @@ void UiApp::drawOverlay(const ScreenLayout& l) {
         const float cell = 24.0f * l.scale;
         drawDegeneracyBar(dl, ImVec2(l.view.x + 14, l.view.y + l.view.h - 6 * cell - 14), cell);
     }
+    drawChangesLegend(dl, l);
     // Warnings the operator can act on, stacked at the top of the view, most severe first.
     if (placing_.active()) return placing_.drawOverlay(l, facts_.view_proj, font_big_);
     std::vector<Line> warnings = texts_.warnings;
@@ -564,6 +590,29 @@ void UiApp::drawOverlay(const ScreenLayout& l) {
         y += sz.y + 18;
     }
     ImGui::PopFont();
+}
+
+void UiApp::drawChangesLegend(ImDrawList* dl, const ScreenLayout& l) {
+    // The change cells' legend, bottom right of the view: a swatch and the count of each kind.
+    if (texts_.changes.text.empty()) return;
+    const float line = ImGui::GetTextLineHeight();
+    const float sw = line;  // swatch side
+    const std::string title = "CHANGED SINCE THE EARLIER SCAN";
+    const std::string rows[2] = {groupThousands(texts_.changes_appeared) + " appeared",
+                                 groupThousands(texts_.changes_vanished) + " vanished"};
+    const Rgb8 colours[2] = {kAppearedColour, kVanishedColour};
+    float w = ImGui::CalcTextSize(title.c_str()).x;
+    for (const std::string& r : rows) w = std::max(w, sw + 8 + ImGui::CalcTextSize(r.c_str()).x);
+    const float h = 3 * line + 2 * 6;
+    const ImVec2 a(l.view.x + l.view.w - w - 34, l.view.y + l.view.h - h - 34);
+    dl->AddRectFilled(a, ImVec2(a.x + w + 20, a.y + h + 20), IM_COL32(0, 0, 0, 170), 6);
+    dl->AddText(ImVec2(a.x + 10, a.y + 10), IM_COL32_WHITE, title.c_str());
+    for (int i = 0; i < 2; ++i) {
+        const ImVec2 r(a.x + 10, a.y + 10 + (i + 1) * (line + 6));
+        dl->AddRectFilled(r, ImVec2(r.x + sw, r.y + sw),
+                          IM_COL32(colours[i].r, colours[i].g, colours[i].b, 255), 3);
+        dl->AddText(ImVec2(r.x + sw + 8, r.y), IM_COL32_WHITE, rows[i].c_str());
+    }
 }
 
 void UiApp::drawCoverage(const ScreenLayout& l) {
@@ -603,6 +652,15 @@ void UiApp::drawCoverage(const ScreenLayout& l) {
                     toScreen(track_cpu_[i].x_m, track_cpu_[i].y_m), IM_COL32(255, 60, 230, 255),
                     2.0f);
     }
+    // The change cells from above, as on the 3D view.
+    const float half = 0.5f * changes_.cell_m;
+    for (std::uint32_t k = 0; k < std::min<std::uint32_t>(changes_.count, shm::kMaxChangeCells);
+         ++k) {
+        const shm::ChangeCellRecord& c = changes_.cells[k];
+        const Rgb8 col = changeColour(static_cast<shm::ChangeKind>(c.kind));
+        dl->AddRectFilled(toScreen(c.x_m - half, c.y_m + half),
+                          toScreen(c.x_m + half, c.y_m - half), IM_COL32(col.r, col.g, col.b, 200));
+    }
     if (pose_) {
         dl->AddCircleFilled(toScreen(static_cast<float>(pose_->position_m[0]),
                                      static_cast<float>(pose_->position_m[1])),
@@ -639,6 +697,7 @@ void UiApp::drawView(const ScreenLayout& l) {
     facts_.points_drawn = renderer_.pointCount();  // screenshots draw every point
     facts_.track_points = renderer_.trackCount();
     facts_.epoch = cursor_.epoch;
+    facts_.change_cells_drawn = coverage_view_ ? 0 : changes_renderer_.cells();
     if (coverage_view_ || vw <= 0 || vh <= 0) return;
     glViewport(vx, vy_gl, vw, vh);
     glEnable(GL_SCISSOR_TEST);
@@ -651,6 +710,7 @@ void UiApp::drawView(const ScreenLayout& l) {
                    full                     ? 0
                    : o_.max_draw_points > 0 ? o_.max_draw_points
                                             : draw_budget_);
+    changes_renderer_.draw(vp);
     glDisable(GL_SCISSOR_TEST);
     glViewport(0, 0, fbw, fbh);
 }

@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <filesystem>
 
+#include "handscan/live_output/change_report.hpp"
 #include "handscan/shm/text_field.hpp"
 
 namespace handscan::live_output {
@@ -101,6 +102,15 @@ void LivePublisher::status(const lio::LaserInertialOdometry& pipeline, const Liv
     writer_->setStatus(s);
 }
 
+void LivePublisher::changes(const localize::Localizer& localizer) {
+    // Cells change only when a match is used (the lock, then each tracking update).
+    const std::uint64_t used = localizer.stats().updates + (localizer.locked() ? 1 : 0);
+    if (used == changes_of_matches_) return;
+    changes_of_matches_ = used;
+    const std::vector<localize::ChangeCell> cells = localizer.changes();
+    writer_->setChanges(toChangeReport(cells, localizer.config().change_cell_m));
+}
+
 void LivePublisher::showEarlierScan(std::span<const shm::DisplayPoint> points,
                                     std::span<const journal::TrajectoryPose> trajectory) {
     std::vector<shm::DisplayPoint> shown;
@@ -124,7 +134,8 @@ void LivePublisher::showEarlierScan(std::span<const shm::DisplayPoint> points,
 }
 
 void LivePublisher::newScan() {
-    writer_->newScan();
+    writer_->newScan();  // and its change report
+    changes_of_matches_ = 0;
     shown_voxels_.clear();
     distance_m_ = 0;
     elapsed_s_ = 0;

@@ -309,6 +309,9 @@ void PipelineThread::publishStatus() {
                                           : shm::LocalizationState::kNone;
     s.can_continue = can_continue_;
     publisher_->status(worker_->lio(), s);
+    // Where the scene changed since the earlier scan, for the screen (once per used match).
+    if (session_->scanning() && worker_->localizer() != nullptr)
+        publisher_->changes(*worker_->localizer());
 }
 
 }  // namespace handscan::pipeline_daemon

@@ -243,8 +243,10 @@ Result<ReplayReport> runReplay(const ReplayOptions& o) {
         if (viz) viz->samples(samples);
         for (sources::Sample& s : samples) worker.add(std::move(s));
         if (Status st = worker.advance(**clock); !st.isOk()) return st;
-        if (live && (n % 64) == 0)
+        if (live && (n % 64) == 0) {
             live->status(worker.lio(), replayStatus(worker.lio(), source, outputs, false));
+            if (worker.localizer() != nullptr) live->changes(*worker.localizer());
+        }
         if (o.progress && duration_hint > 0 && (n % 256) == 0)
             o.progress(toSeconds(**clock - source.firstTime()) / duration_hint);
     }
@@ -297,6 +299,7 @@ Result<ReplayReport> runReplay(const ReplayOptions& o) {
     if (!viz_status.isOk()) return viz_status;
     if (live) {
         live->status(pipeline, replayStatus(pipeline, source, outputs, /*finished=*/true));
+        if (worker.localizer() != nullptr) live->changes(*worker.localizer());
         while (o.hold && !(o.interrupted && o.interrupted())) {
             live->heartbeat();
             std::this_thread::sleep_for(std::chrono::milliseconds(100));

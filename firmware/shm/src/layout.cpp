@@ -69,6 +69,18 @@ const char* toString(LocalizationState state) {
     return "unknown";
 }
 
+const char* toString(ChangeKind kind) {
+    switch (kind) {
+        case ChangeKind::kNone:
+            return "none";
+        case ChangeKind::kAppeared:
+            return "appeared";
+        case ChangeKind::kVanished:
+            return "vanished";
+    }
+    return "unknown";
+}
+
 bool isFinal(CommandState state) {
     return state == CommandState::kDone || state == CommandState::kFailed ||
            state == CommandState::kRejected;

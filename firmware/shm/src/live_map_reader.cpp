@@ -263,6 +263,20 @@ bool LiveMapReader::readMap(MapCursor& cursor, MapDelta& delta, std::size_t max_
     return true;
 }
 
+bool LiveMapReader::readChanges(ChangesCursor& cursor, ChangeReport& out) const {
+    RegionHeader* h = header();
+    if (!h) return false;
+    const std::uint64_t nonce = atomicWord(h->writer_nonce).load(std::memory_order_relaxed);
+    const std::uint64_t lock = atomicWord(h->changes_lock).load(std::memory_order_acquire);
+    if (nonce == cursor.nonce && lock == cursor.lock) return false;
+    if (!seqlockTryRead(h->changes_lock, h->changes, out) ||
+        atomicWord(h->changes_lock).load(std::memory_order_relaxed) != lock)
+        return false;
+    out.count = std::min<std::uint32_t>(out.count, kMaxChangeCells);
+    cursor = {nonce, lock};
+    return true;
+}
+
 Result<std::uint64_t> LiveMapReader::sendCommand(CommandType type, std::string_view argument) {
     RegionHeader* h = header();
     if (!h || connection_ == Connection::kClosed) {

@@ -99,6 +99,7 @@ LiveMapWriter::LiveMapWriter(std::shared_ptr<SharedRegion> region, const WriterO
     lock.store(s + (s & 1u ? 1 : 2), std::memory_order_relaxed);
     atomicWord(h.map_points).store(0, std::memory_order_relaxed);
     atomicWord(h.track_points).store(0, std::memory_order_relaxed);
+    clearChanges();
     // Re-attaching to a used region continues its counters so readers see changes, not repeats.
     for (std::size_t i = 0; i < kCommandSlots; ++i) {
         CommandRequest req;
@@ -193,6 +194,23 @@ void LiveMapWriter::setStatus(const StatusBlock& status) {
     heartbeat();
 }
 
+void LiveMapWriter::setChanges(const ChangeReport& report) {
+    RegionHeader& h = header();
+    ChangeReport r = report;
+    r.epoch = epoch();
+    r.t_ns = monotonicNow();
+    r.count = std::min<std::uint32_t>(r.count, kMaxChangeCells);
+    seqlockWrite(h.changes_lock, h.changes, r);
+    heartbeat();
+}
+
+void LiveMapWriter::clearChanges() {
+    RegionHeader& h = header();
+    ChangeReport empty;
+    empty.epoch = epoch();
+    seqlockWrite(h.changes_lock, h.changes, empty);
+}
+
 void LiveMapWriter::newScan() {
     RegionHeader& h = header();
     auto lock = atomicWord(h.map_lock);
@@ -202,6 +220,7 @@ void LiveMapWriter::newScan() {
     atomicWord(h.map_points).store(0, std::memory_order_relaxed);
     atomicWord(h.track_points).store(0, std::memory_order_relaxed);
     lock.store(s + 2, std::memory_order_release);  // next epoch
+    clearChanges();                                // the new scan's own report (none yet)
     last_track_.reset();
     heartbeat();
 }

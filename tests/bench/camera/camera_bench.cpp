@@ -1,6 +1,8 @@
 // Per-frame cost of the camera path at the tracking camera's size (640x512): frame record
-// encode + decode (recording and replay), raw and PNG-coded, and YUYV -> grey / BGR conversion.
+// encode + decode (recording and replay), raw and PNG-coded, PNG decode alone (libpng's and
+// ours), and YUYV -> grey / BGR conversion.
 #include <benchmark/benchmark.h>
+#include <png.h>
 
 #include <algorithm>
 #include <cmath>
@@ -8,6 +10,7 @@
 
 #include "handscan/camera/frame_record.hpp"
 #include "handscan/camera/image_convert.hpp"
+#include "handscan/camera/png_payload.hpp"
 #include "handscan/transport/v4l2_device.hpp"
 
 namespace {
@@ -17,12 +20,17 @@ using namespace handscan::camera;
 
 constexpr std::uint32_t kW = 640, kH = 512;
 
-void BM_FrameRecordRoundTripGrey(benchmark::State& state) {
+FrameRecordHeader greyHeader() {
     FrameRecordHeader h;
     h.fourcc = transport::kFourccGrey;
     h.width = kW;
     h.height = kH;
     h.stride = kW;
+    return h;
+}
+
+void BM_FrameRecordRoundTripGrey(benchmark::State& state) {
+    const FrameRecordHeader h = greyHeader();
     const std::vector<std::uint8_t> payload(kW * kH, 128);
     for (auto _ : state) {
         auto rec = encodeFrameRecord(h, payload);
@@ -51,11 +59,7 @@ std::vector<std::uint8_t> cameraLikeFrame() {
 }
 
 void BM_FrameRecordPngGrey(benchmark::State& state) {
-    FrameRecordHeader h;
-    h.fourcc = transport::kFourccGrey;
-    h.width = kW;
-    h.height = kH;
-    h.stride = kW;
+    const FrameRecordHeader h = greyHeader();
     const std::vector<std::uint8_t> payload = cameraLikeFrame();
     std::size_t stored = 0;
     for (auto _ : state) {
@@ -71,6 +75,34 @@ void BM_FrameRecordPngGrey(benchmark::State& state) {
     state.counters["bits_per_pixel"] = 8.0 * static_cast<double>(stored) / (kW * kH);
 }
 BENCHMARK(BM_FrameRecordPngGrey)->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond);
+
+// Replay's share: one PNG-coded tracking frame back to its bytes. Arg 0: libpng's simplified
+// reader (what decodePngPayload used before png_fast_decode), 1: decodePngPayload (libdeflate).
+void BM_PngDecodeGrey(benchmark::State& state) {
+    FrameRecordHeader h = greyHeader();
+    h.bytesused = kW * kH;
+    const std::vector<std::uint8_t> payload = cameraLikeFrame();
+    const auto png = encodePngPayload(h, payload);
+    if (!png) {
+        state.SkipWithError("PNG encode failed");
+        return;
+    }
+    std::vector<std::uint8_t> out(payload.size());
+    for (auto _ : state) {
+        if (state.range(0) == 0) {
+            png_image image{};
+            image.version = PNG_IMAGE_VERSION;
+            png_image_begin_read_from_memory(&image, png->data(), png->size());
+            png_image_finish_read(&image, nullptr, out.data(), 0, nullptr);
+        } else {
+            benchmark::DoNotOptimize(decodePngPayload(h, *png, out));
+        }
+        benchmark::DoNotOptimize(out.data());
+    }
+    state.SetLabel(state.range(0) == 0 ? "libpng" : "decodePngPayload");
+    if (out != payload) state.SkipWithError("decoded bytes differ from the frame");
+}
+BENCHMARK(BM_PngDecodeGrey)->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond);
 
 Image yuyv() {
     Image im;

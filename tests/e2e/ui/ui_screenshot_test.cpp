@@ -72,6 +72,18 @@ struct Projector {
     }
 };
 
+// The tests' camera (--camera-eye 0,-10,0 --camera-target 0,0,0 --fov 60) in the viewport the
+// UI reported.
+Projector fromTenMetresSouth(const Json& viewport) {
+    return {{0, -10, 0},
+            {0, 0, 0},
+            60.0,
+            viewport[0].get<double>(),
+            viewport[1].get<double>(),
+            viewport[2].get<double>(),
+            viewport[3].get<double>()};
+}
+
 struct Bright {
     Eigen::Vector3d p;
     cv::Vec3b bgr;
@@ -158,15 +170,8 @@ TEST_F(UiScreenshot, PointsLandWhereTheProjectionSaysAndStatusMatchesTheBlock) {
     ASSERT_TRUE(doc.is_object()) << json;
 
     // The viewport the UI used (the layout: status bar on top, buttons on the right).
-    const Json& viewport = doc["view"]["viewport"];
-    ASSERT_TRUE(viewport.is_array() && viewport.size() == 4) << json;
-    const Projector proj{{0, -10, 0},
-                         {0, 0, 0},
-                         60.0,
-                         viewport[0].get<double>(),
-                         viewport[1].get<double>(),
-                         viewport[2].get<double>(),
-                         viewport[3].get<double>()};
+    ASSERT_TRUE(doc["view"]["viewport"].is_array() && doc["view"]["viewport"].size() == 4) << json;
+    const Projector proj = fromTenMetresSouth(doc["view"]["viewport"]);
     EXPECT_GT(proj.vw, 600);
     EXPECT_GT(proj.vh, 400);
 
@@ -239,6 +244,100 @@ TEST_F(UiScreenshot, PointsLandWhereTheProjectionSaysAndStatusMatchesTheBlock) {
         EXPECT_TRUE(listed(expected)) << "missing " << expected.dump() << " in\n" << json;
     }
     EXPECT_NE(json.find("Laser degenerate along tx"), std::string::npos);
+}
+
+// A continued scan's change cells (shm::ChangeReport) over the map: each cube where an
+// independent projection puts it, tinted with its kind's colour (appeared orange, vanished light
+// blue) and its edges in that colour, nothing between them, and the legend's counts in the
+// status texts. Without the cells drawn, the tints and the edges are not there.
+TEST_F(UiScreenshot, ChangeCellsAreDrawnInTheirKindsColoursWithTheirCounts) {
+    const std::string name = regionName("changes");
+    shm::WriterOptions wo;
+    wo.name = name;
+    wo.map_capacity_points = 100;
+    auto writer = shm::LiveMapWriter::create(wo);
+    ASSERT_TRUE(writer.isOk()) << writer.status().message();
+    std::vector<shm::DisplayPoint> pts;  // a row of grey points above the cells
+    for (int i = 0; i < 9; ++i)
+        pts.push_back({static_cast<float>(i - 4), 0.0f, 2.5f, 150, 150, 150, 150});
+    ASSERT_TRUE((*writer)->appendPoints(pts).isOk());
+    shm::StatusBlock status = knownStatus();
+    status.localization = static_cast<std::uint8_t>(shm::LocalizationState::kLocked);
+    (*writer)->setStatus(status);
+    shm::PoseRecord pose;  // behind the camera
+    pose.position_m[1] = -30;
+    (*writer)->publishPose(pose);
+    shm::ChangeReport report;
+    report.cell_m = 1.0f;
+    report.appeared = 1;
+    report.vanished = 1;
+    report.count = 2;
+    report.cells[0] = {-2.0f, 0.0f, 0.0f, 40,
+                       static_cast<std::uint8_t>(shm::ChangeKind::kAppeared)};
+    report.cells[1] = {2.0f, 0.0f, 0.0f, 25, static_cast<std::uint8_t>(shm::ChangeKind::kVanished)};
+    (*writer)->setChanges(report);
+
+    const fs::path png = dir_ / "changes.png";
+    const ChildResult r =
+        runChild({kUi, "--shm-name", name, "--screenshot", png.string(), "--wait-points", "9",
+                  "--timeout", "20", "--width", "1280", "--height", "800", "--camera-eye",
+                  "0,-10,0", "--camera-target", "0,0,0", "--fov", "60"},
+                 60, [&] { (*writer)->heartbeat(); });
+    ASSERT_EQ(r.exit_code, 0) << r.output;
+    const cv::Mat img = cv::imread(png.string(), cv::IMREAD_COLOR);
+    ASSERT_FALSE(img.empty());
+    const std::string json = readText(dir_ / "changes.json");
+    const Json doc = Json::parse(json, nullptr, false);
+    ASSERT_TRUE(doc.is_object()) << json;
+    ASSERT_TRUE(doc["view"]["viewport"].is_array() && doc["view"]["viewport"].size() == 4) << json;
+    const Projector proj = fromTenMetresSouth(doc["view"]["viewport"]);
+
+    struct Expected {
+        Eigen::Vector3d centre;
+        cv::Vec3b bgr;  // the kind's colour
+        bool appeared;
+    };
+    for (const Expected& e :
+         {Expected{{-2, 0, 0}, {0, 140, 255}, true}, Expected{{2, 0, 0}, {255, 190, 0}, false}}) {
+        SCOPED_TRACE(e.appeared ? "appeared cell" : "vanished cell");
+        // Inside the cube's picture (its front face spans +-0.5 m at 9.5 m: about +-30 px), every
+        // pixel is tinted: the kind's dominant channel well above the background's and above
+        // the other kind's.
+        const Eigen::Vector2d c = proj.pixel(e.centre);
+        int tinted = 0, n = 0;
+        for (int dy = -12; dy <= 12; ++dy) {
+            for (int dx = -12; dx <= 12; ++dx) {
+                const cv::Vec3b p =
+                    img.at<cv::Vec3b>(static_cast<int>(c.y()) + dy, static_cast<int>(c.x()) + dx);
+                const int red = p[2], blue = p[0];
+                tinted +=
+                    e.appeared ? (red > 100 && red > blue + 60) : (blue > 100 && blue > red + 60);
+                ++n;
+            }
+        }
+        EXPECT_EQ(tinted, n) << "at (" << c.x() << ", " << c.y() << ")";
+        // The edges in the kind's own colour: the cube's outline around its picture.
+        const Eigen::Vector2d lo = proj.pixel(e.centre + Eigen::Vector3d(-0.5, -0.5, 0.5));
+        const Eigen::Vector2d hi = proj.pixel(e.centre + Eigen::Vector3d(0.5, -0.5, -0.5));
+        int edge = 0;
+        for (int y = static_cast<int>(lo.y()) - 3; y <= static_cast<int>(hi.y()) + 3; ++y) {
+            for (int x = static_cast<int>(lo.x()) - 3; x <= static_cast<int>(hi.x()) + 3; ++x)
+                edge += cv::norm(img.at<cv::Vec3b>(y, x), e.bgr, cv::NORM_L1) < 40;
+        }
+        EXPECT_GT(edge, 100) << "outline of " << hi.x() - lo.x() << " px";
+    }
+    // Between the two cells the map's background only.
+    const Eigen::Vector2d mid = proj.pixel({0, 0, 0});
+    const cv::Vec3b between =
+        img.at<cv::Vec3b>(static_cast<int>(mid.y()), static_cast<int>(mid.x()));
+    EXPECT_LT(std::max({between[0], between[1], between[2]}), 60) << between;
+
+    EXPECT_EQ(doc["changes"]["cells_drawn"], 2) << json;
+    EXPECT_EQ(doc["changes"]["appeared"], 1) << json;
+    EXPECT_EQ(doc["changes"]["vanished"], 1) << json;
+    EXPECT_EQ(doc["changes"]["text"],
+              "CHANGED SINCE THE EARLIER SCAN: 1 appeared (orange), 1 vanished (blue)")
+        << json;
 }
 
 TEST_F(UiScreenshot, NoPipelineExitsNonZeroWithAClearMessage) {

@@ -208,6 +208,69 @@ TEST(LiveMap, MapIsAppendOnlyPerEpochAndResetsOnNewScan) {
     EXPECT_EQ(delta.points[0].x_m, 500.0f);
 }
 
+// A continued scan's change cells: what the writer publishes is what a reader gets, once per
+// publication; the count is capped at kMaxChangeCells; a new scan empties the report; a reader
+// of a replaced writer reads the new writer's report even where the counters coincide.
+TEST(LiveMap, ChangeReportRoundTripOncePerPublicationAndEmptiedByANewScan) {
+    InProcessMap m;
+    ASSERT_NO_FATAL_FAILURE(m.start(100));
+    LiveMapReader reader(m.region);
+    ChangesCursor cursor;
+    ChangeReport got;
+    ASSERT_TRUE(reader.readChanges(cursor, got));  // the writer's empty report
+    EXPECT_EQ(got.count, 0u);
+    EXPECT_FALSE(reader.readChanges(cursor, got));  // nothing new
+
+    ChangeReport r;
+    r.cell_m = 0.5f;
+    r.appeared = 1;
+    r.vanished = 300;
+    r.count = kMaxChangeCells + 5;  // more than there is room for: only the room is taken
+    for (std::size_t i = 0; i < kMaxChangeCells; ++i) {
+        r.cells[i] = {
+            static_cast<float>(i) + 0.25f, -2.5f, 1.75f, static_cast<std::uint32_t>(i),
+            static_cast<std::uint8_t>(i == 0 ? ChangeKind::kAppeared : ChangeKind::kVanished)};
+    }
+    m.writer->setChanges(r);
+    ASSERT_TRUE(reader.readChanges(cursor, got));
+    EXPECT_EQ(got.epoch, m.writer->epoch());
+    EXPECT_GT(got.t_ns, 0);
+    EXPECT_EQ(got.cell_m, 0.5f);
+    EXPECT_EQ(got.appeared, 1u);
+    EXPECT_EQ(got.vanished, 300u);
+    ASSERT_EQ(got.count, kMaxChangeCells);
+    EXPECT_EQ(static_cast<ChangeKind>(got.cells[0].kind), ChangeKind::kAppeared);
+    EXPECT_EQ(got.cells[0].x_m, 0.25f);
+    const ChangeCellRecord& last = got.cells[kMaxChangeCells - 1];
+    EXPECT_EQ(static_cast<ChangeKind>(last.kind), ChangeKind::kVanished);
+    EXPECT_EQ(last.x_m, static_cast<float>(kMaxChangeCells - 1) + 0.25f);
+    EXPECT_EQ(last.y_m, -2.5f);
+    EXPECT_EQ(last.z_m, 1.75f);
+    EXPECT_EQ(last.points, kMaxChangeCells - 1);
+    EXPECT_FALSE(reader.readChanges(cursor, got));
+
+    // A new scan: an empty report of the new epoch.
+    m.writer->newScan();
+    ASSERT_TRUE(reader.readChanges(cursor, got));
+    EXPECT_EQ(got.epoch, m.writer->epoch());
+    EXPECT_EQ(got.count, 0u);
+    EXPECT_EQ(got.appeared + got.vanished, 0u);
+
+    // A writer re-attached to the region (a restarted pipeline): its first report is read even
+    // though the cursor's counter may equal the new one.
+    r.count = 1;
+    r.cells[0].x_m = 42.0f;
+    m.writer->setChanges(r);
+    ASSERT_TRUE(reader.readChanges(cursor, got));
+    const ChangesCursor before = cursor;
+    m.writer.reset();
+    auto again = LiveMapWriter::attach(m.region, smallWriter("", 100));
+    ASSERT_TRUE(again.isOk());
+    ASSERT_TRUE(reader.readChanges(cursor, got));
+    EXPECT_NE(cursor.nonce, before.nonce);
+    EXPECT_EQ(got.count, 0u);
+}
+
 TEST(LiveMap, TrackIsDecimatedByDistance) {
     WriterOptions o;
     o.map_capacity_points = 1;

@@ -181,5 +181,30 @@ TEST(StatusTexts, NoDarkCameraWarningWithoutACamera) {
         EXPECT_EQ(w.text.find("Camera dark"), std::string::npos) << w.text;
 }
 
+TEST(StatusTexts, ChangeReportCountsEachKindAndSaysWhenOnlyTheLargestAreDrawn) {
+    StatusTexts t;
+    shm::ChangeReport r;
+    describeChanges(r, t);
+    EXPECT_EQ(t.changes.text, "");  // nothing changed: no legend
+    r.appeared = 2;
+    r.vanished = 1234;
+    r.count = 256;
+    describeChanges(r, t);
+    EXPECT_EQ(t.changes.text,
+              "CHANGED SINCE THE EARLIER SCAN: 2 appeared (orange), 1,234 vanished (blue), the 256 "
+              "largest drawn");
+    EXPECT_EQ(t.changes_appeared, 2u);
+    EXPECT_EQ(t.changes_vanished, 1234u);
+    r.vanished = 3;
+    r.count = 5;
+    describeChanges(r, t);
+    EXPECT_EQ(t.changes.text,
+              "CHANGED SINCE THE EARLIER SCAN: 2 appeared (orange), 3 vanished (blue)");
+    r.count = r.appeared = r.vanished = 0;
+    describeChanges(r, t);  // a new scan's empty report clears it
+    EXPECT_EQ(t.changes.text, "");
+    EXPECT_EQ(t.changes_appeared + t.changes_vanished, 0u);
+}
+
 }  // namespace
 }  // namespace handscan::ui

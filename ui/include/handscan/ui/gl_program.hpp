@@ -24,4 +24,8 @@ private:
     unsigned id_ = 0;
 };
 
+// For the bound vertex array and GL_ARRAY_BUFFER: vertices of six floats, attribute 0 the
+// position (x, y, z), attribute 1 the colour (r, g, b in 0..1).
+void describePositionColourVertices();
+
 }  // namespace handscan::ui

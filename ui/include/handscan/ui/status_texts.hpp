@@ -53,6 +53,9 @@ struct StatusTexts {
     // "LOCKED ON THE EARLIER SCAN", "NOT LOCKED: walk to where the earlier scan started".
     Line localization;
     bool can_continue = false;  // an earlier scan on the device can be continued
+    // The continued scan's change report (describeChanges): "" when nothing changed.
+    Line changes;
+    std::uint32_t changes_appeared = 0, changes_vanished = 0;
     bool dof_valid = false;
     DofSource dof[shm::kDofCount] = {};
     bool vio_dof[shm::kDofCount] = {};
@@ -63,6 +66,11 @@ StatusTexts describeStatus(shm::Connection connection, const std::string& connec
                            const std::optional<shm::StatusBlock>& status,
                            const std::optional<shm::PoseRecord>& pose,
                            const WarningLimits& limits = {});
+
+// A continued scan's change report as the legend says it: "CHANGED SINCE THE EARLIER SCAN:
+// 2 appeared (orange), 3 vanished (blue)", noting when only the largest cells are drawn; ""
+// for an empty report. Sets t.changes and its counts.
+void describeChanges(const shm::ChangeReport& report, StatusTexts& t);
 
 // "1,234,567"
 std::string groupThousands(std::uint64_t n);

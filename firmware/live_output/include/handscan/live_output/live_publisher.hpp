@@ -1,7 +1,8 @@
 // LivePublisher: the pipeline's output into the live-map shared memory, the same for the daemon
 // and `handscan replay --live`: 200 Hz poses, display points (the journaled points thinned to one
 // per 5 cm voxel, only voxels not shown yet, in their camera colours), and the status block
-// (sensors, modules, scan state, distance, points, free storage, export progress). It keeps the
+// (sensors, modules, scan state, distance, points, free storage, export progress), and a continued
+// scan's change report. It keeps the
 // scan's elapsed time and walked distance from the poses it publishes while a scan runs.
 // Single-threaded: the thread that feeds the pipeline owns it.
 #pragma once
@@ -14,6 +15,7 @@
 
 #include "handscan/journal/map_point.hpp"
 #include "handscan/lio/laser_inertial_odometry.hpp"
+#include "handscan/localize/localizer.hpp"
 #include "handscan/shm/display_voxel_filter.hpp"
 #include "handscan/shm/live_map_writer.hpp"
 
@@ -54,6 +56,10 @@ public:
     // The sweep's journaled points (sweepMapPoints) and its match, for the display map.
     void sweep(const lio::RegisteredSweep& sweep, std::span<const journal::MapPoint> points);
     void status(const lio::LaserInertialOdometry& pipeline, const LiveStatus& status);
+    // A continued scan's change report (live_output::toChangeReport), published again each time
+    // the localizer has used another match to the earlier map: at its 0.5 Hz, not per sweep
+    // (Localizer::changes() goes over the earlier map's points). Call it as often as convenient.
+    void changes(const localize::Localizer& localizer);
     // Whether poses count towards the scan's elapsed time and distance (replay: always).
     void setScanning(bool scanning) { scanning_ = scanning; }
     // Empties the display map (new epoch) and the scan's time and distance.
@@ -82,6 +88,7 @@ private:
     float linear_speed_mps_ = 0;
     float angular_speed_radps_ = 0;
     std::uint8_t last_solved_mask_ = 0x3F;
+    std::uint64_t changes_of_matches_ = 0;  // the localizer's used matches the report is of
 };
 
 }  // namespace handscan::live_output

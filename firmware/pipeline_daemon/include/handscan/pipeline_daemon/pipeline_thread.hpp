@@ -1,10 +1,10 @@
 // PipelineThread: the daemon's pipeline thread. It runs the one pipeline `handscan replay` runs
 // too (worker::PipelineWorker: samples merged by sample time, 100 ms behind now, laser-inertial
 // odometry, colourisation) on the live source (sources::LiveSource: the drivers' SPSC queues),
-// and writes every output: poses, display map and status to shared memory
-// (live_output::LivePublisher, the same code as replay --live), poses and full-resolution points
-// to the scan's journal while scanning (ScanSession). Scan control runs on this thread too, so
-// the journal and the map epoch have a single owner.
+// and writes every output: poses, display map, status and a continued scan's change report to
+// shared memory (live_output::LivePublisher, the same code as replay --live), poses and
+// full-resolution points to the scan's journal while scanning (ScanSession). Scan control runs on
+// this thread too, so the journal and the map epoch have a single owner.
 #pragma once
 
 #include <atomic>

@@ -15,7 +15,7 @@
 namespace handscan::shm {
 
 inline constexpr std::uint64_t kMagic = 0x314D48534E435348ull;  // "HSCNSHM1" little-endian
-inline constexpr std::uint32_t kLayoutVersion = 4;
+inline constexpr std::uint32_t kLayoutVersion = 5;
 inline constexpr const char* kDefaultRegionName = "/handscan-live";
 
 inline constexpr std::size_t kPoseRingCapacity = 2048;  // > 10 s of 200 Hz poses
@@ -27,6 +27,9 @@ inline constexpr std::size_t kNameChars = 16;
 inline constexpr std::size_t kTextChars = 120;
 inline constexpr std::size_t kArgumentChars = 248;
 inline constexpr std::size_t kCalibrationValues = 8;
+// Change cells published for a continued scan: the largest this many (a few kB, copied whole at
+// the localizer's 0.5 Hz; a changed building shows tens).
+inline constexpr std::size_t kMaxChangeCells = 256;
 
 // DOF order of every per-DOF mask: bit 0..2 rotation about x, y, z; bit 3..5 translation x, y, z
 // (the (rot, trans) order of PoseEstimate::covariance).
@@ -60,6 +63,10 @@ enum class LocalizationState : std::uint8_t {
     kLocked = 2,
     kNotLocked = 3
 };
+// Where a continued scan differs from the earlier one it is localized on (section 9's change
+// report): something appeared (this scan's surface where the earlier scan's laser saw through
+// empty space) or vanished (the earlier scan's surface where this scan's laser sees through).
+enum class ChangeKind : std::uint8_t { kNone = 0, kAppeared = 1, kVanished = 2 };
 enum class CommandState : std::uint32_t {
     kPending = 0,     // sent, the pipeline has not looked at it yet
     kAccepted = 1,    // taken, work not started
@@ -174,6 +181,27 @@ struct StatusBlock {
     CalibrationStatus calibration = {};
 };
 
+// One change cell: a cube of ChangeReport::cell_m about its centre, in the map's frame (the
+// earlier scan's).
+struct ChangeCellRecord {
+    float x_m = 0, y_m = 0, z_m = 0;
+    std::uint32_t points = 0;  // this scan's points (appeared) or the earlier scan's (vanished)
+    std::uint8_t kind = 0;     // ChangeKind
+    std::uint8_t reserved[7] = {};
+};
+
+// The change report of the current scan, replaced as a whole by the writer after each match to
+// the earlier map that the localizer used (0.5 Hz), and emptied by a new scan.
+struct ChangeReport {
+    std::uint64_t epoch = 0;     // the map epoch it belongs to (older ones are not drawn)
+    std::int64_t t_ns = 0;       // when it was published
+    float cell_m = 0;            // edge of each cell's cube
+    std::uint32_t appeared = 0;  // cells of each kind in the whole report; when they are more
+    std::uint32_t vanished = 0;  // than kMaxChangeCells, cells holds the ones with most points
+    std::uint32_t count = 0;     // cells[0, count) hold data
+    ChangeCellRecord cells[kMaxChangeCells] = {};
+};
+
 struct CommandRequest {
     std::uint64_t seq = 0;         // unique, increasing; 0 = slot never used
     std::uint32_t type = 0;        // CommandType
@@ -226,6 +254,9 @@ struct RegionHeader {
     std::uint64_t status_lock = 0;
     StatusBlock status;
 
+    std::uint64_t changes_lock = 0;
+    ChangeReport changes;
+
     std::uint64_t next_command_seq = 0;
     std::uint64_t reserved_cmd = 0;
     CommandSlot commands[kCommandSlots];
@@ -238,6 +269,7 @@ static_assert(std::is_trivially_copyable_v<RegionHeader> &&
 static_assert(sizeof(DisplayPoint) == 16);
 static_assert(sizeof(CalibrationValue) == 56 && sizeof(CalibrationStatus) % 8 == 0);
 static_assert(sizeof(PoseRecord) % 8 == 0 && sizeof(StatusBlock) % 8 == 0);
+static_assert(sizeof(ChangeCellRecord) == 24 && sizeof(ChangeReport) % 8 == 0);
 static_assert(sizeof(CommandRequest) % 8 == 0 && sizeof(CommandAck) % 8 == 0);
 static_assert(sizeof(TrackPoint) % 8 == 0 && sizeof(RegionHeader) % 8 == 0);
 
@@ -251,5 +283,6 @@ const char* toString(CommandState state);
 bool isFinal(CommandState state);
 const char* toString(ScanState state);
 const char* toString(LocalizationState state);
+const char* toString(ChangeKind kind);
 
 }  // namespace handscan::shm

@@ -43,6 +43,12 @@ struct MapCursor {
     std::uint64_t track = 0;
 };
 
+// Which change report a reader holds (see LiveMapReader::readChanges).
+struct ChangesCursor {
+    std::uint64_t nonce = 0;  // the writer's
+    std::uint64_t lock = 0;   // the report's seqlock counter when it was read
+};
+
 struct MapDelta {
     bool reset = false;  // drop everything read before (new scan or new writer)
     std::uint64_t epoch = 0;
@@ -77,6 +83,11 @@ public:
     // could be read consistently right now (new scan being started): try again next frame.
     bool readMap(MapCursor& cursor, MapDelta& delta,
                  std::size_t max_points = ~std::size_t{0}) const;
+
+    // The change report of a continued scan, when it is not the one `cursor` holds (a new
+    // publication, or a new writer); false when unchanged or being rewritten (try next frame).
+    // Its epoch says which scan it belongs to: one of an earlier epoch than the map's is stale.
+    bool readChanges(ChangesCursor& cursor, ChangeReport& out) const;
 
     // Sends a command; returns its sequence number for commandResult().
     Result<std::uint64_t> sendCommand(CommandType type, std::string_view argument = {});

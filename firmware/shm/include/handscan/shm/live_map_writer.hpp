@@ -7,6 +7,7 @@
 //   w->publishPose(pose);                 // every IMU-rate pose
 //   w->appendPoints(new_voxels);          // each map update
 //   w->setStatus(status);                 // ~10 Hz
+//   w->setChanges(report);                // a continued scan's change cells, 0.5 Hz
 //   while (auto cmd = w->pollCommand()) { ...; w->ack(cmd->seq, CommandState::kDone, "ok"); }
 #pragma once
 
@@ -65,6 +66,9 @@ public:
     // when the display capacity is exhausted; the full-resolution map is not affected.
     [[nodiscard]] Status appendPoints(std::span<const DisplayPoint> points);
     void setStatus(const StatusBlock& status);
+    // Replaces the change report (stamped with the current epoch and time; at most
+    // kMaxChangeCells cells are taken). A new scan empties it.
+    void setChanges(const ChangeReport& report);
     // Starts a new scan: empties map and trajectory and changes the epoch so readers drop theirs.
     void newScan();
     // Appends to the drawn path only (not the pose ring), thinned as publishPose's: an earlier
@@ -89,6 +93,7 @@ private:
     LiveMapWriter(std::shared_ptr<SharedRegion> region, const WriterOptions& options);
     RegionHeader& header() const { return *reinterpret_cast<RegionHeader*>(region_->data()); }
     DisplayPoint* points() const;
+    void clearChanges();  // an empty report of the current epoch
 
     std::shared_ptr<SharedRegion> region_;
     WriterOptions options_;
