@@ -55,6 +55,11 @@ std::string statusJson(const StatusTexts& t, const FrameFacts& f) {
     j["map"] = {
         {"points_drawn", f.points_drawn}, {"track_points", f.track_points}, {"epoch", f.epoch}};
     j["placement"] = {{"active", f.placing}, {"placed", f.placed}, {"pose", f.placed_pose}};
+    Json scans = Json::array();
+    for (const FrameFacts::PickerButton& b : f.picker)
+        scans.push_back(
+            {{"name", b.name}, {"button", {b.button.x, b.button.y, b.button.w, b.button.h}}});
+    j["picker"] = {{"active", f.picking}, {"scans", scans}};
     return jsonText(j, 2) + "\n";
 }
 

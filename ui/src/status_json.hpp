@@ -4,6 +4,7 @@
 
 #include <Eigen/Core>
 #include <string>
+#include <vector>
 
 #include "export_preview.hpp"
 #include "handscan/core/status.hpp"
@@ -26,7 +27,14 @@ struct FrameFacts {
     std::uint64_t epoch = 0;
     std::size_t change_cells_drawn = 0;  // a continued scan's change cells on the 3D view
     PreviewFacts preview;                // the export screen's picture of the map
-    // Continue scan: placing the start on the earlier map, and the pose placed ("" if none).
+    // Continue scan: the picker open, its scans and their buttons (window pixels);
+    bool picking = false;
+    struct PickerButton {
+        std::string name;
+        Rect button;
+    };
+    std::vector<PickerButton> picker;
+    // placing the start on the earlier map, and the pose placed ("" if none).
     bool placing = false;
     bool placed = false;
     std::string placed_pose;

@@ -24,6 +24,7 @@
 #include "handscan/shm/text_field.hpp"
 #include "handscan/ui/coverage_grid.hpp"
 #include "png_writer.hpp"
+#include "scan_picker_panel.hpp"
 #include "screen_layout.hpp"
 #include "start_placement_panel.hpp"
 #include "status_json.hpp"
@@ -142,7 +143,10 @@ private:
     bool status_seen_ = false;
     std::size_t draw_budget_ = 2'000'000;
     ExportPreview preview_;
+    ScanPickerPanel picker_;       // continue scan: which scan
     StartPlacementPanel placing_;  // continue scan: where the operator stands on the earlier map
+    // A picked scan's continue command is under way: the placement follows once it is done.
+    bool place_after_continue_ = false;
     double status_json_at_ = -1.0;
 };
 
@@ -396,6 +400,25 @@ void UiApp::drawButtons(const ScreenLayout& l) {
     const bool exporting = status_ && static_cast<shm::ExportState>(status_->export_status.state) ==
                                           shm::ExportState::kRunning;
     ImGui::PushFont(font_big_);
+    if (place_after_continue_ && command_.type == shm::CommandType::kContinueScan &&
+        command_.finished) {
+        // The picked scan's map and path are on the screen now: where does the operator stand?
+        place_after_continue_ = false;
+        if (command_.result.health == Health::kOk) openStartPlacement(l, true);
+    }
+    if (picker_.active()) {
+        ScanPickerPanel::Listed picked;
+        const auto action = picker_.drawButtons(w, h, picked);
+        if (action == ScanPickerPanel::Action::kPick && picked.current) {
+            openStartPlacement(l);  // the stopped scan: its map is on the screen already
+        } else if (action == ScanPickerPanel::Action::kPick) {
+            send(shm::CommandType::kContinueScan, "scan=" + picked.name);
+            place_after_continue_ = true;
+        }
+        ImGui::PopFont();
+        ImGui::End();
+        return;
+    }
     if (placing_.active()) {
         std::string argument;
         const auto action = placing_.drawButtons(w, h * 1.3f, argument);
@@ -435,7 +458,12 @@ void UiApp::drawButtons(const ScreenLayout& l) {
             openStartPlacement(l, true);
     } else if (bigButton("CONTINUE SCAN", ImVec4(0.45f, 0.3f, 0.6f, 1), w, h,
                          connected && !exporting && (stopped || texts_.can_continue))) {
-        if (stopped)
+        // Which scan: a choice among the pipeline's list when it has more than one; else the
+        // stopped scan (placed on), or the newest (from its start).
+        const auto scans = reader_.readScanList();
+        if (scans && scans->count > 1)
+            picker_.open(*scans);
+        else if (stopped)
             openStartPlacement(l);
         else
             send(shm::CommandType::kContinueScan);
@@ -766,6 +794,9 @@ void UiApp::openStartPlacement(const ScreenLayout& l, bool again) {
 void UiApp::writeStatusJsonNow() {
     // Beside a running UI (tests): what it shows, replaced whole so a reader never sees half.
     facts_.preview = preview_.facts();
+    facts_.picking = picker_.active();
+    facts_.picker.clear();
+    for (const auto& p : picker_.listed()) facts_.picker.push_back({p.name, p.button});
     facts_.placing = placing_.active();
     facts_.placed = placing_.placement().placed();
     facts_.placed_pose = facts_.placed ? placing_.placement().poseText() : "";

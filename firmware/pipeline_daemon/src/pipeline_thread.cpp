@@ -86,7 +86,7 @@ PipelineThread::PipelineThread(const DeviceConfig& device, const Calibration& ca
       worker_(std::make_unique<worker::PipelineWorker>(workerConfig(device, inputs_), calibration,
                                                        *sink_)),
       journal_root_(session_->root()) {
-    can_continue_ = newestContinuableScan(journal_root_).isOk();
+    listScans();
     publisher_->setScanning(false);
     scan_state_.store(session_->state(), std::memory_order_release);
     journal_path_ = session_->journalPath();
@@ -219,7 +219,7 @@ void PipelineThread::handle(Request& r) {
         std::lock_guard lock(mutex_);
         journal_path_ = session_->journalPath();
     }
-    can_continue_ = newestContinuableScan(journal_root_).isOk();
+    listScans();
     publishStatus();
     r.done.set_value(std::move(out));
 }
@@ -234,6 +234,16 @@ Result<std::string> PipelineThread::continueOn(const Request& r) {
     publisher_->newScan();
     publisher_->showEarlierScan(r.earlier->display, r.earlier->trajectory);
     return out;
+}
+
+void PipelineThread::listScans() {
+    // What the operator can continue (the touch screen's picker), after every scan control.
+    const std::string& journal = session_->journalPath();
+    const std::string own =
+        journal.empty() ? std::string() : std::filesystem::path(journal).parent_path().string();
+    const shm::ScanList scans = continuableScans(journal_root_, own, session_->scanning());
+    publisher_->writer().setScanList(scans);
+    can_continue_ = newestContinuableScan(journal_root_).isOk();
 }
 
 void PipelineThread::writeFeatureMap() {

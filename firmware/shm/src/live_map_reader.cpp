@@ -277,6 +277,14 @@ bool LiveMapReader::readChanges(ChangesCursor& cursor, ChangeReport& out) const 
     return true;
 }
 
+std::optional<ScanList> LiveMapReader::readScanList() const {
+    RegionHeader* h = header();
+    ScanList l;
+    if (!h || !seqlockRead(h->scans_lock, h->scans, l)) return std::nullopt;
+    l.count = std::min<std::uint32_t>(l.count, kMaxListedScans);
+    return l;
+}
+
 Result<std::uint64_t> LiveMapReader::sendCommand(CommandType type, std::string_view argument) {
     RegionHeader* h = header();
     if (!h || connection_ == Connection::kClosed) {

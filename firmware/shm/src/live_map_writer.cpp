@@ -100,6 +100,8 @@ LiveMapWriter::LiveMapWriter(std::shared_ptr<SharedRegion> region, const WriterO
     atomicWord(h.map_points).store(0, std::memory_order_relaxed);
     atomicWord(h.track_points).store(0, std::memory_order_relaxed);
     clearChanges();
+    const ScanList no_scans;  // the daemon lists its own
+    seqlockWrite(h.scans_lock, h.scans, no_scans);
     // Re-attaching to a used region continues its counters so readers see changes, not repeats.
     for (std::size_t i = 0; i < kCommandSlots; ++i) {
         CommandRequest req;
@@ -201,6 +203,14 @@ void LiveMapWriter::setChanges(const ChangeReport& report) {
     r.t_ns = monotonicNow();
     r.count = std::min<std::uint32_t>(r.count, kMaxChangeCells);
     seqlockWrite(h.changes_lock, h.changes, r);
+    heartbeat();
+}
+
+void LiveMapWriter::setScanList(const ScanList& scans) {
+    RegionHeader& h = header();
+    ScanList l = scans;
+    l.count = std::min<std::uint32_t>(l.count, kMaxListedScans);
+    seqlockWrite(h.scans_lock, h.scans, l);
     heartbeat();
 }
 

@@ -13,6 +13,7 @@
 #include "handscan/journal/journal_reader.hpp"
 #include "handscan/pipeline_daemon/scan_session.hpp"
 #include "handscan/prior_map/feature_map_file.hpp"
+#include "handscan/shm/text_field.hpp"
 
 namespace handscan::pipeline_daemon {
 namespace {
@@ -76,6 +77,48 @@ TEST(EarlierScan, TheNewestScanWithAJournalIsContinuedAndNamedInTheNewJournal) {
     const Json meta = Json::parse(j->summary().metadata_json);
     EXPECT_EQ(meta["prior_map"], *newest);
     EXPECT_EQ(meta["source"], "test");
+    fs::remove_all(root);
+}
+
+// The touch screen's list of scans to continue: newest first, with their journal's size; the
+// daemon's stopped scan marked, its running scan left out; those without a journal left out.
+TEST(EarlierScan, ScansToContinueAreListedNewestFirstTheStoppedOneMarked) {
+    const fs::path root =
+        fs::temp_directory_path() / ("handscan-listed-" + std::to_string(::getpid()));
+    fs::remove_all(root);
+    for (const char* d : {"scan-20261125-010000", "scan-20261125-020000", "scan-20261125-030000",
+                          "scan-20261125-040000"})
+        fs::create_directories(root / d);
+    std::ofstream(root / "scan-20261125-010000" / "journal.hsj") << "12345";
+    std::ofstream(root / "scan-20261125-020000" / "journal.hsj") << "123";
+    std::ofstream(root / "scan-20261125-040000" / "journal.hsj") << "1234567";
+    // scan-...-030000 has no journal.
+    const std::string stopped = (root / "scan-20261125-020000").string();
+    shm::ScanList l = continuableScans(root.string(), stopped, /*own_scanning=*/false);
+    ASSERT_EQ(l.count, 3u);
+    EXPECT_EQ(l.total, 3u);
+    EXPECT_EQ(shm::getText(l.scans[0].name), "scan-20261125-040000");
+    EXPECT_EQ(shm::getText(l.scans[1].name), "scan-20261125-020000");
+    EXPECT_EQ(shm::getText(l.scans[2].name), "scan-20261125-010000");
+    EXPECT_EQ(l.scans[0].journal_bytes, 7u);
+    EXPECT_EQ(l.scans[2].journal_bytes, 5u);
+    EXPECT_GT(l.scans[0].modified_unix_s, 1'700'000'000);
+    EXPECT_EQ(l.scans[0].current, 0);
+    EXPECT_EQ(l.scans[1].current, 1);
+    // While that scan is being made it is not an earlier one.
+    l = continuableScans(root.string(), stopped, /*own_scanning=*/true);
+    ASSERT_EQ(l.count, 2u);
+    EXPECT_EQ(shm::getText(l.scans[1].name), "scan-20261125-010000");
+    // More than the list holds: the newest, all counted.
+    for (int i = 0; i < static_cast<int>(shm::kMaxListedScans); ++i) {
+        const fs::path d = root / ("scan-20261124-" + std::to_string(100000 + i));
+        fs::create_directories(d);
+        std::ofstream(d / "journal.hsj") << "x";
+    }
+    l = continuableScans(root.string(), "", false);
+    EXPECT_EQ(l.count, shm::kMaxListedScans);
+    EXPECT_EQ(l.total, shm::kMaxListedScans + 3);
+    EXPECT_EQ(shm::getText(l.scans[0].name), "scan-20261125-040000");
     fs::remove_all(root);
 }
 

@@ -271,6 +271,35 @@ TEST(LiveMap, ChangeReportRoundTripOncePerPublicationAndEmptiedByANewScan) {
     EXPECT_EQ(got.count, 0u);
 }
 
+// The scans a UI offers to continue: as the writer lists them, at most kMaxListedScans.
+TEST(LiveMap, ScanListRoundTrip) {
+    InProcessMap m;
+    ASSERT_NO_FATAL_FAILURE(m.start(100));
+    LiveMapReader reader(m.region);
+    ASSERT_TRUE(reader.readScanList().has_value());
+    EXPECT_EQ(reader.readScanList()->count, 0u);
+    ScanList l;
+    l.count = kMaxListedScans + 3;
+    l.total = kMaxListedScans + 3;
+    for (std::size_t i = 0; i < kMaxListedScans; ++i) {
+        setText(l.scans[i].name,
+                "scan-2026112" + std::to_string(i % 10) + "-1000" + std::to_string(i % 10));
+        l.scans[i].modified_unix_s = 1'790'000'000 + static_cast<std::int64_t>(i);
+        l.scans[i].journal_bytes = 1000 * i;
+    }
+    l.scans[0].current = 1;
+    m.writer->setScanList(l);
+    const auto got = reader.readScanList();
+    ASSERT_TRUE(got.has_value());
+    ASSERT_EQ(got->count, kMaxListedScans);
+    EXPECT_EQ(got->total, kMaxListedScans + 3);
+    EXPECT_EQ(getText(got->scans[3].name), "scan-20261123-10003");
+    EXPECT_EQ(got->scans[3].modified_unix_s, 1'790'000'003);
+    EXPECT_EQ(got->scans[3].journal_bytes, 3000u);
+    EXPECT_EQ(got->scans[0].current, 1);
+    EXPECT_EQ(got->scans[1].current, 0);
+}
+
 TEST(LiveMap, TrackIsDecimatedByDistance) {
     WriterOptions o;
     o.map_capacity_points = 1;

@@ -40,6 +40,11 @@ Result<ContinueRequest> parseContinueArgument(const std::string& argument);
 // journal; its feature map, if it has none, is made from the journal's points), or kNotFound.
 Result<std::string> newestContinuableScan(const std::string& journal_root);
 bool canContinue(const std::string& scan_dir);
+// The scans of `journal_root` that can be continued, newest first, for the touch screen's picker
+// (at most shm::kMaxListedScans; `total` counts them all). `own_dir`: the daemon's current scan,
+// marked `current` when it is stopped (its map is on the screen), left out while it is scanning.
+shm::ScanList continuableScans(const std::string& journal_root, const std::string& own_dir,
+                               bool own_scanning);
 
 Result<std::shared_ptr<const EarlierScan>> loadEarlierScan(const std::string& scan_dir);
 

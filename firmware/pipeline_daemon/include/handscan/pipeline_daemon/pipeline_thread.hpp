@@ -86,6 +86,8 @@ private:
     TimeNs pull();
     // The scan's feature map beside its journal (feature_map.hsf), for a later "continue scan".
     void writeFeatureMap();
+    // The scans that can be continued, into the shared memory; can_continue_.
+    void listScans();
     void check(const Status& s);
     void syncScanState();
     void publishStatus();

@@ -15,7 +15,7 @@
 namespace handscan::shm {
 
 inline constexpr std::uint64_t kMagic = 0x314D48534E435348ull;  // "HSCNSHM1" little-endian
-inline constexpr std::uint32_t kLayoutVersion = 5;
+inline constexpr std::uint32_t kLayoutVersion = 6;
 inline constexpr const char* kDefaultRegionName = "/handscan-live";
 
 inline constexpr std::size_t kPoseRingCapacity = 2048;  // > 10 s of 200 Hz poses
@@ -30,6 +30,8 @@ inline constexpr std::size_t kCalibrationValues = 8;
 // Change cells published for a continued scan: the largest this many (a few kB, copied whole at
 // the localizer's 0.5 Hz; a changed building shows tens).
 inline constexpr std::size_t kMaxChangeCells = 256;
+// Scans on the device listed for "continue scan" (the newest this many).
+inline constexpr std::size_t kMaxListedScans = 24;
 
 // DOF order of every per-DOF mask: bit 0..2 rotation about x, y, z; bit 3..5 translation x, y, z
 // (the (rot, trans) order of PoseEstimate::covariance).
@@ -202,6 +204,22 @@ struct ChangeReport {
     ChangeCellRecord cells[kMaxChangeCells] = {};
 };
 
+// A scan on the device that can be continued (the argument "scan=NAME" of kContinueScan).
+struct ListedScan {
+    char name[48] = {};                // its directory under the journal root
+    std::int64_t modified_unix_s = 0;  // its journal's last write (UTC seconds)
+    std::uint64_t journal_bytes = 0;   // how big a scan it is
+    std::uint8_t current = 0;          // 1: the scan stopped now, its map on the screen
+    std::uint8_t reserved[7] = {};
+};
+
+// The scans that can be continued, newest first; replaced as a whole when they change.
+struct ScanList {
+    std::uint32_t count = 0;  // scans[0, count) hold data
+    std::uint32_t total = 0;  // on the device (more than kMaxListedScans: the oldest left out)
+    ListedScan scans[kMaxListedScans] = {};
+};
+
 struct CommandRequest {
     std::uint64_t seq = 0;         // unique, increasing; 0 = slot never used
     std::uint32_t type = 0;        // CommandType
@@ -257,6 +275,9 @@ struct RegionHeader {
     std::uint64_t changes_lock = 0;
     ChangeReport changes;
 
+    std::uint64_t scans_lock = 0;
+    ScanList scans;
+
     std::uint64_t next_command_seq = 0;
     std::uint64_t reserved_cmd = 0;
     CommandSlot commands[kCommandSlots];
@@ -270,6 +291,7 @@ static_assert(sizeof(DisplayPoint) == 16);
 static_assert(sizeof(CalibrationValue) == 56 && sizeof(CalibrationStatus) % 8 == 0);
 static_assert(sizeof(PoseRecord) % 8 == 0 && sizeof(StatusBlock) % 8 == 0);
 static_assert(sizeof(ChangeCellRecord) == 24 && sizeof(ChangeReport) % 8 == 0);
+static_assert(sizeof(ListedScan) == 72 && sizeof(ScanList) % 8 == 0);
 static_assert(sizeof(CommandRequest) % 8 == 0 && sizeof(CommandAck) % 8 == 0);
 static_assert(sizeof(TrackPoint) % 8 == 0 && sizeof(RegionHeader) % 8 == 0);
 

@@ -89,6 +89,9 @@ public:
     // Its epoch says which scan it belongs to: one of an earlier epoch than the map's is stale.
     bool readChanges(ChangesCursor& cursor, ChangeReport& out) const;
 
+    // The scans that can be continued (nullopt without a region or while being rewritten).
+    std::optional<ScanList> readScanList() const;
+
     // Sends a command; returns its sequence number for commandResult().
     Result<std::uint64_t> sendCommand(CommandType type, std::string_view argument = {});
     // Latest answer to command `seq`: kPending until the pipeline answers; kNotFound if the slot

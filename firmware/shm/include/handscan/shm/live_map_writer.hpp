@@ -69,6 +69,8 @@ public:
     // Replaces the change report (stamped with the current epoch and time; at most
     // kMaxChangeCells cells are taken). A new scan empties it.
     void setChanges(const ChangeReport& report);
+    // Replaces the list of scans that can be continued (count capped at kMaxListedScans).
+    void setScanList(const ScanList& scans);
     // Starts a new scan: empties map and trajectory and changes the epoch so readers drop theirs.
     void newScan();
     // Appends to the drawn path only (not the pose ring), thinned as publishPose's: an earlier
