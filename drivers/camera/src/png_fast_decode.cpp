@@ -78,6 +78,39 @@ bool unfilterRow(std::uint8_t type, const std::uint8_t* src, const std::uint8_t*
     }
 }
 
+// Four consecutive Average-filtered rows of one byte per pixel (png_payload's grey frames): each
+// row's chain (its left pixel, then this one) is serial, so the four run side by side, each one
+// pixel behind the row above, whose value it takes from a register (`l[k - 1]` of the previous
+// step is the pixel above). `up0` is the row above the first; `up` of the others is the row
+// before them in this group.
+void unfilterAverageGrey4(const std::uint8_t* const src[4], const std::uint8_t* up0,
+                          std::uint8_t* const dst[4], std::size_t n) {
+    unsigned l[4] = {0, 0, 0, 0};  // each row's last pixel (0 left of the first, spec 9.3)
+    const auto step = [&](std::size_t i) {
+        // Bottom row first, so that l[k - 1] still holds the previous step's pixel above.
+        for (std::size_t k = 4; k-- > 0;) {
+            if (i < k || i - k >= n) continue;
+            const std::size_t x = i - k;
+            const unsigned above = k == 0 ? up0[x] : l[k - 1];
+            l[k] = (src[k][x] + ((l[k] + above) >> 1)) & 0xFFu;
+            dst[k][x] = static_cast<std::uint8_t>(l[k]);
+        }
+    };
+    std::size_t i = 0;
+    for (; i < 3 && i < n + 3; ++i) step(i);
+    for (; i < n; ++i) {  // all four rows inside: no range checks
+        l[3] = (src[3][i - 3] + ((l[3] + l[2]) >> 1)) & 0xFFu;
+        dst[3][i - 3] = static_cast<std::uint8_t>(l[3]);
+        l[2] = (src[2][i - 2] + ((l[2] + l[1]) >> 1)) & 0xFFu;
+        dst[2][i - 2] = static_cast<std::uint8_t>(l[2]);
+        l[1] = (src[1][i - 1] + ((l[1] + l[0]) >> 1)) & 0xFFu;
+        dst[1][i - 1] = static_cast<std::uint8_t>(l[1]);
+        l[0] = (src[0][i] + ((l[0] + up0[i]) >> 1)) & 0xFFu;
+        dst[0][i] = static_cast<std::uint8_t>(l[0]);
+    }
+    for (; i < n + 3; ++i) step(i);
+}
+
 }  // namespace
 
 bool decodePlainPng(std::span<const std::uint8_t> png, std::uint32_t width, std::uint32_t height,
@@ -135,11 +168,21 @@ bool decodePlainPng(std::span<const std::uint8_t> png, std::uint32_t width, std:
     pixels.resize(row * height);
     const std::vector<std::uint8_t> zeros(row, 0);
     const auto bpp = static_cast<std::size_t>(channels);
-    for (std::size_t y = 0; y < height; ++y) {
+    for (std::size_t y = 0; y < height;) {
         const std::uint8_t* in = filtered.data() + y * (row + 1);
         std::uint8_t* out = pixels.data() + y * row;
-        if (!unfilterRow(in[0], in + 1, y == 0 ? zeros.data() : out - row, out, row, bpp))
-            return false;
+        const std::uint8_t* up = y == 0 ? zeros.data() : out - row;
+        if (bpp == 1 && y + 4 <= height && in[0] == 3 && in[row + 1] == 3 &&
+            in[2 * (row + 1)] == 3 && in[3 * (row + 1)] == 3) {
+            const std::uint8_t* const src[4] = {in + 1, in + row + 2, in + 2 * row + 3,
+                                                in + 3 * row + 4};
+            std::uint8_t* const dst[4] = {out, out + row, out + 2 * row, out + 3 * row};
+            unfilterAverageGrey4(src, up, dst, row);
+            y += 4;
+            continue;
+        }
+        if (!unfilterRow(in[0], in + 1, up, out, row, bpp)) return false;
+        ++y;
     }
     return true;
 }

@@ -31,7 +31,8 @@ int FeatureTracker::cellOf(const cv::Point2f& px) const {
     return r * config_.grid_cols + c;
 }
 
-TrackerFrameStats FeatureTracker::track(const cv::Mat& grey) {
+TrackerFrameStats FeatureTracker::track(const cv::Mat& grey,
+                                        const std::vector<cv::Point2f>* predicted) {
     TrackerFrameStats stats;
     const cv::Size win(config_.klt_window_px, config_.klt_window_px);
     if (grey.size() != size_) {
@@ -42,12 +43,16 @@ TrackerFrameStats FeatureTracker::track(const cv::Mat& grey) {
     if (!features_.empty() && !prev_pyramid_.empty()) {
         std::vector<cv::Point2f> prev_px(features_.size());
         for (std::size_t i = 0; i < features_.size(); ++i) prev_px[i] = features_[i].px;
-        // Start from the previous position (the IMU could predict it; at 50 Hz the pyramid's
-        // reach of 2^levels * window/2 pixels covers hand motion).
+        // Start from the predicted position where there is one (the gyro's rotation, which
+        // makes most of a hand-held camera's image motion), else from the previous one; the
+        // pyramid's reach of about 2^levels * window/2 pixels covers the rest.
+        const bool guided = predicted != nullptr && predicted->size() == features_.size();
+        if (guided) next_px_ = *predicted;
         cv::calcOpticalFlowPyrLK(prev_pyramid_, pyramid_, prev_px, next_px_, status_, error_, win,
                                  config_.klt_pyramid_levels,
                                  cv::TermCriteria(cv::TermCriteria::COUNT | cv::TermCriteria::EPS,
-                                                  config_.klt_max_iterations, config_.klt_epsilon));
+                                                  config_.klt_max_iterations, config_.klt_epsilon),
+                                 guided ? cv::OPTFLOW_USE_INITIAL_FLOW : 0);
         const float lo = static_cast<float>(config_.border_px);
         const float hi_x = static_cast<float>(size_.width - 1 - config_.border_px);
         const float hi_y = static_cast<float>(size_.height - 1 - config_.border_px);

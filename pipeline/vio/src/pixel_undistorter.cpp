@@ -65,4 +65,29 @@ Eigen::Vector2d PixelUndistorter::undistort(const cv::Point2f& px) const {
     return out.front();
 }
 
+void PixelUndistorter::project(const std::vector<Eigen::Vector3d>& p_cam,
+                               std::vector<cv::Point2f>& px) const {
+    px.assign(p_cam.size(), cv::Point2f(-1.0f, -1.0f));
+    std::vector<cv::Point3f> front;
+    std::vector<std::size_t> index;
+    front.reserve(p_cam.size());
+    index.reserve(p_cam.size());
+    for (std::size_t i = 0; i < p_cam.size(); ++i) {
+        if (!(p_cam[i].z() > 1e-9)) continue;
+        front.emplace_back(static_cast<float>(p_cam[i].x() / p_cam[i].z()),
+                           static_cast<float>(p_cam[i].y() / p_cam[i].z()), 1.0f);
+        index.push_back(i);
+    }
+    if (front.empty()) return;
+    std::vector<cv::Point2f> out;
+    const cv::Vec3d zero(0.0, 0.0, 0.0);
+    const std::vector<double> none;
+    if (fisheye_) {
+        cv::fisheye::projectPoints(front, out, zero, zero, K_, D_);
+    } else {
+        cv::projectPoints(front, zero, zero, K_, distorted_ ? D_ : none, out);
+    }
+    for (std::size_t k = 0; k < index.size(); ++k) px[index[k]] = out[k];
+}
+
 }  // namespace handscan::vio

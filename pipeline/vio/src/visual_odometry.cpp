@@ -27,6 +27,7 @@ void VisualInertialOdometry::reset() {
     tracker_.reset();
     tracks_.clear();
     started_ = false;
+    prev_xbar_.clear();
     T_l_prev_ = Eigen::Isometry3d::Identity();
 }
 
@@ -66,7 +67,25 @@ Result<VioFrameResult> VisualInertialOdometry::processFrame(
         T_world_cam_ = *pending_world_;
         pending_world_.reset();
     }
-    const TrackerFrameStats stats = tracker_.track(grey);
+    // Where the IMU's rotation since the last frame moves each feature (eq. 10's T_{c-1}^c
+    // without its translation, whose effect needs depth and is small at 50 Hz).
+    const std::vector<cv::Point2f>* predicted = nullptr;
+    if (started_ && imu_prev_cur && prev_xbar_.size() == tracker_.features().size()) {
+        std::vector<Eigen::Vector3d> rays;
+        rays.reserve(prev_xbar_.size());
+        for (const Eigen::Vector2d& x : prev_xbar_)
+            rays.push_back(imu_prev_cur->linear() * Eigen::Vector3d(x.x(), x.y(), 1.0));
+        camera_.project(rays, predicted_px_);
+        const auto& feats = tracker_.features();
+        for (std::size_t i = 0; i < feats.size(); ++i) {
+            const cv::Point2f& p = predicted_px_[i];
+            if (!(p.x >= 0.0f && p.y >= 0.0f && p.x <= static_cast<float>(camera_.width() - 1) &&
+                  p.y <= static_cast<float>(camera_.height() - 1)))
+                predicted_px_[i] = feats[i].px;  // leaves the image: searched where it was
+        }
+        predicted = &predicted_px_;
+    }
+    const TrackerFrameStats stats = tracker_.track(grey, predicted);
     out.detected = stats.detected;
     const double focal = camera_.focalLength();
     // Normalised coordinates of every feature, in the tracker's order (kept through drop()).
@@ -170,6 +189,7 @@ Result<VioFrameResult> VisualInertialOdometry::processFrame(
     }
     if (out.keyframe) startKeyframe(t, xbar);
     laser_frame_pose_.reset();
+    prev_xbar_ = std::move(xbar);  // the features' normalised coordinates, in the tracker's order
     started_ = true;
     out.T_world_cam = T_world_cam_;
     out.features = static_cast<int>(feats.size());

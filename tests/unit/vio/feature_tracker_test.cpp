@@ -1,8 +1,10 @@
 // FeatureTracker and PixelUndistorter: corners tracked across a known sub-pixel shift, spread
-// over the 5 x 6 grid, none on a texture-less frame; on real EuRoC frames (a nearly still camera)
+// over the 5 x 6 grid, and across a jump beyond the pyramid's reach from a prediction; none on a
+// texture-less frame; on real EuRoC frames (a nearly still camera)
 // the tracks survive and move together, and cam0 -> cam1 tracks of a stereo pair, undistorted with
 // the camchain, satisfy the epipolar constraint of its extrinsics. The undistortion inverts
-// colour::CameraProjection (independent code) for both camchain models.
+// colour::CameraProjection (independent code) for both camchain models, and its project() agrees
+// with it.
 #include "handscan/vio/feature_tracker.hpp"
 
 #include <gtest/gtest.h>
@@ -34,6 +36,12 @@ cv::Mat roomImage() {
                         Eigen::Isometry3d::Identity(), 1.0, rng);
 }
 
+// Our tracking camera (equidistant) and EuRoC's (radtan): both camchain models.
+std::vector<CameraIntrinsics> bothCamchainModels() {
+    return {camchain(std::string(HANDSCAN_SOURCE_DIR) + "/config/camchain.yaml").tracking,
+            camchain(std::string(HANDSCAN_TEST_DATA_DIR) + "/vio/euroc/camchain.yaml").tracking};
+}
+
 int occupiedCells(const FeatureTracker& tracker) {
     std::set<int> cells;
     for (const TrackedFeature& f : tracker.features()) cells.insert(tracker.cellOf(f.px));
@@ -41,10 +49,7 @@ int occupiedCells(const FeatureTracker& tracker) {
 }
 
 TEST(PixelUndistorter, InvertsTheCamchainProjectionForBothModels) {
-    const Calibration ours = camchain(std::string(HANDSCAN_SOURCE_DIR) + "/config/camchain.yaml");
-    const Calibration euroc =
-        camchain(std::string(HANDSCAN_TEST_DATA_DIR) + "/vio/euroc/camchain.yaml");
-    for (const CameraIntrinsics& cam : {ours.tracking, euroc.tracking}) {
+    for (const CameraIntrinsics& cam : bothCamchainModels()) {
         const PixelUndistorter undistorter(cam);
         const colour::CameraProjection projection(cam);
         double worst = 0.0;
@@ -57,6 +62,28 @@ TEST(PixelUndistorter, InvertsTheCamchainProjectionForBothModels) {
             }
         }
         EXPECT_LT(worst, 0.01) << cam.distortion_model << ": pixels";
+    }
+}
+
+TEST(PixelUndistorter, ProjectsAsTheCamchainProjectionForBothModels) {
+    for (const CameraIntrinsics& cam : bothCamchainModels()) {
+        const PixelUndistorter undistorter(cam);
+        const colour::CameraProjection projection(cam);
+        std::vector<Eigen::Vector3d> points;
+        for (double y = -0.6; y <= 0.6; y += 0.1)
+            for (double x = -0.7; x <= 0.7; x += 0.1) points.emplace_back(2.0 * x, 2.0 * y, 2.0);
+        points.emplace_back(0.1, 0.2, -1.0);  // behind the camera
+        std::vector<cv::Point2f> px;
+        undistorter.project(points, px);
+        ASSERT_EQ(px.size(), points.size());
+        double worst = 0.0;
+        for (std::size_t i = 0; i + 1 < points.size(); ++i) {
+            const auto expected = projection.project(points[i]);
+            ASSERT_TRUE(expected.has_value());
+            worst = std::max(worst, (*expected - Eigen::Vector2d(px[i].x, px[i].y)).norm());
+        }
+        EXPECT_LT(worst, 0.01) << cam.distortion_model << ": pixels";
+        EXPECT_EQ(px.back(), cv::Point2f(-1.0f, -1.0f));
     }
 }
 
@@ -98,6 +125,52 @@ TEST(FeatureTracker, FollowsAKnownSubpixelShiftWithFeaturesOverTheWholeGrid) {
     EXPECT_LT(err[err.size() / 2], 0.1) << "median pixels";
     EXPECT_LT(err[err.size() * 9 / 10], 0.25) << "90th percentile pixels";
     EXPECT_LE(tracker.features().size(), 300u);
+}
+
+// A jump beyond the pyramid's reach (a fast turn between two frames) is found from the gyro's
+// prediction, which is off by a pixel or two; without it most tracks are lost.
+TEST(FeatureTracker, FollowsAJumpBeyondItsReachFromThePrediction) {
+    const cv::Mat a = roomImage();
+    cv::Mat b;
+    const double dx = 85.0, dy = -40.0;
+    const cv::Matx23d shift(1, 0, dx, 0, 1, dy);
+    cv::warpAffine(a, b, shift, a.size(), cv::INTER_CUBIC, cv::BORDER_REFLECT);
+    FeatureTracker guided;
+    guided.track(a);
+    const std::vector<TrackedFeature> before = guided.features();
+    std::vector<cv::Point2f> predicted;
+    for (const TrackedFeature& f : before)
+        predicted.emplace_back(f.px.x + static_cast<float>(dx) + 1.5f,
+                               f.px.y + static_cast<float>(dy) - 1.0f);
+    guided.track(b, &predicted);
+    int visible = 0;  // still inside b, away from the border
+    for (const TrackedFeature& f : before) {
+        const double x = f.px.x + dx, y = f.px.y + dy;
+        visible += x > 10 && y > 10 && x < 629 && y < 501;
+    }
+    std::vector<double> err;
+    for (const TrackedFeature& f : guided.features()) {
+        if (f.age == 0) continue;
+        for (const TrackedFeature& g : before)
+            if (g.id == f.id) err.push_back(std::hypot(f.px.x - g.px.x - dx, f.px.y - g.px.y - dy));
+    }
+    ASSERT_GT(visible, 150);
+    EXPECT_GE(static_cast<double>(err.size()), 0.9 * visible);
+    std::sort(err.begin(), err.end());
+    ASSERT_FALSE(err.empty());
+    EXPECT_LT(err[err.size() / 2], 0.1) << "median pixels";
+    EXPECT_LT(err[err.size() * 9 / 10], 0.25) << "90th percentile pixels";
+
+    FeatureTracker blind;  // the same jump searched from the last position
+    blind.track(a);
+    const TrackerFrameStats stats = blind.track(b);
+    int right = 0;
+    for (const TrackedFeature& f : blind.features()) {
+        if (f.age == 0) continue;
+        for (const TrackedFeature& g : before)
+            right += g.id == f.id && std::hypot(f.px.x - g.px.x - dx, f.px.y - g.px.y - dy) < 0.5;
+    }
+    EXPECT_LT(right, visible / 2) << stats.tracked << " tracked";
 }
 
 TEST(FeatureTracker, TexturelessFrameGivesNoFeatures) {

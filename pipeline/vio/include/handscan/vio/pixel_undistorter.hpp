@@ -26,6 +26,10 @@ public:
     // Normalised coordinates of each pixel in `px`.
     void undistort(const std::vector<cv::Point2f>& px, std::vector<Eigen::Vector2d>& out) const;
     Eigen::Vector2d undistort(const cv::Point2f& px) const;
+    // The other way (OpenCV's projectPoints with the same model): the pixel of each point in the
+    // camera frame, for predicting where features move. A point not in front (z <= 0) gets
+    // (-1, -1), outside every image.
+    void project(const std::vector<Eigen::Vector3d>& p_cam, std::vector<cv::Point2f>& px) const;
 
 private:
     cv::Matx33d K_;

@@ -117,6 +117,8 @@ private:
     DepthMap depth_;
     MotionEstimator estimator_;
     std::unordered_map<std::uint64_t, Track> tracks_;
+    std::vector<Eigen::Vector2d> prev_xbar_;  // last frame's features, normalised
+    std::vector<cv::Point2f> predicted_px_;   // scratch: their predicted pixels
     std::optional<Eigen::Isometry3d> pending_world_;
     std::optional<Eigen::Isometry3d> laser_frame_pose_;  // of the next frame only
     bool started_ = false;
