@@ -8,7 +8,6 @@
 #  - a second replay --fast gives the same trajectory and map bytes (the matches run on the
 #    localizer's own thread);
 #  - session 1 without its feature map (its journal's points stand in): ATE at most 2 cm too;
-#  - a hint 4.5 m off (outside the search) locks right or not at all, never wrongly;
 #  - session 2's trajectory in session 1's frame: ATE against its ground truth moved into that
 #    frame by session 1's own alignment (eval --frame-gt/--frame-est) at most 2 cm;
 #  - every change reported lies within 1 m of where the moved object stood or now stands (this
@@ -69,23 +68,6 @@ cp "$work/s1/journal.hsj" "$work/s1journal/"
 ate_journal=$(eval_rmse "$work/eval2journal.txt" '^ATE')
 echo "on session 1's journal alone: ATE $ate_journal m"
 at_most "$ate_journal" 0.02 || fail "continued on the journal alone: ATE $ate_journal m > 0.02 m"
-
-# A hint 4.5 m and 20 deg off, the truth outside the 3 m search: one search alone locked 6 m
-# wrong here (79 % on the map, the runner-up 69 %: the house matches itself shifted). A lock
-# needs two searches agreeing (localize::newSessionConfig): not locked, or locked right.
-far=$(python3 "$here/perturb_pose.py" "$start" 4.5 20.0)
-"$bin" -q replay "$work/s2.mcap" --out "$work/s2far" --fast --prior-map "$work/s1" \
-  --initial-pose="$far" > /dev/null 2>&1 || true
-if python3 -c 'import json, sys; sys.exit(0 if json.load(open(sys.argv[1]))["localization"]["locked"] else 1)' \
-  "$work/s2far/stats.json"; then
-  "$bin" eval --gt "$work/s2.gt.tum" --est "$work/s2far/trajectory.tum" \
-    --frame-gt "$work/s1.gt.tum" --frame-est "$work/s1/trajectory.tum" > "$work/eval2far.txt"
-  ate_far=$(eval_rmse "$work/eval2far.txt" '^ATE')
-  echo "hint 4.5 m off: locked, ATE $ate_far m"
-  at_most "$ate_far" 0.02 || fail "a hint 4.5 m off locked wrongly: ATE $ate_far m"
-else
-  echo "hint 4.5 m off: not locked (nothing merged)"
-fi
 
 python3 "$here/changes_where_moved.py" "$work/s2/stats.json" "$alignment" "$work/sim2.txt" 1.0 ||
   fail "a scene change reported where nothing moved"

@@ -300,11 +300,14 @@ TEST(LocalizerTest, TwoSearchesPuttingTheOdometryInDifferentPlacesDoNotLock) {
     EXPECT_FALSE(l.locked());
 }
 
-// A new session's localizer (newSessionConfig): a search that wins clearly on its own does not
-// lock until the next one agrees; two that place the odometry's world apart never lock.
-TEST(LocalizerTest, ANewSessionLocksOnlyWhereTwoSearchesAgree) {
-    LocalizerConfig c = newSessionConfig();
-    c.apply = MatchApply::kAtNextSweep;
+// Every lock confirmed (confirm_always, confirm_margin = lock_margin): a search that wins clearly
+// on its own does not lock until the next one agrees, and meanwhile the localizer says it is
+// searching (not "not locked": the screen would send the operator back to the start); two that
+// place the odometry's world apart never lock.
+TEST(LocalizerTest, ConfirmedLocksWaitForTheNextSearchAndSaySearchingMeanwhile) {
+    LocalizerConfig c = atNextSweep();
+    c.confirm_margin = c.lock_margin;
+    c.confirm_always = true;
     const Eigen::Isometry3d truth = pose(3.2, 2.4, 1.3, 40);
     {
         Localizer l(c, roomPrior(), pose(4.0, 3.0, 1.3, 55));

@@ -72,7 +72,7 @@ struct WorkerConfig {
     // The body pose at the session's start in the prior map's frame (the operator's tap);
     // none: the prior scan's start.
     std::optional<Eigen::Isometry3d> initial_pose;
-    localize::LocalizerConfig localizer = localize::newSessionConfig();
+    localize::LocalizerConfig localizer;
     // Trajectory poses kept while not locked, handed on in the prior map's frame at the lock
     // (beyond this many the oldest are dropped: 60 s at 200 Hz).
     std::size_t max_poses_before_lock = 12000;

@@ -77,21 +77,4 @@ struct LocalizerConfig {
     MatchApply apply = MatchApply::kWhenReady;
 };
 
-// A new session continuing an earlier scan (section 9; the worker's default): every lock is
-// confirmed by the next search, on another stack, putting the odometry's world at the same
-// place, each winning by the full lock margin. A wrong lock merges a wrong map, and nothing
-// takes it back; a refused one leaves the operator to walk on or place themselves again. With a
-// start hint outside the search (4.5 m off, the search reaching 3 m), one search alone locked
-// 2-6 m wrong in 7 of 12 walks not tuned on (every house and office walk; the house at 81-84 % on
-// the map, the runner-up 12-13 points lower); confirmed, 1 of them still did, the others stayed
-// unlocked - and so did 4 of the 5 courtyard walks one search had locked right. With the hint
-// 1 m and 15 deg off (or 2.5 m and 25 deg), every walk locked right either way, confirmed one
-// search (2-2.5 s) later.
-inline LocalizerConfig newSessionConfig() {
-    LocalizerConfig c;
-    c.confirm_margin = c.lock_margin;
-    c.confirm_always = true;
-    return c;
-}
-
 }  // namespace handscan::localize
