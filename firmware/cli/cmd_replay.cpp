@@ -57,6 +57,9 @@ const RegisterCommand kReplay{
             "scan-matching poses correct the IMU prediction's velocity, biases and gravity "
             "(default on; "
             "--no-imu-feedback: the IMU runs open loop and only its increments seed the matcher)");
+        sub.add_flag("!--no-clock-tracking", o->track_clocks,
+                     "keep the configured IMU and encoder latencies (default: tracked online "
+                     "within a bounded range, stats.json \"clocks\")");
         sub.add_option("--viz", o->viz_path,
                        "also write this MCAP with standard Foxglove channels (protobuf): /map, "
                        "/sweep, /pose, /tf, /imu, /status, camera images, ground truth");

@@ -128,7 +128,8 @@ tum::Trajectory revolutionMotion(const tum::Trajectory& trajectory,
         const double t0 = starts[k], t1 = starts[k + 1], h = t1 - t0;
         const Eigen::Matrix3d R0 = anchor[k].linear();
         const Eigen::Matrix3d drift =
-            (R0 * integrateGyro(imu, t_imu, t0, t1, R_body_imu, Eigen::Vector3d::Zero()))
+            (R0 *
+             handscan::imu::integrateGyro(imu, t_imu, t0, t1, R_body_imu, Eigen::Vector3d::Zero()))
                 .transpose() *
             anchor[k + 1].linear();
         const Eigen::Vector3d drift_log = logSO3(drift);
@@ -139,7 +140,8 @@ tum::Trajectory revolutionMotion(const tum::Trajectory& trajectory,
         const int n = std::max(1, static_cast<int>(std::ceil(h / kGrid_s)));
         for (int i = 0; i < n; ++i) {
             const double t = t0 + h * i / n, s = (t - t0) / h;
-            G = G * integrateGyro(imu, t_imu, t_prev, t, R_body_imu, Eigen::Vector3d::Zero());
+            G = G * handscan::imu::integrateGyro(imu, t_imu, t_prev, t, R_body_imu,
+                                                 Eigen::Vector3d::Zero());
             t_prev = t;
             tum::StampedPose p;
             p.t_s = t;

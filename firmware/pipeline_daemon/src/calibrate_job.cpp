@@ -147,9 +147,20 @@ void CalibrateJob::run(std::string recording, int rounds) {
                   written, report->parameters.size(), status_.consistency_before_mm,
                   status_.consistency_after_mm,
                   over_factory ? "factory calibration kept" : "previous kept as .prev");
-    shm::setText(status_.message, msg);
-    result_ = std::string(msg);
-    log().info("{} ({})", msg, calibration_yaml_);
+    // The camchain is Kalibr's, not calibrate's: a camera that no longer fits the laser is said
+    // (first, so that the UI's line of kTextChars keeps it), not corrected.
+    std::string text;
+    for (const calibrate::CamchainCameraCheck& c : report->camchain.cameras) {
+        if (!c.looks_wrong) continue;
+        char camera[96];
+        std::snprintf(camera, sizeof camera, "%s camera %.1f deg off the laser: check camchain; ",
+                      c.camera.c_str(), c.best_turn_deg.norm());
+        text += camera;
+    }
+    text += msg;
+    shm::setText(status_.message, text);
+    result_ = text;
+    log().info("{} ({})", text, calibration_yaml_);
 }
 
 bool CalibrateJob::running() const {

@@ -49,6 +49,7 @@ Result<worker::WorkerConfig> workerConfig(const ReplayOptions& o, const DeviceCo
     c.lio = worker::lioConfigFor(device);
     c.lio.laser_enabled = o.use_laser;
     c.lio.imu_feedback = o.imu_feedback;
+    c.lio.clocks.enabled = o.track_clocks;
     c.lio.odometry.max_threads = 1;  // replay is deterministic: sweeps are matched in order
     // Likewise a relocalisation's search (on its own thread) takes effect at the next sweep.
     if (o.fast) c.lio.relocalise.apply = localize::MatchApply::kAtNextSweep;

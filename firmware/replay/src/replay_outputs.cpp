@@ -56,6 +56,25 @@ Json trackingJson(const fusion::TrackingMonitor& m) {
             {"lost_intervals", intervals}};
 }
 
+// The clocks tracked online (lio::ClockTracker): the offsets applied at the end on top of the
+// configured latencies (device.yaml or calibration.yaml time_offsets), in ms.
+Json clocksJson(const lio::ClockTracker& c) {
+    const lio::ClockTrackerStats& s = c.stats();
+    auto finite = [](double v) { return std::isfinite(v) ? Json(v) : Json(nullptr); };
+    return {{"solves", s.solves},
+            {"determined", s.determined},
+            {"imu_offset_ms", s.imu_offset_s * 1e3},
+            {"encoder_offset_ms", s.encoder_offset_s * 1e3},
+            {"imu_wanted_ms", s.imu_target_s * 1e3},
+            {"encoder_wanted_ms", s.encoder_target_s * 1e3},
+            {"imu_std_ms", finite(s.imu_std_s * 1e3)},
+            {"shaft_turn_std_deg", finite(s.turn_std_rad * 180.0 / M_PI)},
+            {"imu_at_bound", s.imu_at_bound},
+            {"encoder_at_bound", s.encoder_at_bound},
+            {"shaft_speed_rev_s", s.shaft_speed_radps / (2.0 * M_PI)},
+            {"pairs", s.pairs}};
+}
+
 // The visual-inertial odometry (section 5): frames, how many solved something / everything, the
 // mean features and depth kinds, and the stretches it was bypassed (section 8: dark,
 // texture-less; recording times in s).
@@ -276,6 +295,7 @@ Result<std::string> ReplayOutputs::writeStats(const StatsInputs& in) const {
     j["recording"] = {{"truncated", in.recording_truncated},
                       {"dropped_regions", in.recording_dropped_regions}};
     j["tracking"] = trackingJson(in.pipeline.tracking());
+    j["clocks"] = clocksJson(in.pipeline.clocks());
     if (in.visual != nullptr && in.visual->stats().frames > 0) j["vio"] = visualJson(*in.visual);
     if (in.localizer != nullptr)
         j["localization"] =

@@ -28,6 +28,11 @@ PipelineWorker::PipelineWorker(WorkerConfig config, const Calibration& calibrati
 }
 
 void PipelineWorker::reset() {
+    // The clocks the last scan tracked stay with the device: the next scan starts from them.
+    if (lio_ && lio_->clocks().stats().determined > 0) {
+        config_.lio.clocks.start_imu_offset_s = lio_->clocks().stats().imu_offset_s;
+        config_.lio.clocks.start_encoder_offset_s = lio_->clocks().stats().encoder_offset_s;
+    }
     lio_ = std::make_unique<lio::LaserInertialOdometry>(config_.lio, calibration_,
                                                         config_.motion_override);
     visual_.reset();  // made at the first tracking-camera frame

@@ -19,7 +19,16 @@ LaserInertialOdometry::LaserInertialOdometry(const LioConfig& config,
       integrator_(predictor_),
       monitor_(config.tracking),
       incidents_(config.incidents),
-      relocaliser_(config.relocalise) {
+      relocaliser_(config.relocalise),
+      clocks_(
+          [&] {
+              // Diagnostics with a motion override match without the IMU: nothing to align.
+              ClockTrackerConfig c = config.clocks;
+              c.enabled = c.enabled && !motion_;
+              return c;
+          }(),
+          calibration.T_camera_imu().linear(),
+          calibration.T_camera_shaftbase.linear() * Eigen::Vector3d::UnitZ()) {
     // Points are placed with the predicted body motion at each step's own time (no rigid sweep).
     // A time the predictor cannot answer (before gravity alignment, beyond its history) is
     // remembered: a sweep containing it is not placed (see matchSweep).
@@ -53,8 +62,11 @@ void LaserInertialOdometry::noteIncident(const std::optional<Incident>& incident
                    fusion::lostReasonName(incident->reason), incident->detail);
 }
 
-void LaserInertialOdometry::addImu(const ImuSample& sample) {
+void LaserInertialOdometry::addImu(const ImuSample& stamped) {
     ++stats_.imu_samples;
+    clocks_.addImu(stamped);
+    ImuSample sample = stamped;
+    sample.t_host -= clocks_.imuOffset();
     noteIncident(incidents_.addImu(sample));
     if (!predictor_.addImu(sample).isOk()) {
         ++stats_.rejected;
@@ -94,9 +106,12 @@ void LaserInertialOdometry::addImu(const ImuSample& sample) {
     }
 }
 
-void LaserInertialOdometry::addEncoder(const EncoderSample& sample) {
+void LaserInertialOdometry::addEncoder(const EncoderSample& stamped) {
     ++stats_.encoder_samples;
     if (!config_.laser_enabled) return;
+    clocks_.addEncoder(stamped);
+    EncoderSample sample = stamped;
+    sample.t_host -= clocks_.encoderOffset();
     if (!assembler_->addEncoder(sample).isOk()) ++stats_.rejected;
     processSweeps();
 }
@@ -183,6 +198,7 @@ void LaserInertialOdometry::processSweeps() {
 }
 
 void LaserInertialOdometry::matchSweep(scan::Sweep sweep) {
+    const std::uint64_t ordinal = assembled_sweeps_++;
     // Without a motion estimate for every step (before gravity alignment) the sweep cannot be
     // placed: matching it would put a wrongly oriented copy of the scene into the map.
     if (!predictor_.initialized() || sweep.points.size() < 100 ||
@@ -296,6 +312,7 @@ void LaserInertialOdometry::matchSweep(scan::Sweep sweep) {
     if (config_.imu_feedback && !reference && !r.first_sweep)
         feedBack(sweep, r, verdict.fits_map && r.match.enough_matches, visual);
     integrator_.setScanPose(scan_pose);
+    if (!reference) trackClocks(ordinal, sweep.t_start, r, verdict, relocating);
 
     RegisteredSweep reg;
     reg.result = r;
@@ -312,6 +329,32 @@ void LaserInertialOdometry::matchSweep(scan::Sweep sweep) {
     }
     reg.sweep = sweep;
     sweeps_.push_back(std::move(reg));
+}
+
+void LaserInertialOdometry::trackClocks(std::uint64_t ordinal, TimeNs t_start,
+                                        const scan::SweepResult& r,
+                                        const fusion::TrackingVerdict& verdict, bool relocating) {
+    // Only matches the monitor trusted on the scan's own map: a lost map's are in another frame.
+    const bool trusted = verdict.enters_map && verdict.fits_map && r.match.enough_matches &&
+                         !r.first_sweep && !relocating;
+    clocks_.addSweep(ordinal, t_start, Eigen::Quaterniond(r.pose.T_world_body.linear()), trusted);
+    const ClockTrackerStats before = clocks_.stats();
+    if (!clocks_.update(t_start)) return;
+    const ClockTrackerStats& now = clocks_.stats();
+    if (before.determined == 0)
+        log().info(
+            "clocks: tracked online from t={} ns: IMU {:+.2f} ms, encoder {:+.2f} ms "
+            "(moving toward {:+.2f} / {:+.2f} ms)",
+            t_start, now.imu_offset_s * 1e3, now.encoder_offset_s * 1e3, now.imu_target_s * 1e3,
+            now.encoder_target_s * 1e3);
+    if ((now.imu_at_bound && !before.imu_at_bound) ||
+        (now.encoder_at_bound && !before.encoder_at_bound))
+        log().warn(
+            "clocks: an offset wants more than its bound (IMU {:+.2f} ms, encoder {:+.2f} "
+            "ms; bounds {:.1f} / {:.1f} ms): device.yaml's latencies look wrong; measure "
+            "them with `handscan calibrate`",
+            now.imu_target_s * 1e3, now.encoder_target_s * 1e3, config_.clocks.imu_bound_s * 1e3,
+            config_.clocks.encoder_bound_s * 1e3);
 }
 
 void LaserInertialOdometry::relevelAfterGap(TimeNs t) {

@@ -1,11 +1,13 @@
 // Cost of re-placing a sweep with the corrected IMU motion before it is matched (IMU feedback):
 // one half-revolution sweep of the UTM-30LX (~21k points over 0.5 s), the motion sampled every
-// 2 ms from a real ImuPredictor history.
+// 2 ms from a real ImuPredictor history; and of one solve of the online clock tracker.
 #include <benchmark/benchmark.h>
 
 #include <cmath>
 
+#include "handscan/core/se3.hpp"
 #include "handscan/imu/imu_predictor.hpp"
+#include "handscan/lio/clock_tracker.hpp"
 #include "handscan/lio/motion_compensation.hpp"
 
 namespace {
@@ -39,5 +41,38 @@ void BM_RecompensateHalfRevolutionSweep(benchmark::State& state) {
     state.SetItemsProcessed(state.iterations() * static_cast<std::int64_t>(sweep.points.size()));
 }
 BENCHMARK(BM_RecompensateHalfRevolutionSweep)->Unit(benchmark::kMillisecond);
+
+// One solve of the online clock tracker with a full window: 30 s of trusted sweeps (2 per s, pairs
+// 1 and 4 apart: ~115 pairs) against 35 s of 200 Hz gyro. It runs every 2 s of a scan.
+void BM_ClockTrackerSolve(benchmark::State& state) {
+    auto rotation = [](double t) {
+        return expSO3(Eigen::Vector3d(0.4 * std::sin(1.3 * t), 0.3 * std::sin(0.9 * t + 0.5),
+                                      0.6 * std::sin(0.5 * t)));
+    };
+    lio::ClockTrackerConfig config;
+    config.update_period_s = 0.0;
+    lio::ClockTracker tracker(config, Eigen::Matrix3d::Identity(), Eigen::Vector3d::UnitZ());
+    const double h = 1e-4;
+    for (int i = 0; i <= 200 * 35; ++i) {
+        const double t = 0.005 * i;
+        ImuSample s;
+        s.t_host = fromSeconds(t);
+        s.gyro_radps_imu = logSO3(rotation(t - h).transpose() * rotation(t + h)) / (2.0 * h);
+        tracker.addImu(s);
+        if (i % 100 == 0 && i > 0)
+            tracker.addSweep(static_cast<std::uint64_t>(i / 100), fromSeconds(t),
+                             Eigen::Quaterniond(rotation(t)), true);
+    }
+    double pairs = 0.0;
+    for (auto _ : state) {
+        state.PauseTiming();
+        lio::ClockTracker fresh = tracker;  // not solved yet
+        state.ResumeTiming();
+        benchmark::DoNotOptimize(fresh.update(fromSeconds(35.0)));
+        pairs = static_cast<double>(fresh.stats().pairs);
+    }
+    state.counters["pairs"] = pairs;
+}
+BENCHMARK(BM_ClockTrackerSolve)->Unit(benchmark::kMillisecond);
 
 }  // namespace

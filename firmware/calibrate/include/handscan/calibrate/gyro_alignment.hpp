@@ -1,11 +1,8 @@
-// The encoder zero and the IMU's time offset from the rotations the laser and the gyro each see.
-// A wrong encoder zero turns every sweep about the shaft axis in the body frame, a rigid turn
-// the two halves of a revolution agree on, so the half-revolution consistency barely sees it; but
-// the scan matcher then reports each rotation increment conjugated by that turn, A = R B R^T,
-// against the gyro's B (hand-eye: the laser's body frame against the IMU's). A late IMU shifts
-// the window the gyro is integrated over. Unknowns: the turn eps about the shaft axis (added to
-// encoder_zero_offset), the IMU time offset dt (added to xsens.frame_latency) and the gyro bias;
-// residuals log(R(eps)^T A_k R(eps) B_k(dt, bias)^T) over pairs of trusted sweeps.
+// The encoder zero and the IMU's time offset from the rotations the laser and the gyro each see,
+// over a whole recording (the model: imu/gyro_hand_eye.hpp). A wrong encoder zero turns every
+// sweep about the shaft axis in the body frame, a rigid turn the two halves of a revolution agree
+// on, so the half-revolution consistency barely sees it; the hand-eye alignment does. The turn eps
+// is added to encoder_zero_offset, the IMU time offset dt to xsens.frame_latency.
 #pragma once
 
 #include <Eigen/Geometry>
@@ -15,6 +12,7 @@
 #include "handscan/core/config.hpp"
 #include "handscan/core/samples.hpp"
 #include "handscan/core/status.hpp"
+#include "handscan/imu/gyro_hand_eye.hpp"
 
 namespace handscan::calibrate {
 
@@ -34,12 +32,6 @@ struct GyroAlignment {
 
 // Decodes the recording's IMU samples with `device`'s latency (as replay does).
 Result<std::vector<ImuSample>> loadImu(const std::string& recording, const DeviceConfig& device);
-
-// The gyro's rotation over [a_s, b_s] in the body frame (piecewise-linear rate); `t_s` holds the
-// samples' times in seconds.
-Eigen::Matrix3d integrateGyro(const std::vector<ImuSample>& imu, const std::vector<double>& t_s,
-                              double a_s, double b_s, const Eigen::Matrix3d& R_body_imu,
-                              const Eigen::Vector3d& bias);
 
 // `axis_body`: the shaft axis in the body frame (T_camera_shaftbase * z).
 Result<GyroAlignment> alignGyro(const std::vector<MatchedSweepPose>& sweeps,

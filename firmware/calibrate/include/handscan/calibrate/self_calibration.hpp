@@ -11,6 +11,7 @@
 #include <string>
 #include <vector>
 
+#include "handscan/calibrate/camchain_check.hpp"
 #include "handscan/calibrate/half_revolution_consistency.hpp"
 #include "handscan/calibrate/spin_solver.hpp"
 #include "handscan/core/config.hpp"
@@ -29,6 +30,11 @@ struct SelfCalibrationOptions {
     AssociationOptions association;
     SolverOptions solver;
     std::function<void(const std::string&)> log;  // one line per step
+    // The camchain checked against the recording's camera frames with the final calibration
+    // (camchain_check.hpp); only that (one replay with START, nothing written): camchain_only.
+    bool check_camchain = true;
+    bool camchain_only = false;
+    CamchainCheckOptions camchain;
 };
 
 struct ParameterEstimate {
@@ -49,6 +55,10 @@ struct SelfCalibrationReport {
     double consistency_after_m = 0.0;   // ... with the written calibration
     std::size_t residuals_before = 0, residuals_after = 0;
     double sweeps_ok_before = 0.0, sweeps_ok_after = 0.0;  // fraction the tracking trusted
+    // Per camera with frames in the recording (none without cameras, or when it could not run:
+    // then camchain_note says why).
+    CamchainCheck camchain;
+    std::string camchain_note;
 };
 
 Result<SelfCalibrationReport> selfCalibrate(const SelfCalibrationOptions& options);

@@ -31,6 +31,10 @@ struct ReplayOptions {
     // pose. Off (--no-imu-feedback): the IMU runs open loop and its relative motion per sweep
     // seeds the matcher, which drifts (24.8 % on the 60 s office walk vs 0.66 % with feedback).
     bool imu_feedback = true;
+    // The IMU's and the encoder's clocks tracked online (lio::ClockTracker). Off
+    // (--no-clock-tracking): the configured latencies stand, as `handscan calibrate` needs them
+    // to measure the calibration it was given.
+    bool track_clocks = true;
     // Diagnostics: a TUM file (ground truth) to assemble sweeps with and match from, perturbed
     // (see ReferenceMotion): the scan matcher's own accuracy.
     std::string reference_motion;

@@ -26,6 +26,7 @@
 #include "handscan/fusion/trajectory_smoother.hpp"
 #include "handscan/fusion/transform_integrator.hpp"
 #include "handscan/imu/imu_predictor.hpp"
+#include "handscan/lio/clock_tracker.hpp"
 #include "handscan/lio/incident_watch.hpp"
 #include "handscan/lio/motion_override.hpp"
 #include "handscan/lio/relocaliser.hpp"
@@ -48,6 +49,8 @@ struct LioConfig {
     IncidentWatchConfig incidents;
     // After such a failure the scanner is found again on its own map (Relocaliser).
     localize::LocalizerConfig relocalise = relocaliserDefaults();
+    // The IMU's and the encoder's clocks against the laser, tracked online (ClockTracker).
+    ClockTrackerConfig clocks;
     // After an IMU gap the held attitude's tilt is levelled from the accelerometer's mean over
     // this long (ImuPredictor::relevel): a walker's mean acceleration over two steps is a few
     // tenths of m/s^2 (1-2 deg of tilt); sweeps before it are not placed.
@@ -148,6 +151,8 @@ public:
     const LioStats& stats() const { return stats_; }
     // Divergence detection: the state, and the intervals with tracking lost (stats.json).
     const fusion::TrackingMonitor& tracking() const { return monitor_; }
+    // The time offsets tracked online (stats.json "clocks").
+    const ClockTracker& clocks() const { return clocks_; }
 
 private:
     // A failure IncidentWatch saw: tracking is lost at once (TrackingMonitor::fail).
@@ -158,6 +163,9 @@ private:
     // An IMU sample at t after an IMU gap: once config.relevel_window_s of them are back, the
     // attitude's tilt is levelled from their mean specific force.
     void relevelAfterGap(TimeNs t);
+    // A placed sweep to the clock tracker (trusted or not), and the tracker's update.
+    void trackClocks(std::uint64_t ordinal, TimeNs t_start, const scan::SweepResult& r,
+                     const fusion::TrackingVerdict& verdict, bool relocating);
     void processSweeps();
     // The pose at t carried forward from the newest anchor (the real-time output's chain).
     Result<Eigen::Isometry3d> carriedPose(TimeNs t) const;
@@ -189,6 +197,10 @@ private:
     fusion::TrackingMonitor monitor_;
     IncidentWatch incidents_;
     Relocaliser relocaliser_;
+    ClockTracker clocks_;
+    // Every sweep the assembler handed over, placed or not: consecutive ordinals are consecutive
+    // sweeps (the clock tracker's pairs).
+    std::uint64_t assembled_sweeps_ = 0;
     std::vector<PoseEstimate> poses_;
     fusion::TrajectorySmoother trajectory_;
     std::vector<RegisteredSweep> sweeps_;
