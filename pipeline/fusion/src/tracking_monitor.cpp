@@ -130,6 +130,8 @@ TrackingVerdict TrackingMonitor::assess(const SweepEvidence& e) {
     }
     v.reason = check(e, v.detail);
     v.consistent = v.reason == LostReason::kNone;
+    recent_.push_back(!v.consistent);
+    while (static_cast<int>(recent_.size()) > config_.trip_window) recent_.pop_front();
     v.fits_map = v.consistent || v.reason == LostReason::kPredictionDisagrees;
     if (v.consistent && awaiting_relocalisation_) {
         good_run_ = 0;  // consistent with an unknown pose proves nothing yet
@@ -147,7 +149,9 @@ TrackingVerdict TrackingMonitor::assess(const SweepEvidence& e) {
         ++bad_run_;
         ++rejected_;
         const bool trips =
-            bad_run_ >= config_.trip_after || v.reason == LostReason::kImplausibleMotion;
+            bad_run_ >= config_.trip_after ||
+            std::count(recent_.begin(), recent_.end(), true) >= config_.trip_in_window ||
+            v.reason == LostReason::kImplausibleMotion;
         if (!lost_ && trips) {
             lost_ = true;
             intervals_.push_back({e.t, 0, v.reason, v.detail, 0, e.t});

@@ -44,9 +44,16 @@ const Sequence& sequence() {
     return s;
 }
 
+// Arg 0: the tracker's settings before the gyro's prediction (21 x 21 windows, 4 pyramid
+// levels), for comparison in the same run; 1: the current ones. Both without a prediction.
 void BM_TrackerFrame(benchmark::State& state) {
     const Sequence& s = sequence();
-    FeatureTracker tracker;
+    FeatureTrackerConfig config;
+    if (state.range(0) == 0) {
+        config.klt_window_px = 21;
+        config.klt_pyramid_levels = 3;
+    }
+    FeatureTracker tracker(config);
     std::size_t i = 0;
     for (auto _ : state) {
         benchmark::DoNotOptimize(tracker.track(s.images[i % kFrames]));
@@ -54,7 +61,7 @@ void BM_TrackerFrame(benchmark::State& state) {
     }
     state.counters["features"] = static_cast<double>(tracker.features().size());
 }
-BENCHMARK(BM_TrackerFrame)->Unit(benchmark::kMillisecond)->MinTime(3.0);
+BENCHMARK(BM_TrackerFrame)->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond)->MinTime(3.0);
 
 void BM_VioFrame(benchmark::State& state) {
     const Sequence& s = sequence();

@@ -51,6 +51,27 @@ TEST(TrackingMonitor, OneOutlierStaysOutOfTheMapWithoutLosingTracking) {
     EXPECT_TRUE(m.intervals().empty());
 }
 
+TEST(TrackingMonitor, FailingEveryOtherSweepIsLost) {
+    // Never two in a row, but three of the last eight: the map has stopped agreeing.
+    TrackingMonitor m;
+    for (int k = 0; k < 4; ++k) m.assess(walking(k));
+    EXPECT_FALSE(m.assess(walking(4, 0.3)).lost);
+    EXPECT_FALSE(m.assess(walking(5)).lost);
+    EXPECT_FALSE(m.assess(walking(6, 0.3)).lost);
+    EXPECT_FALSE(m.assess(walking(7)).lost);
+    const TrackingVerdict v = m.assess(walking(8, 0.3));
+    EXPECT_TRUE(v.lost);
+    ASSERT_EQ(m.intervals().size(), 1u);
+    EXPECT_EQ(m.intervals()[0].t_begin, walking(8).t);
+}
+
+TEST(TrackingMonitor, OccasionalOutliersFartherApartAreNot) {
+    TrackingMonitor m;
+    for (int k = 0; k < 60; ++k) EXPECT_FALSE(m.assess(walking(k, k % 4 == 3 ? 0.3 : 0.002)).lost);
+    EXPECT_TRUE(m.intervals().empty());
+    EXPECT_EQ(m.rejectedSweeps(), 15u);
+}
+
 TEST(TrackingMonitor, BlindedLaserIsLostWithinOneSecondAndRecoversOnTheOldMap) {
     TrackingMonitor m;
     for (int k = 0; k < 10; ++k) m.assess(walking(k));
