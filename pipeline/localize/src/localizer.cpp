@@ -45,6 +45,8 @@ Localizer::~Localizer() {
 
 LockState Localizer::lockState() const {
     if (locked_) return LockState::kLocked;
+    // A place found that the next search is to confirm: still searching, not "not found".
+    if (unconfirmed_) return LockState::kSearching;
     return stats_.lock_attempts > (running_.valid() ? 1u : 0u) ? LockState::kNotLocked
                                                                : LockState::kSearching;
 }

@@ -300,6 +300,38 @@ TEST(LocalizerTest, TwoSearchesPuttingTheOdometryInDifferentPlacesDoNotLock) {
     EXPECT_FALSE(l.locked());
 }
 
+// Every lock confirmed (confirm_always, confirm_margin = lock_margin): a search that wins clearly
+// on its own does not lock until the next one agrees, and meanwhile the localizer says it is
+// searching (not "not locked": the screen would send the operator back to the start); two that
+// place the odometry's world apart never lock.
+TEST(LocalizerTest, ConfirmedLocksWaitForTheNextSearchAndSaySearchingMeanwhile) {
+    LocalizerConfig c = atNextSweep();
+    c.confirm_margin = c.lock_margin;
+    c.confirm_always = true;
+    const Eigen::Isometry3d truth = pose(3.2, 2.4, 1.3, 40);
+    {
+        Localizer l(c, roomPrior(), pose(4.0, 3.0, 1.3, 55));
+        TimeNs t = 1000 * kNsPerSec;
+        feed(l, 5, t, truth, Eigen::Isometry3d::Identity());
+        EXPECT_FALSE(l.settle());  // on the map, clearly best: alone it would lock
+        EXPECT_GT(l.stats().lock_on_map - l.stats().lock_runner_up, c.lock_margin);
+        EXPECT_FALSE(l.locked());
+        EXPECT_EQ(l.lockState(), LockState::kSearching);  // found, not yet confirmed
+        feed(l, 4, t, truth, Eigen::Isometry3d::Identity());
+        EXPECT_TRUE(l.settle());
+        ASSERT_TRUE(l.locked());
+        EXPECT_EQ(l.stats().lock_attempts, 2u);
+        EXPECT_LT((l.priorFromOdom().translation() - truth.translation()).norm(), 0.01);
+    }
+    Localizer l(c, roomPrior(), pose(4.0, 3.0, 1.3, 40));
+    TimeNs t = 1000 * kNsPerSec;
+    feed(l, 5, t, truth, Eigen::Isometry3d::Identity());
+    EXPECT_FALSE(l.settle());
+    feed(l, 4, t, pose(5.2, 2.4, 1.3, 40), Eigen::Isometry3d::Identity());  // seen 2 m away
+    EXPECT_FALSE(l.settle());
+    EXPECT_FALSE(l.locked());
+}
+
 // search_turns_about_first: the hint's heading 50 deg off at the first sweep, the operator 6 m
 // on since; turned about the newest sweep the candidates miss it by 5 m, about the first sweep's
 // place they reach it.
