@@ -1,10 +1,13 @@
 // `handscan replay REC.mcap --out DIR`: a recording through the drivers' decoders and the pipeline.
+#include <fmt/format.h>
+
 #include <algorithm>
 #include <csignal>
 #include <iostream>
 
 #include "command_registry.hpp"
 #include "handscan/core/log.hpp"
+#include "handscan/replay/replay_bench.hpp"
 #include "handscan/replay/replay_engine.hpp"
 
 namespace handscan::cli {
@@ -21,6 +24,7 @@ const RegisterCommand kReplay{
         // drift imu,laser -> all: tunnel 24.9 % -> 9.7 %, field 33.2 % -> 7.9 %) but the
         // office loses (25 s seed 3: 0.23 % -> 1.37 %), so `all` is not the default yet.
         auto modules = std::make_shared<std::string>("imu,laser");
+        auto bench_runs = std::make_shared<int>(0);
         sub.add_option("RECORDING", o->recording, "recording (.mcap)")
             ->required()
             ->check(CLI::ExistingFile);
@@ -34,6 +38,10 @@ const RegisterCommand kReplay{
                      "drop every other sample of every sensor (the paper's 2x speed test)");
         sub.add_flag("--fast", o->fast,
                      "as fast as possible on the recording's clock (deterministic)");
+        sub.add_option("--bench", *bench_runs,
+                       "replay N times --fast and report the wall and CPU real-time factors "
+                       "(medians) and the modules' per-call costs (DIR/bench.json)")
+            ->check(CLI::Range(1, 100));
         sub.add_option("--speed", o->speed, "pace multiplier without --fast")
             ->check(CLI::Range(0.01, 1000.0));
         sub.add_option("--dump-sweeps", o->dump_sweeps_dir,
@@ -84,11 +92,30 @@ const RegisterCommand kReplay{
                        "with --reference-motion: prior error (m)");
         sub.add_option("--reference-perturb-deg", o->reference_perturb_deg,
                        "with --reference-motion: prior error (deg)");
-        return std::function<int()>([o, modules] {
+        return std::function<int()>([o, modules, bench_runs] {
             const bool vision_only = *modules == "imu,vision" || *modules == "vision,imu";
             o->use_laser = *modules != "imu" && !vision_only;
             o->use_vision = *modules == "all" || vision_only;
             o->vision_required = vision_only;
+            if (*bench_runs > 0) {
+                auto b = replay::benchReplay(*o, *bench_runs);
+                if (!b.isOk()) {
+                    log().error("{}", b.status().message());
+                    return 1;
+                }
+                std::string walls, cpus;
+                for (const replay::BenchRun& r : b->runs) {
+                    walls += fmt::format("{}{:.2f}", walls.empty() ? "" : " / ", r.wall_s);
+                    cpus += fmt::format("{}{:.2f}", cpus.empty() ? "" : " / ", r.cpu_s);
+                }
+                std::cout << fmt::format(
+                    "bench: {} runs of {:.1f} s ({} modules): wall {} s, median {:.2f}x real "
+                    "time; CPU {} s, median {:.2f}x real time on one core\n"
+                    "bench: per call (last run): {}\nbench: -> {}\n",
+                    b->runs.size(), b->recording_s, *modules, walls, b->realtime_wall, cpus,
+                    b->realtime_cpu, b->modules_line, b->bench_json_path);
+                return 0;
+            }
             Progress bar("replay", 1.0);
             o->progress = [&](double f) { bar.update(f); };
             std::signal(SIGINT, [](int) { g_interrupted = 1; });

@@ -63,6 +63,7 @@ Json clocksJson(const lio::ClockTracker& c) {
     auto finite = [](double v) { return std::isfinite(v) ? Json(v) : Json(nullptr); };
     return {{"solves", s.solves},
             {"determined", s.determined},
+            {"rejected_solves", s.rejected_solves},
             {"imu_offset_ms", s.imu_offset_s * 1e3},
             {"encoder_offset_ms", s.encoder_offset_s * 1e3},
             {"imu_wanted_ms", s.imu_target_s * 1e3},

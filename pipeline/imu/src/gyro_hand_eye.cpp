@@ -136,6 +136,15 @@ HandEyeParams solveHandEye(const HandEyeProblem& p, HandEyeParams x,
             grad.noalias() += w * r[i] * J.row(i).transpose();
             wrss += w * r[i] * r[i];
         }
+        // The residuals' variance: the normal equations are in its units, so the prior's
+        // information is that over its own variance.
+        const double s2 = std::max(1e-18, wrss / std::max(1.0, static_cast<double>(r.size()) - kP));
+        for (int j = 0; j < kP; ++j) {
+            if (!std::isfinite(p.prior_sigma[j])) continue;
+            const double w = s2 / (p.prior_sigma[j] * p.prior_sigma[j]);
+            H(j, j) += w;
+            grad[j] += w * x[j];
+        }
         const HandEyeParams dx = H.ldlt().solve(-grad);
         x += dx;
         eval(x, r, nullptr);

@@ -9,6 +9,9 @@ namespace {
 // Pairs of trusted sweeps this many sweeps apart: 1 (half a turn) and 4 (two turns, more rotation
 // per pair), as calibrate's alignment.
 constexpr std::uint64_t kGaps[] = {1, 4};
+// Beyond these a solution is a solver running off, not a clock (see update()).
+constexpr double kPlausibleTimeS = 0.05;
+constexpr double kPlausibleTurnRad = 5.0 * M_PI / 180.0;
 
 double clampToward(double current, double target, double max_step) {
     return current + std::clamp(target - current, -max_step, max_step);
@@ -55,6 +58,10 @@ void ClockTracker::addSweep(std::uint64_t ordinal, TimeNs t_start,
 
 imu::HandEyeProblem ClockTracker::problem(double t_from_s) const {
     imu::HandEyeProblem p;
+    // Priors a few times the bounds: they decide nothing the data determine, and hold what the
+    // data do not (see HandEyeProblem::prior_sigma).
+    p.prior_sigma[imu::kHandEyeTurn] = kPlausibleTurnRad;
+    p.prior_sigma[imu::kHandEyeImuTime] = kPlausibleTimeS;
     p.R_body_imu = R_body_imu_;
     p.axis_body = axis_;
     for (const ImuSample& s : imu_) {
@@ -95,7 +102,23 @@ bool ClockTracker::update(TimeNs now) {
     };
     stats_.rms_before_rad = rms(imu::handEyeResiduals(p, x_));
     stats_.rms_after_rad = rms(imu::handEyeResiduals(p, x));
-    if (!x.allFinite() || !covariance.allFinite()) return false;
+    // A solve without information (a still scanner: no rotation, no clock to see) can run off on
+    // a flat residual to any value with a small formal std (seen in a daemon test: an IMU offset
+    // of 1e10 s). No latency is ever tens of milliseconds or turns a sweep by degrees, and a
+    // solution must fit better than where it started: otherwise the clocks hold and the next
+    // solve starts afresh.
+    const bool plausible = x.allFinite() && covariance.allFinite() &&
+                           std::abs(x[imu::kHandEyeImuTime]) <= kPlausibleTimeS &&
+                           std::abs(x[imu::kHandEyeTurn]) <= kPlausibleTurnRad &&
+                           covariance(imu::kHandEyeImuTime, imu::kHandEyeImuTime) > 0.0 &&
+                           covariance(imu::kHandEyeTurn, imu::kHandEyeTurn) > 0.0 &&
+                           stats_.rms_after_rad <= 1.05 * stats_.rms_before_rad + 1e-9;
+    if (!plausible) {
+        x_.setZero();
+        ++stats_.rejected_solves;
+        stats_.imu_std_s = stats_.turn_std_rad = std::numeric_limits<double>::infinity();
+        return false;
+    }
     x_ = x;
     stats_.imu_std_s =
         config_.std_inflation * std::sqrt(covariance(imu::kHandEyeImuTime, imu::kHandEyeImuTime));

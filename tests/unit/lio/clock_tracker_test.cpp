@@ -108,6 +108,19 @@ TEST(ClockTracker, StartsFromThePreviousScansOffsetsWithinTheBounds) {
     EXPECT_NEAR(c.stats().encoder_offset_s * 1e3, 0.0, 0.05);
 }
 
+TEST(ClockTracker, AStillScannerDeterminesNothing) {
+    // On a tripod (or a table) the gyro reads only its noise: no rotation, no clock to see. The
+    // solve has no information and must neither move the clocks nor claim a bound.
+    ClockTracker c({}, Eigen::Matrix3d::Identity(), kAxis);
+    const Motion still = [](double) { return Eigen::Matrix3d::Identity(); };
+    walk(c, still, 0.002, 0.0015, 30.0);
+    EXPECT_EQ(c.imuOffset(), 0);
+    EXPECT_EQ(c.encoderOffset(), 0);
+    EXPECT_FALSE(c.stats().imu_at_bound);
+    EXPECT_FALSE(c.stats().encoder_at_bound);
+    EXPECT_EQ(c.stats().determined, 0u);
+}
+
 TEST(ClockTracker, DisabledDoesNothing) {
     ClockTrackerConfig config;
     config.enabled = false;

@@ -9,6 +9,7 @@
 #pragma once
 
 #include <Eigen/Geometry>
+#include <limits>
 #include <vector>
 
 #include "handscan/core/samples.hpp"
@@ -42,6 +43,11 @@ struct HandEyeProblem {
     std::vector<double> t_s;     // imu's times in seconds
     Eigen::Matrix3d R_body_imu = Eigen::Matrix3d::Identity();
     Eigen::Vector3d axis_body = Eigen::Vector3d::UnitZ();  // the shaft axis, unit
+    // A zero-mean prior on each unknown (its standard deviation; infinite: none). Keeps an
+    // unknown the data do not determine (the turn while the scanner turns only about the shaft,
+    // everything while it stands still) at zero, with the prior's std, instead of letting
+    // Gauss-Newton wander along a flat residual and drag the others with it.
+    HandEyeParams prior_sigma = HandEyeParams::Constant(std::numeric_limits<double>::infinity());
 };
 
 // The stacked residuals at x (3 per pair).

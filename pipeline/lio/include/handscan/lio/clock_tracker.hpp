@@ -57,11 +57,12 @@ struct ClockTrackerConfig {
 };
 
 struct ClockTrackerStats {
-    std::uint64_t solves = 0;       // solves run
-    std::uint64_t determined = 0;   // solves whose offsets were determined (and applied)
-    double imu_offset_s = 0.0;      // applied: subtracted from the IMU's stamps
-    double encoder_offset_s = 0.0;  // applied: subtracted from the encoder's stamps
-    double imu_target_s = 0.0;      // what the last determined solve wants (unclamped)
+    std::uint64_t solves = 0;           // solves run
+    std::uint64_t determined = 0;       // solves whose offsets were determined (and applied)
+    std::uint64_t rejected_solves = 0;  // ran off or fit worse: no measurement
+    double imu_offset_s = 0.0;          // applied: subtracted from the IMU's stamps
+    double encoder_offset_s = 0.0;      // applied: subtracted from the encoder's stamps
+    double imu_target_s = 0.0;          // what the last determined solve wants (unclamped)
     double encoder_target_s = 0.0;
     double imu_std_s = std::numeric_limits<double>::infinity();  // the last solve's (inflated) std
     double turn_std_rad = std::numeric_limits<double>::infinity();
