@@ -115,14 +115,22 @@ Eigen::Vector3d bestTurn(const std::vector<EdgePoint>& points, const std::vector
     return best;
 }
 
-// Coarse to fine: the score's peak is a few tenths of a degree wide.
+// The fine steps around a coarse best turn: the score's peak is a few tenths of a degree wide.
+Eigen::Vector3d refine(const std::vector<EdgePoint>& points, const std::vector<Frame>& images,
+                       const colour::CameraProjection& projection, const Eigen::Vector3d& centre,
+                       const std::vector<bool>* use_frame, double* best_score) {
+    const Eigen::Vector3d t =
+        bestTurn(points, images, projection, centre, 0.5 * kDeg, 0.125 * kDeg, use_frame, nullptr);
+    return bestTurn(points, images, projection, t, 0.1 * kDeg, 0.05 * kDeg, use_frame, best_score);
+}
+
+// Coarse to fine over the whole search range.
 Eigen::Vector3d search(const std::vector<EdgePoint>& points, const std::vector<Frame>& images,
                        const colour::CameraProjection& projection, double search_rad,
                        const std::vector<bool>* use_frame, double* best_score) {
-    Eigen::Vector3d t = bestTurn(points, images, projection, Eigen::Vector3d::Zero(), search_rad,
-                                 0.5 * kDeg, use_frame, nullptr);
-    t = bestTurn(points, images, projection, t, 0.5 * kDeg, 0.125 * kDeg, use_frame, nullptr);
-    return bestTurn(points, images, projection, t, 0.1 * kDeg, 0.05 * kDeg, use_frame, best_score);
+    const Eigen::Vector3d t = bestTurn(points, images, projection, Eigen::Vector3d::Zero(),
+                                       search_rad, 0.5 * kDeg, use_frame, nullptr);
+    return refine(points, images, projection, t, use_frame, best_score);
 }
 
 }  // namespace
@@ -264,10 +272,7 @@ Result<CamchainCheck> checkCamchain(const std::string& recording, const DeviceCo
             for (std::size_t f = static_cast<std::size_t>(g); f < use.size();
                  f += static_cast<std::size_t>(o.groups))
                 use[f] = true;
-            Eigen::Vector3d t = bestTurn(points, frames[c], projection, best, 0.5 * kDeg,
-                                         0.125 * kDeg, &use, nullptr);
-            per_group.push_back(
-                bestTurn(points, frames[c], projection, t, 0.1 * kDeg, 0.05 * kDeg, &use, nullptr));
+            per_group.push_back(refine(points, frames[c], projection, best, &use, nullptr));
         }
         Eigen::Vector3d mean = Eigen::Vector3d::Zero();
         for (const auto& t : per_group) mean += t / static_cast<double>(per_group.size());
