@@ -10,6 +10,7 @@
 
 #include "handscan/calibrate/calibration_writer.hpp"
 #include "handscan/calibrate/gyro_alignment.hpp"
+#include "handscan/calibrate/recorded_observations.hpp"
 #include "handscan/core/se3.hpp"
 #include "handscan/replay/replay_engine.hpp"
 #include "handscan/tum/tum_file.hpp"
