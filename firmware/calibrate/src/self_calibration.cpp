@@ -71,6 +71,7 @@ Result<Replayed> replayWith(const SelfCalibrationOptions& o, const std::string& 
     // The trajectory under the calibration being measured: clocks tracked online would already
     // have turned part of the encoder's error out of the sweeps.
     r.track_clocks = false;
+    r.check_calibration = false;  // it is the calibration being measured
     auto report = replay::runReplay(r);
     if (!report.isOk()) return report.status();
     Replayed out;
