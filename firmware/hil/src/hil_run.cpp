@@ -293,6 +293,11 @@ Result<HilReport> runHil(const HilOptions& o) {
         report.calibration = std::string(shm::getText(calibrated.message));
         if (calibrated.state != static_cast<std::uint32_t>(shm::CommandState::kDone))
             return fail("calibrate: " + report.calibration);
+        // As the operator next: a new scan, which runs with the new calibration.
+        const shm::CommandAck next = sendCommand(ui, shm::CommandType::kNewScan);
+        if (next.state != static_cast<std::uint32_t>(shm::CommandState::kDone))
+            return fail("new scan after the calibration: " +
+                        std::string(shm::getText(next.message)));
     }
     daemon.process.signal(SIGTERM);
     if (Status s = daemon.reap(20 * kNsPerSec, log); !s.isOk()) return s;

@@ -121,6 +121,7 @@ void CalibrateJob::run(std::string recording, int rounds) {
         log().error("calibration failed: {} ({} unchanged)", failure.message(), calibration_yaml_);
         return;
     }
+    installed_ = true;
     status_.state = static_cast<std::uint8_t>(shm::CalibrationState::kDone);
     status_.progress = 1.0f;
     status_.consistency_before_mm = static_cast<float>(report->consistency_before_m * 1e3);
@@ -143,7 +144,7 @@ void CalibrateJob::run(std::string recording, int rounds) {
     char msg[200];
     std::snprintf(msg, sizeof msg,
                   "calibrated: %d of %zu values written, consistency %.2f -> %.2f mm; %s; "
-                  "applies at the next start",
+                  "in use from the next scan",
                   written, report->parameters.size(), status_.consistency_before_mm,
                   status_.consistency_after_mm,
                   over_factory ? "factory calibration kept" : "previous kept as .prev");
@@ -171,6 +172,13 @@ bool CalibrateJob::running() const {
 shm::CalibrationStatus CalibrateJob::status() const {
     std::lock_guard lock(mutex_);
     return status_;
+}
+
+std::optional<std::string> CalibrateJob::takeInstalled() {
+    std::lock_guard lock(mutex_);
+    if (!installed_) return std::nullopt;
+    installed_ = false;
+    return calibration_yaml_;
 }
 
 std::optional<Result<std::string>> CalibrateJob::takeResult() {

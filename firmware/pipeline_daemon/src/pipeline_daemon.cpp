@@ -102,6 +102,7 @@ Status PipelineDaemon::open() {
     };
     inputs.export_status = [this] { return parts_->exports.status(); };
     inputs.calibration_status = [this] { return parts_->calibration->status(); };
+    inputs.new_calibration = [this] { return parts_->calibration->takeInstalled(); };
     if (!options_.prior_map_dir.empty()) {
         auto prior = prior_map::loadPriorMap(options_.prior_map_dir);
         if (!prior.isOk()) return prior.status();

@@ -167,13 +167,9 @@ void PipelineThread::handle(Request& r) {
         case ScanControl::kStart: {
             const bool fresh = !session_->canResume();
             out = session_->start();
-            if (out.isOk() && fresh) {
-                // A new scan: a new world frame and an empty map (hold still while it aligns),
-                // of its own unless the daemon continues one scan (--prior-map).
-                worker_->setPriorMap(inputs_.prior_map, inputs_.initial_pose);
-                worker_->reset();
-                publisher_->newScan();
-            }
+            // A new scan (hold still while it aligns), of its own unless the daemon continues
+            // one scan (--prior-map).
+            if (out.isOk() && fresh) beginScan(inputs_.prior_map, inputs_.initial_pose);
             break;
         }
         case ScanControl::kStop:
@@ -184,11 +180,7 @@ void PipelineThread::handle(Request& r) {
             break;
         case ScanControl::kNewScan:
             out = session_->newScan();
-            if (out.isOk()) {
-                worker_->setPriorMap(inputs_.prior_map, inputs_.initial_pose);
-                worker_->reset();
-                publisher_->newScan();
-            }
+            if (out.isOk()) beginScan(inputs_.prior_map, inputs_.initial_pose);
             break;
         case ScanControl::kContinue:
             out = continueOn(r);
@@ -229,11 +221,42 @@ Result<std::string> PipelineThread::continueOn(const Request& r) {
     if (!out.isOk()) return out;
     // Section 9: a new odometry world localized on the earlier map; the screen shows that map
     // (the new scan's points join it once locked, in its frame) and the earlier path.
-    worker_->setPriorMap(r.earlier->prior, r.initial_pose);
-    worker_->reset();
-    publisher_->newScan();
+    beginScan(r.earlier->prior, r.initial_pose);
     publisher_->showEarlierScan(r.earlier->display, r.earlier->trajectory);
     return out;
+}
+
+void PipelineThread::beginScan(std::shared_ptr<const localize::PriorMap> prior,
+                               std::optional<Eigen::Isometry3d> initial_pose) {
+    useNewCalibration();
+    worker_->setPriorMap(std::move(prior), initial_pose);
+    worker_->reset();
+    publisher_->newScan();
+}
+
+void PipelineThread::useNewCalibration() {
+    const std::optional<std::string> path =
+        inputs_.new_calibration ? inputs_.new_calibration() : std::nullopt;
+    if (!path) return;
+    Calibration calibration;
+    try {
+        calibration = loadCalibration(*path);
+    } catch (const std::exception& e) {  // ConfigError: file, line, key
+        log().error("calibration: {}; the scan keeps the calibration in use", e.what());
+        return;
+    }
+    // The drivers keep stamping with the latencies the daemon started with (device_): the new
+    // clocks are offsets from those stamps.
+    const DeviceConfig clocks = withCalibratedLatencies(device_, calibration);
+    const double imu_shift_s =
+        (clocks.xsens.frame_latency_ms - device_.xsens.frame_latency_ms) * 1e-3;
+    const double encoder_shift_s =
+        (clocks.motor.tpdo_latency_ms - device_.motor.tpdo_latency_ms) * 1e-3;
+    worker_->recalibrate(calibration, imu_shift_s, encoder_shift_s);
+    log().info(
+        "calibration: {} in use from this scan (IMU clock {:+.3f} ms, encoder clock {:+.3f} ms "
+        "from the drivers' stamps)",
+        *path, imu_shift_s * 1e3, encoder_shift_s * 1e3);
 }
 
 void PipelineThread::listScans() {

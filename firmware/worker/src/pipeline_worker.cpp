@@ -18,20 +18,38 @@ PipelineWorker::PipelineWorker(WorkerConfig config, const Calibration& calibrati
                                WorkerSink& sink, CallTimer* timer)
     : config_(std::move(config)), calibration_(calibration), sink_(sink), timer_(timer) {
     reset();
-    if (config_.colourise) {
-        try {
-            colouriser_ = std::make_unique<colour::Colouriser>(calibration_);
-        } catch (const std::exception& e) {
-            log().error("colour camera: {}; the map stays uncoloured", e.what());
-        }
+    makeColouriser();
+}
+
+void PipelineWorker::makeColouriser() {
+    colouriser_.reset();
+    if (!config_.colourise) return;
+    try {
+        colouriser_ = std::make_unique<colour::Colouriser>(calibration_);
+    } catch (const std::exception& e) {
+        log().error("colour camera: {}; the map stays uncoloured", e.what());
     }
 }
 
+void PipelineWorker::recalibrate(const Calibration& calibration, double imu_shift_s,
+                                 double encoder_shift_s) {
+    pending_ = Recalibration{calibration, imu_shift_s, encoder_shift_s};
+}
+
 void PipelineWorker::reset() {
-    // The clocks the last scan tracked stay with the device: the next scan starts from them.
-    if (lio_ && lio_->clocks().stats().determined > 0) {
-        config_.lio.clocks.start_imu_offset_s = lio_->clocks().stats().imu_offset_s;
-        config_.lio.clocks.start_encoder_offset_s = lio_->clocks().stats().encoder_offset_s;
+    lio::ClockTrackerConfig& clocks = config_.lio.clocks;
+    if (pending_) {
+        // The new calibration's clocks supersede what the last scan tracked.
+        calibration_ = std::move(pending_->calibration);
+        clocks.configured_imu_offset_s = clocks.start_imu_offset_s = pending_->imu_shift_s;
+        clocks.configured_encoder_offset_s = clocks.start_encoder_offset_s =
+            pending_->encoder_shift_s;
+        pending_.reset();
+        makeColouriser();  // cam1's extrinsics may have changed with it
+    } else if (lio_ && lio_->clocks().stats().determined > 0) {
+        // The clocks the last scan tracked stay with the device: the next scan starts from them.
+        clocks.start_imu_offset_s = lio_->clocks().stats().imu_offset_s;
+        clocks.start_encoder_offset_s = lio_->clocks().stats().encoder_offset_s;
     }
     lio_ = std::make_unique<lio::LaserInertialOdometry>(config_.lio, calibration_,
                                                         config_.motion_override);

@@ -22,11 +22,21 @@ double clampToward(double current, double target, double max_step) {
 ClockTracker::ClockTracker(const ClockTrackerConfig& config, const Eigen::Matrix3d& R_body_imu,
                            const Eigen::Vector3d& axis_body)
     : config_(config), R_body_imu_(R_body_imu), axis_(axis_body.normalized()) {
+    stats_.imu_offset_s = config_.configured_imu_offset_s;
+    stats_.encoder_offset_s = config_.configured_encoder_offset_s;
     if (!config_.enabled) return;
-    stats_.imu_offset_s =
-        std::clamp(config_.start_imu_offset_s, -config_.imu_bound_s, config_.imu_bound_s);
-    stats_.encoder_offset_s = std::clamp(config_.start_encoder_offset_s, -config_.encoder_bound_s,
-                                         config_.encoder_bound_s);
+    stats_.imu_offset_s = clampImu(config_.start_imu_offset_s);
+    stats_.encoder_offset_s = clampEncoder(config_.start_encoder_offset_s);
+}
+
+double ClockTracker::clampImu(double offset_s) const {
+    return std::clamp(offset_s, config_.configured_imu_offset_s - config_.imu_bound_s,
+                      config_.configured_imu_offset_s + config_.imu_bound_s);
+}
+
+double ClockTracker::clampEncoder(double offset_s) const {
+    return std::clamp(offset_s, config_.configured_encoder_offset_s - config_.encoder_bound_s,
+                      config_.configured_encoder_offset_s + config_.encoder_bound_s);
 }
 
 void ClockTracker::addImu(const ImuSample& raw) {
@@ -130,10 +140,8 @@ bool ClockTracker::update(TimeNs now) {
         determined = true;
         const double want = x[imu::kHandEyeImuTime];
         stats_.imu_target_s = want;
-        stats_.imu_at_bound = std::abs(want) > config_.imu_bound_s;
-        stats_.imu_offset_s = clampToward(
-            stats_.imu_offset_s, std::clamp(want, -config_.imu_bound_s, config_.imu_bound_s),
-            config_.max_step_s);
+        stats_.imu_at_bound = clampImu(want) != want;
+        stats_.imu_offset_s = clampToward(stats_.imu_offset_s, clampImu(want), config_.max_step_s);
     }
     // A turn eps added to the encoder zero equals stamps moved by -eps / speed (angle(t) + w s
     // = angle(t) - eps): the offset to subtract from the encoder's stamps.
@@ -142,11 +150,9 @@ bool ClockTracker::update(TimeNs now) {
         determined = true;
         const double want = -x[imu::kHandEyeTurn] / shaft_speed_radps_;
         stats_.encoder_target_s = want;
-        stats_.encoder_at_bound = std::abs(want) > config_.encoder_bound_s;
+        stats_.encoder_at_bound = clampEncoder(want) != want;
         stats_.encoder_offset_s =
-            clampToward(stats_.encoder_offset_s,
-                        std::clamp(want, -config_.encoder_bound_s, config_.encoder_bound_s),
-                        config_.max_step_s);
+            clampToward(stats_.encoder_offset_s, clampEncoder(want), config_.max_step_s);
     }
     if (determined) ++stats_.determined;
     return stats_.imu_offset_s != before_imu || stats_.encoder_offset_s != before_enc;

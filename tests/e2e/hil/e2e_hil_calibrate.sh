@@ -8,7 +8,8 @@
 # the installed unit: /var/lib/handscan/calibration), the factory file staying untouched
 # (/etc/handscan is read-only under the unit's ProtectSystem=strict). Checked: the scan has its
 # raw.mcap, the field file is new and nearer the truth than START (laser rotation, encoder
-# zero), START is unchanged, and there is no .prev yet (the factory file is the previous one).
+# zero), START is unchanged, there is no .prev yet (the factory file is the previous one), and
+# the new scan the operator starts next runs with the new file (no restart of the daemon).
 # Usage: e2e_hil_calibrate.sh HANDSCAN_BIN HANDSCAN_PIPELINE_BIN WORK_DIR
 set -euo pipefail
 source "$(dirname "$0")/../e2e_lib.sh"
@@ -38,6 +39,9 @@ field="$work/state/calibration/calibration.yaml"
 grep -q "^calibrate: calibrated.*factory calibration kept" "$work/hil.txt" || fail "the daemon did not answer calibrated"
 grep -q "calibration: $work/cal/calibration.yaml" "$work/hil/daemon.log" ||
   fail "the daemon did not start from the factory calibration (no field calibration yet)"
+# The new scan after it runs with the new calibration, without a restart of the daemon.
+grep -q "calibration: $field in use from this scan" "$work/hil/daemon.log" ||
+  fail "the scan after the calibration did not take the new calibration"
 ls "$work"/hil/journal/scan-*/raw.mcap > /dev/null || fail "the daemon recorded no raw.mcap beside the journal"
 cmp -s "$work/start.yaml" "$work/cal/calibration.yaml" || fail "the factory calibration was changed"
 [ -f "$field" ] || fail "no field calibration written at $field"

@@ -108,6 +108,31 @@ TEST(ClockTracker, StartsFromThePreviousScansOffsetsWithinTheBounds) {
     EXPECT_NEAR(c.stats().encoder_offset_s * 1e3, 0.0, 0.05);
 }
 
+TEST(ClockTracker, ConfiguredClocksAreAppliedAndCentreTheBounds) {
+    // A daemon that installed a new calibration keeps the drivers' stamps and configures the new
+    // latencies as offsets from them: they apply from the first sample, and the bounds are about
+    // them, not about the stamps.
+    ClockTrackerConfig config;
+    config.configured_imu_offset_s = config.start_imu_offset_s = 0.004;
+    config.configured_encoder_offset_s = config.start_encoder_offset_s = 0.003;
+    config.imu_bound_s = config.encoder_bound_s = 0.002;
+    ClockTracker c(config, Eigen::Matrix3d::Identity(), kAxis);
+    EXPECT_EQ(c.imuOffset(), fromSeconds(0.004));
+    EXPECT_EQ(c.encoderOffset(), fromSeconds(0.003));
+    walk(c, handHeld(), 0.005, 0.006, 30.0);
+    EXPECT_NEAR(c.stats().imu_offset_s * 1e3, 5.0, 0.1);  // within 4 +- 2 ms
+    EXPECT_FALSE(c.stats().imu_at_bound);
+    EXPECT_NEAR(c.stats().encoder_offset_s, 0.005, 1e-9);  // 3 + 2 ms: held, and said
+    EXPECT_TRUE(c.stats().encoder_at_bound);
+
+    // Tracking off: the configured clocks are still the ones applied.
+    config.enabled = false;
+    ClockTracker off(config, Eigen::Matrix3d::Identity(), kAxis);
+    walk(off, handHeld(), 0.005, 0.006, 10.0);
+    EXPECT_EQ(off.imuOffset(), fromSeconds(0.004));
+    EXPECT_EQ(off.encoderOffset(), fromSeconds(0.003));
+}
+
 TEST(ClockTracker, AStillScannerDeterminesNothing) {
     // On a tripod (or a table) the gyro reads only its noise: no rotation, no clock to see. The
     // solve has no information and must neither move the clocks nor claim a bound.

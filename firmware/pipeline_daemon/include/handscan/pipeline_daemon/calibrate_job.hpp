@@ -11,8 +11,9 @@
 // when the run succeeded, and a previous field calibration is kept as calibration.yaml.prev:
 // the new file is written beside it under a temporary name, the old one hard-linked to .prev
 // (atomic rename), then the new one renamed over it - at every moment calibration.yaml is one
-// whole file. Deleting the field calibration goes back to the factory's. The running pipeline
-// keeps the calibration it started with; the new one applies from the next start of the daemon.
+// whole file. Deleting the field calibration goes back to the factory's. A scan in progress
+// keeps the calibration it started with; the new one applies from the next scan
+// (takeInstalled, PipelineThread), and from every later start of the daemon.
 #pragma once
 
 #include <mutex>
@@ -44,6 +45,8 @@ public:
     shm::CalibrationStatus status() const;
     // The outcome of a finished run, once: the message for the operator, or the error.
     std::optional<Result<std::string>> takeResult();
+    // The path of a calibration installed since the last call (once; none otherwise).
+    std::optional<std::string> takeInstalled();
 
 private:
     void run(std::string recording, int rounds);
@@ -54,6 +57,7 @@ private:
     shm::CalibrationStatus status_{};
     bool running_ = false;
     std::optional<Result<std::string>> result_;
+    bool installed_ = false;  // a new calibration.yaml since the last takeInstalled()
     std::thread thread_;
 };
 

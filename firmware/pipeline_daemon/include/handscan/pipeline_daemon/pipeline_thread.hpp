@@ -33,6 +33,9 @@ struct WorkerInputs {
     std::function<std::vector<live_output::LiveSensor>()> sensors;
     std::function<shm::ExportStatus()> export_status;
     std::function<shm::CalibrationStatus()> calibration_status;  // may be empty
+    // A calibration.yaml installed since the last call (CalibrateJob::takeInstalled), to use from
+    // the next scan; may be empty.
+    std::function<std::optional<std::string>()> new_calibration;
     // Continue an earlier scan: the worker localizes on it (null: a scan of its own).
     std::shared_ptr<const localize::PriorMap> prior_map;
     std::optional<Eigen::Isometry3d> initial_pose;
@@ -79,6 +82,11 @@ private:
     };
     Result<std::string> submit(Request request, TimeNs timeout);
     Result<std::string> continueOn(const Request& r);
+    // A new scan's worker: a new world frame and an empty map, localized on `prior` (null: a
+    // scan of its own), with the calibration installed since the last scan if there is one.
+    void beginScan(std::shared_ptr<const localize::PriorMap> prior,
+                   std::optional<Eigen::Isometry3d> initial_pose);
+    void useNewCalibration();
     class Sink;
     void run();
     void handle(Request& r);

@@ -104,6 +104,11 @@ public:
     [[nodiscard]] Status flushTrajectory();
     // A new scan: a new world frame and an empty map (the queued samples stay).
     void reset();
+    // A calibration installed while the daemon runs (`calibrate` from the UI), in use from the
+    // next reset(). The drivers keep stamping with the latencies they started with; its clocks
+    // are applied as offsets from those stamps: `imu_shift_s` / `encoder_shift_s` = its latency
+    // minus the stamped one. The clocks the last scan tracked are superseded by it.
+    void recalibrate(const Calibration& calibration, double imu_shift_s, double encoder_shift_s);
     // The prior map the scans from the next reset() on localize on (null: scans of their own),
     // and the operator's start hint on it.
     void setPriorMap(std::shared_ptr<const localize::PriorMap> prior,
@@ -113,6 +118,8 @@ public:
     }
 
     const lio::LaserInertialOdometry& lio() const { return *lio_; }
+    // The calibration the current scan runs with.
+    const Calibration& calibration() const { return calibration_; }
     std::size_t pending() const { return merger_.size(); }
     std::uint64_t colourErrors() const { return colour_errors_; }
     bool colourising() const { return colouriser_ != nullptr; }
@@ -154,8 +161,16 @@ private:
         return fn();
     }
 
+    // The colouriser of the calibration in use (none when colour is off or cam1 unusable).
+    void makeColouriser();
+
     WorkerConfig config_;
-    const Calibration& calibration_;
+    Calibration calibration_;
+    struct Recalibration {
+        Calibration calibration;
+        double imu_shift_s, encoder_shift_s;
+    };
+    std::optional<Recalibration> pending_;  // in use from the next reset()
     WorkerSink& sink_;
     CallTimer* timer_;
     SampleMerger merger_;

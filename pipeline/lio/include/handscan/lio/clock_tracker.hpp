@@ -49,6 +49,12 @@ struct ClockTrackerConfig {
     // The shaft must turn at least this fast for eps to be a time (a stopped shaft has no clock
     // to show).
     double min_shaft_speed_radps = 1.0;
+    // The configured clocks as offsets from the stamps (the centre of the bounds; applied even
+    // when tracking is off): zero when the drivers stamp with the configured latencies; in a
+    // daemon that installed a new calibration since its drivers started, the new latencies
+    // minus those the drivers stamp with (PipelineWorker::recalibrate).
+    double configured_imu_offset_s = 0.0;
+    double configured_encoder_offset_s = 0.0;
     // The offsets applied from the first sample (held within the bounds): what the previous scan
     // of the session tracked (PipelineWorker::reset), so a new scan does not start from the
     // configured clocks again.
@@ -101,6 +107,9 @@ private:
         double applied_turn_rad;  // the encoder offset applied then, as a turn
     };
     imu::HandEyeProblem problem(double t_from_s) const;
+    // Within the bounds about the configured clocks.
+    double clampImu(double offset_s) const;
+    double clampEncoder(double offset_s) const;
 
     ClockTrackerConfig config_;
     Eigen::Matrix3d R_body_imu_;
