@@ -125,7 +125,8 @@ PriorMap::PriorMap(const scan::FeatureMapPoints& points, const Eigen::Isometry3d
       start_(T_prior_start),
       voxels_(voxelTrees(points, config)),
       seen_(seenThrough(points, config.seen)),
-      normals_(surfaceNormals(voxels_, points_.planars, points_.planar_origins)) {}
+      normals_(surfaceNormals(voxels_, points_.planars, points_.planar_origins)),
+      near_(points_.edges, points_.planars, config.near_m, config.near_cell_m) {}
 
 double PriorMap::nearestDistance(const Eigen::Vector3d& p) const {
     double best = std::numeric_limits<double>::infinity();

@@ -55,8 +55,8 @@ void countChanges(const LocalizerConfig& config, const PriorMap& prior,
     }
 }
 
-// 1. The grid over x, y and yaw around the guess, scored by the share on the prior map, best
-// first.
+// 1. The grid over x, y and yaw around the guess, scored by the share on the prior map (its
+// cells: gridShare), best first.
 std::vector<Candidate> scoreGrid(const LocalizerConfig& config, const PriorMap& prior,
                                  const std::vector<Eigen::Vector3d>& sample,
                                  const Eigen::Isometry3d& T_guess, const std::atomic<bool>* cancel,
@@ -79,7 +79,7 @@ std::vector<Candidate> scoreGrid(const LocalizerConfig& config, const PriorMap& 
                 Candidate c;
                 c.T.linear() = R;
                 c.T.translation() = centre + Eigen::Vector3d(d.x(), d.y(), 0.0);
-                c.score = shareOnMap(config, prior, sample, c.T);
+                c.score = gridShare(config, prior, sample, c.T);
                 grid.push_back(c);
             }
         }
@@ -138,6 +138,17 @@ double shareOnMap(const LocalizerConfig& config, const PriorMap& prior,
         }
     }
     return static_cast<double>(on) / n;
+}
+
+double gridShare(const LocalizerConfig& config, const PriorMap& prior,
+                 const std::vector<Eigen::Vector3d>& pts, const Eigen::Isometry3d& T) {
+    const NearCells& near = prior.nearCells();
+    if (config.score_min_covered > 0.0 || pts.empty() ||
+        std::abs(near.radius() - config.on_map_m) > 1e-9)
+        return shareOnMap(config, prior, pts, T);
+    std::size_t on = 0;
+    for (const Eigen::Vector3d& p : pts) on += near.near(T * p) ? 1 : 0;
+    return static_cast<double>(on) / static_cast<double>(pts.size());
 }
 
 PriorMatchOutcome searchLock(const LocalizerConfig& config, const PriorMap& prior,

@@ -22,6 +22,22 @@ struct Normal {
 }  // namespace
 
 int constraintResiduals(const FeatureConstraint& f, const Eigen::Isometry3d& T_l_c,
+                        Eigen::Vector2d& r) {
+    const Eigen::Matrix3d& R = T_l_c.linear();
+    const Eigen::Vector3d& t = T_l_c.translation();
+    const double x = f.xbar_c.x();
+    const double y = f.xbar_c.y();
+    if (f.has_depth) {
+        const Eigen::Vector3d Xc = R * f.X_l + t;  // eqs. (6)-(7)
+        r = {Xc.x() - x * Xc.z(), Xc.y() - y * Xc.z()};
+        return 2;
+    }
+    const Eigen::Vector3d u = R * f.X_l;  // eq. (8)
+    r = {t.dot(u.cross(Eigen::Vector3d(x, y, 1.0))), 0.0};
+    return 1;
+}
+
+int constraintResiduals(const FeatureConstraint& f, const Eigen::Isometry3d& T_l_c,
                         Eigen::Vector2d& r, Eigen::Matrix<double, 2, 6>& J) {
     const Eigen::Matrix3d& R = T_l_c.linear();
     const Eigen::Vector3d& t = T_l_c.translation();
@@ -81,6 +97,11 @@ MotionResult MotionEstimator::estimate(const std::vector<FeatureConstraint>& con
             if (weight[i] <= 0.0) continue;
             const double s = scaleOf(constraints[i], T);
             if (s <= 0.0) continue;
+            if (!with_jacobian) {
+                constraintResiduals(constraints[i], T, r);
+                ne.cost += weight[i] * s * s * inv_s2 * r.squaredNorm();
+                continue;
+            }
             // A one-row constraint (eq. 8) has r[1] = 0 and a zero second row of J.
             if (constraintResiduals(constraints[i], T, r, J) == 1) {
                 // Eq. (8) is scale free: any t along the epipolar planes' common line fits it,
@@ -97,7 +118,6 @@ MotionResult MotionEstimator::estimate(const std::vector<FeatureConstraint>& con
             }
             const double w = weight[i] * s * s * inv_s2;
             ne.cost += w * r.squaredNorm();
-            if (!with_jacobian) continue;
             ne.JtJ.noalias() += w * J.transpose() * J;
             ne.Jtr.noalias() += w * J.transpose() * r;
         }
@@ -109,12 +129,11 @@ MotionResult MotionEstimator::estimate(const std::vector<FeatureConstraint>& con
     };
     auto reweight = [&](const Eigen::Isometry3d& T, double kernel_px) {
         Eigen::Vector2d r;
-        Eigen::Matrix<double, 2, 6> J;
         double sum2 = 0.0;
         res.inliers = 0;
         for (std::size_t i = 0; i < n; ++i) {
             const double s = scaleOf(constraints[i], T);
-            constraintResiduals(constraints[i], T, r, J);
+            constraintResiduals(constraints[i], T, r);
             const double px = s * r.norm() * focal_px;
             weight[i] = s > 0.0 ? bisquare(px, kernel_px) : 0.0;
             res.inlier[i] = weight[i] > 0.0;

@@ -4,7 +4,8 @@
 #  - the courtyard unchanged (two walks, the second from half way round the loop): no change
 #    cell (before the report used the earlier session's visibility, surfaces the second session
 #    saw for the first time were reported: 361-375 cells on courtyard walks);
-#  - the office with 3 of its 20 objects moved: every cell where one of them stood or now stands.
+#  - the office with 3 of its 20 objects moved: every cell where one of them stood or now stands
+#    (precision 1), and half the moved objects both sessions saw reported (recall).
 # Usage: e2e_changes.sh HANDSCAN_BIN WORK_DIR
 set -euo pipefail
 here=$(dirname "$0")
@@ -41,6 +42,10 @@ python3 "$here/changes_where_moved.py" "$work/courtyard-2/stats.json" "$(alignme
 session_pair office 93 94 3 office
 cat "$work/office-sim2.txt"
 echo "office, 3 objects moved:"
+# Precision and recall against what the simulator moved (its stdout): every cell within 1 m of a
+# moved object, and at least half of the objects both sessions saw reported (here the table of
+# the two objects seen by both; the chair is not: see README, the change report's limits).
 python3 "$here/changes_where_moved.py" "$work/office-2/stats.json" "$(alignment office)" \
-  "$work/office-sim2.txt" 1.0 || fail "office: a change reported where nothing moved"
+  "$work/office-sim2.txt" 1.0 --maps "$work/office-1/map.ply" "$work/office-2/map.ply" \
+  --min-recall 0.5 || fail "office: a change reported where nothing moved, or too few found"
 echo "e2e_changes: OK"

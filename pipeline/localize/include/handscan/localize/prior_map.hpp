@@ -12,6 +12,7 @@
 #include <memory>
 #include <vector>
 
+#include "handscan/localize/near_cells.hpp"
 #include "handscan/localize/seen_space.hpp"
 #include "handscan/scan/local_map.hpp"
 #include "handscan/scan/voxel_map.hpp"
@@ -24,6 +25,10 @@ struct PriorMapConfig {
     // farthest cluster point (scan::ScanMatcherConfig::max_neighbour_dist_m).
     double margin_m = 1.0;
     SeenSpaceConfig seen;
+    // The lock search's fast "a prior point within on_map_m" (NearCells): the localizer's
+    // LocalizerConfig::on_map_m, on cells of this size.
+    double near_m = 0.2;
+    double near_cell_m = 0.1;
 };
 
 class PriorMap {
@@ -44,6 +49,8 @@ public:
     const SeenSpace& seenSpace() const { return seen_; }
     // The surface normal at each planar point, facing the laser that saw it (NaN: none).
     const std::vector<Eigen::Vector3f>& planarNormals() const { return normals_; }
+    // The cells within PriorMapConfig::near_m of a prior point (the lock search's grid score).
+    const NearCells& nearCells() const { return near_; }
 
 private:
     scan::FeatureMapPoints points_;
@@ -51,6 +58,7 @@ private:
     scan::LocalMap voxels_;
     SeenSpace seen_;
     std::vector<Eigen::Vector3f> normals_;
+    NearCells near_;
 };
 
 // One pair of k-d trees per coarse voxel over `points`, each also holding the points within the

@@ -65,6 +65,12 @@ std::pair<double, double> separation(const Eigen::Isometry3d& a, const Eigen::Is
 double shareOnMap(const LocalizerConfig& config, const PriorMap& prior,
                   const std::vector<Eigen::Vector3d>& pts, const Eigen::Isometry3d& T);
 
+// The lock search's grid score: shareOnMap as the prior's NearCells have it (each point judged by
+// its cell's centre), where those were built for config.on_map_m; else (or with
+// score_min_covered) shareOnMap itself.
+double gridShare(const LocalizerConfig& config, const PriorMap& prior,
+                 const std::vector<Eigen::Vector3d>& pts, const Eigen::Isometry3d& T);
+
 // `count` points of a feature cloud picked evenly, edges and planars together (the search's
 // sample).
 std::vector<Eigen::Vector3d> samplePoints(const scan::FeatureCloud& cloud, int count);

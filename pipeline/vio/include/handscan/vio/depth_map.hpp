@@ -11,6 +11,7 @@
 #pragma once
 
 #include <Eigen/Geometry>
+#include <cstdint>
 #include <deque>
 #include <memory>
 #include <optional>
@@ -63,10 +64,18 @@ private:
         TimeNs t;
         std::vector<Eigen::Vector3f> points_world;
     };
+    // The nearest point of one angular cell (i, j) at build().
+    struct Cell {
+        float range;
+        std::int64_t i, j;
+        Eigen::Vector3f point;
+    };
     struct Sphere;
 
     DepthMapConfig config_;
     std::deque<Batch> batches_;
+    std::vector<std::int32_t> grid_;  // per angular cell: its index in cells_, or -1 (build())
+    std::vector<Cell> cells_;         // reused between builds
     std::unique_ptr<Sphere> sphere_;
 };
 

@@ -87,5 +87,9 @@ private:
 // (6)-(7), 1 for eq. (8) (then r[1] = 0 and J's second row is zero). Returns the row count.
 int constraintResiduals(const FeatureConstraint& f, const Eigen::Isometry3d& T_l_c,
                         Eigen::Vector2d& r, Eigen::Matrix<double, 2, 6>& J);
+// The same residuals without the Jacobians (the same values bit for bit): the trial steps and
+// the reweighting need only these.
+int constraintResiduals(const FeatureConstraint& f, const Eigen::Isometry3d& T_l_c,
+                        Eigen::Vector2d& r);
 
 }  // namespace handscan::vio
