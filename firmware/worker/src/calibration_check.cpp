@@ -77,7 +77,10 @@ CalibrationVerdict CalibrationCheck::update() {
     const bool at_loss = lost_ && !checked_at_loss_;
     if (!at_loss && elapsed_s < next_check_s_) return report_.verdict;
     if (at_loss) checked_at_loss_ = true;
-    if (trajectory_.size() >= 2) attempt(elapsed_s);
+    if (trajectory_.size() >= 2)
+        attempt(elapsed_s);
+    else if (at_loss || elapsed_s >= config_.first_check_s)
+        ++report_.attempts;  // nothing tracked to check yet: no reason to hold the scan
     if (report_.verdict == CalibrationVerdict::kPending) {
         next_check_s_ = std::max(next_check_s_, elapsed_s + config_.retry_period_s);
         if (elapsed_s >= config_.give_up_s) {
@@ -133,7 +136,9 @@ void CalibrationCheck::attempt(double elapsed_s) {
                                       report_.rotation_rad >= k * report_.rotation_std_rad;
             const bool shift_off = report_.shift_m >= config_.max_shift_m &&
                                    report_.shift_m >= k * report_.shift_std_m;
-            if (rotation_off || shift_off) {
+            const bool explains = report_.sigma_after_m <=
+                                  (1.0 - config_.min_improvement) * report_.sigma_before_m;
+            if ((rotation_off || shift_off) && explains) {
                 report_.verdict = CalibrationVerdict::kWrong;
                 // Short enough for the status line (shm::kTextChars); the log says more.
                 report_.message = fmt::format(

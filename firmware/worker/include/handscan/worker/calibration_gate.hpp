@@ -1,8 +1,8 @@
-// CalibrationGate: the worker's sink while the calibration check (calibration_check.hpp) of a new
-// scan has not decided. What the scan would keep - its trajectory poses, sweep records and map
-// sweeps - is held, in order, and handed on once the check decides: as it is when the calibration
-// is consistent (or could not be checked), flagged lost (reason calibration_wrong) with no map
-// points when it is wrong, as is everything after it. The real-time poses go on at once (the
+// CalibrationGate: the worker's sink through a scan's calibration check (calibration_check.hpp).
+// What the scan would keep - its trajectory poses, sweep records and map sweeps - is held, in
+// order, until the check's first attempt, and handed on then: as it is unless the calibration is
+// wrong; then flagged lost (reason calibration_wrong) with no map points, as is everything after
+// it (also after a wrong verdict of a later attempt). The real-time poses go on at once (the
 // operator sees the device move; after a wrong verdict they are flagged lost too).
 #pragma once
 
@@ -36,8 +36,10 @@ private:
         std::vector<journal::MapPoint> points;
     };
     using Held = std::variant<PoseEstimate, journal::SweepRecord, HeldSweep>;
-    // Hands on what is held once the check has decided.
+    // Hands on what is held once the check no longer holds (decided, or its first attempt did
+    // not decide).
     Status flushIfDecided();
+    void logVerdict() const;
     Status forward(Held item);
     bool wrong() const { return check_.verdict() == CalibrationVerdict::kWrong; }
 
