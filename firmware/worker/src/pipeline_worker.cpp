@@ -147,7 +147,7 @@ void PipelineWorker::process(sources::Sample& sample) {
         if (!colouriser_) return;
         // The colouriser takes decoded frames (pipeline/ knows no wire format).
         Result<Image> bgr = camera::toBgr(*image);
-        if (Status s = bgr ? colouriser_->addImage(*bgr) : bgr.status(); !s.isOk()) {
+        if (Status s = bgr ? colouriser_->addImage(std::move(*bgr)) : bgr.status(); !s.isOk()) {
             if (colour_errors_++ == 0) log().warn("colour camera: {}", s.message());
         }
     }

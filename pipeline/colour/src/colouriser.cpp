@@ -123,7 +123,7 @@ Colouriser::Colouriser(const Calibration& calibration, ColouriserConfig config)
     config_.max_images = std::max<std::size_t>(1, config_.max_images);
 }
 
-Status Colouriser::addImage(const Image& image) {
+Status Colouriser::addImage(Image image) {
     const auto where = [&] {
         return "colour frame " + std::to_string(image.sequence) +
                " at t=" + std::to_string(image.t_host) + " ns";
@@ -152,7 +152,7 @@ Status Colouriser::addImage(const Image& image) {
     }
     const auto pos = std::upper_bound(images_.begin(), images_.end(), image.t_host,
                                       [](TimeNs t, const Image& im) { return t < im.t_host; });
-    images_.insert(pos, image);
+    images_.insert(pos, std::move(image));
     while (images_.size() > config_.max_images) images_.pop_front();
     return Status::ok();
 }

@@ -87,7 +87,7 @@ void BM_AddImageYuyv(benchmark::State& state) {
     for (auto _ : state) {
         yuyv.t_host = (t += 200 * kNsPerMs);
         Result<Image> bgr = camera::toBgr(yuyv);  // the driver's decode, then the colouriser
-        if (!bgr || !col.addImage(*bgr).isOk()) state.SkipWithError("addImage");
+        if (!bgr || !col.addImage(std::move(*bgr)).isOk()) state.SkipWithError("addImage");
     }
 }
 BENCHMARK(BM_AddImageYuyv)->Unit(benchmark::kMillisecond);
