@@ -65,6 +65,10 @@ const RegisterCommand kReplay{
             "scan-matching poses correct the IMU prediction's velocity, biases and gravity "
             "(default on; "
             "--no-imu-feedback: the IMU runs open loop and only its increments seed the matcher)");
+        sub.add_flag(
+            "!--no-calibration-check", o->check_calibration,
+            "map whatever the calibration (default: the first seconds check it, "
+            "stats.json \"calibration_check\"; a wrong one keeps the scan out of the map)");
         sub.add_flag("!--no-clock-tracking", o->track_clocks,
                      "keep the configured IMU and encoder latencies (default: tracked online "
                      "within a bounded range, stats.json \"clocks\")");

@@ -8,7 +8,7 @@
 #include <variant>
 
 #include "handscan/calibrate/gyro_alignment.hpp"
-#include "handscan/calibrate/spin_observations.hpp"
+#include "handscan/calibrate/recorded_observations.hpp"
 #include "handscan/camera/image_convert.hpp"
 #include "handscan/colour/camera_projection.hpp"
 #include "handscan/core/se3.hpp"

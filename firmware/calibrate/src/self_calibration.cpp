@@ -10,6 +10,7 @@
 
 #include "handscan/calibrate/calibration_writer.hpp"
 #include "handscan/calibrate/gyro_alignment.hpp"
+#include "handscan/calibrate/recorded_observations.hpp"
 #include "handscan/core/se3.hpp"
 #include "handscan/replay/replay_engine.hpp"
 #include "handscan/tum/tum_file.hpp"
@@ -70,6 +71,7 @@ Result<Replayed> replayWith(const SelfCalibrationOptions& o, const std::string& 
     // The trajectory under the calibration being measured: clocks tracked online would already
     // have turned part of the encoder's error out of the sweeps.
     r.track_clocks = false;
+    r.check_calibration = false;  // it is the calibration being measured
     auto report = replay::runReplay(r);
     if (!report.isOk()) return report.status();
     Replayed out;

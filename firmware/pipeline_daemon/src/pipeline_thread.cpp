@@ -321,6 +321,9 @@ void PipelineThread::publishStatus() {
     s.camera_brightness = queues_.camera_brightness.load(std::memory_order_relaxed);
     if (!session_->problem().empty()) {
         s.message = session_->problem();
+    } else if (session_->scanning() &&
+               worker_->calibrationCheck().verdict() == worker::CalibrationVerdict::kWrong) {
+        s.message = worker_->calibrationCheck().report().message;
     } else if (!worker_->lio().aligned()) {
         s.message = "hold still: aligning with gravity";
     } else if (session_->scanning() && worker_->localizer() != nullptr &&

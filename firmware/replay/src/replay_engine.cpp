@@ -50,6 +50,7 @@ Result<worker::WorkerConfig> workerConfig(const ReplayOptions& o, const DeviceCo
     c.lio.laser_enabled = o.use_laser;
     c.lio.imu_feedback = o.imu_feedback;
     c.lio.clocks.enabled = o.track_clocks;
+    c.calibration_check.enabled = o.check_calibration;
     c.lio.odometry.max_threads = 1;  // replay is deterministic: sweeps are matched in order
     // Likewise a relocalisation's search (on its own thread) takes effect at the next sweep.
     if (o.fast) c.lio.relocalise.apply = localize::MatchApply::kAtNextSweep;
@@ -291,7 +292,8 @@ Result<ReplayReport> runReplay(const ReplayOptions& o) {
                    source.reader().dropped().size(),
                    worker.localizer(),
                    worker.sweepsBeforeLock(),
-                   worker.sweepsHeldUntilLock()};
+                   worker.sweepsHeldUntilLock(),
+                   &worker.calibrationCheck()};
     auto stats_path = outputs.writeStats(in);
     if (!stats_path.isOk()) return stats_path.status();
     report.stats_json_path = *stats_path;

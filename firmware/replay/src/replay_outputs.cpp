@@ -76,6 +76,23 @@ Json clocksJson(const lio::ClockTracker& c) {
             {"pairs", s.pairs}};
 }
 
+// The check of the scan's calibration on its first seconds (worker::CalibrationCheck).
+Json calibrationCheckJson(const worker::CalibrationCheck& c) {
+    const worker::CalibrationCheckReport& r = c.report();
+    return {{"verdict", worker::calibrationVerdictName(r.verdict)},
+            {"checked_after_s", r.checked_after_s},
+            {"attempts", r.attempts},
+            {"laser_rotation_deg", r.rotation_rad * 180.0 / M_PI},
+            {"laser_rotation_std_deg", r.rotation_std_rad * 180.0 / M_PI},
+            {"laser_shift_mm", r.shift_m * 1e3},
+            {"laser_shift_std_mm", r.shift_std_m * 1e3},
+            {"halves_sigma_mm", r.sigma_before_m * 1e3},
+            {"halves_sigma_corrected_mm", r.sigma_after_m * 1e3},
+            {"planes", r.residuals},
+            {"solve_ms", r.solve_ms},
+            {"message", r.message}};
+}
+
 // The visual-inertial odometry (section 5): frames, how many solved something / everything, the
 // mean features and depth kinds, and the stretches it was bypassed (section 8: dark,
 // texture-less; recording times in s).
@@ -297,6 +314,8 @@ Result<std::string> ReplayOutputs::writeStats(const StatsInputs& in) const {
                       {"dropped_regions", in.recording_dropped_regions}};
     j["tracking"] = trackingJson(in.pipeline.tracking());
     j["clocks"] = clocksJson(in.pipeline.clocks());
+    if (in.calibration_check != nullptr)
+        j["calibration_check"] = calibrationCheckJson(*in.calibration_check);
     if (in.visual != nullptr && in.visual->stats().frames > 0) j["vio"] = visualJson(*in.visual);
     if (in.localizer != nullptr)
         j["localization"] =

@@ -16,6 +16,7 @@
 #include "handscan/localize/localizer.hpp"
 #include "handscan/replay/replay_engine.hpp"
 #include "handscan/replay/tiled_voxel_map.hpp"
+#include "handscan/worker/calibration_check.hpp"
 #include "handscan/worker/visual_stage.hpp"
 
 namespace handscan::replay {
@@ -32,6 +33,7 @@ struct StatsInputs {
     const localize::Localizer* localizer = nullptr;  // null: not continuing a prior scan
     std::uint64_t sweeps_before_lock = 0;            // dropped before the lock
     std::uint64_t sweeps_held = 0;                   // held and handed on at the lock
+    const worker::CalibrationCheck* calibration_check = nullptr;
 };
 
 class ReplayOutputs {

@@ -3,6 +3,7 @@
 #include "handscan/camera/image_convert.hpp"
 #include "handscan/core/log.hpp"
 #include "handscan/live_output/sweep_points.hpp"
+#include "handscan/worker/calibration_gate.hpp"
 
 namespace handscan::worker {
 
@@ -20,6 +21,10 @@ PipelineWorker::PipelineWorker(WorkerConfig config, const Calibration& calibrati
     reset();
     makeColouriser();
 }
+
+PipelineWorker::~PipelineWorker() = default;
+
+WorkerSink& PipelineWorker::out() { return gate_ ? static_cast<WorkerSink&>(*gate_) : sink_; }
 
 void PipelineWorker::makeColouriser() {
     colouriser_.reset();
@@ -53,6 +58,11 @@ void PipelineWorker::reset() {
     }
     lio_ = std::make_unique<lio::LaserInertialOdometry>(config_.lio, calibration_,
                                                         config_.motion_override);
+    // Every scan checks its calibration on its first seconds; what it keeps waits for that.
+    gate_.reset();
+    check_ = std::make_unique<CalibrationCheck>(config_.calibration_check, calibration_);
+    if (config_.calibration_check.enabled)
+        gate_ = std::make_unique<CalibrationGate>(sink_, *check_);
     visual_.reset();  // made at the first tracking-camera frame
     localizer_.reset();
     poses_before_lock_.clear();
@@ -73,12 +83,14 @@ Status PipelineWorker::advance(TimeNs source_clock, TimeNs deadline) {
 Status PipelineWorker::finish(TimeNs deadline) {
     if (Status s = run(std::numeric_limits<TimeNs>::max(), deadline); !s.isOk()) return s;
     lio_->finish();
-    return consume();
+    if (Status s = consume(); !s.isOk()) return s;
+    return gate_ ? gate_->finish() : Status::ok();
 }
 
 Status PipelineWorker::flushTrajectory() {
     lio_->flushTrajectory();
-    return consume();
+    if (Status s = consume(); !s.isOk()) return s;
+    return gate_ ? gate_->finish() : Status::ok();
 }
 
 Status PipelineWorker::run(TimeNs horizon, TimeNs deadline) {
@@ -108,12 +120,15 @@ void PipelineWorker::process(sources::Sample& sample) {
     if (counts_from_ == 0) counts_from_ = last_sample_;
     if (const auto* imu = std::get_if<ImuSample>(&sample)) {
         ++counts_.imu_samples;
+        check_->addImu(*imu);
         timed("imu_prediction", [&] { lio_->addImu(*imu); });
     } else if (const auto* position = std::get_if<EncoderSample>(&sample)) {
         ++counts_.encoder_samples;
+        check_->addEncoder(*position);
         timed("sweep_assembly_and_matching", [&] { lio_->addEncoder(*position); });
     } else if (const auto* scan = std::get_if<LaserScan>(&sample)) {
         ++counts_.laser_scans;
+        check_->addScan(*scan);
         timed("sweep_assembly_and_matching", [&] { lio_->addScan(*scan); });
     } else if (const auto* frame = std::get_if<sources::TrackingFrame>(&sample)) {
         ++counts_.tracking_frames;
@@ -142,10 +157,10 @@ Status PipelineWorker::consume() {
     if (localizer_)
         return consumeLocalized(lio_->takePoses(), lio_->takeTrajectory(), lio_->takeSweeps());
     for (const PoseEstimate& p : lio_->takePoses()) {
-        if (Status s = sink_.pose(p); !s.isOk()) return s;
+        if (Status s = out().pose(p); !s.isOk()) return s;
     }
     for (const PoseEstimate& p : lio_->takeTrajectory()) {
-        if (Status s = sink_.trajectoryPose(p); !s.isOk()) return s;
+        if (Status s = out().trajectoryPose(p); !s.isOk()) return s;
     }
     for (const lio::RegisteredSweep& s : lio_->takeSweeps()) {
         if (Status st = handOn(s); !st.isOk()) return st;
@@ -217,7 +232,7 @@ Status PipelineWorker::consumeLocalized(std::vector<PoseEstimate> poses,
         for (const lio::RegisteredSweep& s : sweeps) {
             if (timer_ != nullptr) timer_->add("scan_matching", s.result.total_ms * 1e3);
             if (visual_) visual_->sweep(s);
-            if (!sink_.wantsSweeps()) continue;
+            if (!out().wantsSweeps()) continue;
             held_sweeps_.push_back({s, mapPoints(s)});
             if (held_sweeps_.size() > config_.max_sweeps_before_lock) {
                 held_sweeps_.pop_front();
@@ -227,14 +242,14 @@ Status PipelineWorker::consumeLocalized(std::vector<PoseEstimate> poses,
         return Status::ok();
     }
     for (const PoseEstimate& p : poses) {
-        if (Status st = sink_.pose(moved(T, p)); !st.isOk()) return st;
+        if (Status st = out().pose(moved(T, p)); !st.isOk()) return st;
     }
     for (; !poses_before_lock_.empty(); poses_before_lock_.pop_front()) {
         const PoseEstimate p = moved(T, poses_before_lock_.front());
-        if (Status st = sink_.trajectoryPose(p); !st.isOk()) return st;
+        if (Status st = out().trajectoryPose(p); !st.isOk()) return st;
     }
     for (const PoseEstimate& p : trajectory) {
-        if (Status st = sink_.trajectoryPose(moved(T, p)); !st.isOk()) return st;
+        if (Status st = out().trajectoryPose(moved(T, p)); !st.isOk()) return st;
     }
     for (; !held_sweeps_.empty(); held_sweeps_.pop_front()) {
         ++sweeps_held_;
@@ -251,7 +266,7 @@ Status PipelineWorker::consumeLocalized(std::vector<PoseEstimate> poses,
 Status PipelineWorker::handOn(const lio::RegisteredSweep& s) {
     if (timer_ != nullptr) timer_->add("scan_matching", s.result.total_ms * 1e3);
     if (visual_) visual_->sweep(s);  // laser depth for the camera (5.3)
-    if (!sink_.wantsSweeps()) {      // between scans the map does not grow
+    if (!out().wantsSweeps()) {      // between scans the map does not grow
         counts_ = {};                // and the device rates count from the scan's first sweep
         counts_from_ = last_sample_;
         return Status::ok();
@@ -282,7 +297,7 @@ std::vector<journal::MapPoint> PipelineWorker::mapPoints(const lio::RegisteredSw
 Status PipelineWorker::deliver(const lio::RegisteredSweep& s, std::vector<journal::MapPoint> pts) {
     if (!localizer_) {
         if (Status st = record(s); !st.isOk()) return st;
-        return sink_.sweep(s, pts);
+        return out().sweep(s, pts);
     }
     // Coloured in the odometry's frame (its poses), handed on in the prior map's.
     const Eigen::Isometry3d& T = localizer_->priorFromOdom();
@@ -298,7 +313,7 @@ Status PipelineWorker::deliver(const lio::RegisteredSweep& s, std::vector<journa
         p.z = q.z();
     }
     if (Status st = record(in_prior); !st.isOk()) return st;
-    return sink_.sweep(in_prior, pts);
+    return out().sweep(in_prior, pts);
 }
 
 Status PipelineWorker::record(const lio::RegisteredSweep& s) {
@@ -310,7 +325,7 @@ Status PipelineWorker::record(const lio::RegisteredSweep& s) {
     r.devices.window_s = toSeconds(last_sample_ - counts_from_);
     counts_ = {};
     counts_from_ = last_sample_;
-    return sink_.sweepRecord(r);
+    return out().sweepRecord(r);
 }
 
 scan::FeatureMapPoints PipelineWorker::featureMap() const {

@@ -37,6 +37,8 @@ const char* lostReasonName(LostReason r) {
             return "imu_silent";
         case LostReason::kDropped:
             return "dropped";
+        case LostReason::kCalibrationWrong:
+            return "calibration_wrong";
     }
     return "unknown";
 }

@@ -1,23 +1,16 @@
 #include "handscan/localize/prior_match.hpp"
 
-#include <time.h>
-
 #include <algorithm>
 #include <cmath>
 #include <numbers>
 #include <utility>
 
+#include "handscan/core/time.hpp"
 #include "handscan/scan/scan_matcher.hpp"
 #include "handscan/scan/voxel_key.hpp"
 
 namespace handscan::localize {
 namespace {
-
-double threadCpuMs() {
-    timespec ts{};
-    clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
-    return static_cast<double>(ts.tv_sec) * 1e3 + static_cast<double>(ts.tv_nsec) * 1e-6;
-}
 
 struct Candidate {
     Eigen::Isometry3d T;

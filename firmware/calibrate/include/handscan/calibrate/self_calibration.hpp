@@ -12,10 +12,10 @@
 #include <vector>
 
 #include "handscan/calibrate/camchain_check.hpp"
-#include "handscan/calibrate/half_revolution_consistency.hpp"
-#include "handscan/calibrate/spin_solver.hpp"
 #include "handscan/core/config.hpp"
 #include "handscan/core/status.hpp"
+#include "handscan/spin_calibration/half_revolution_consistency.hpp"
+#include "handscan/spin_calibration/spin_solver.hpp"
 
 namespace handscan::calibrate {
 

@@ -19,5 +19,8 @@ constexpr TimeNs fromSeconds(double s) {
 
 // The host's CLOCK_MONOTONIC now.
 TimeNs monotonicNow();
+// The calling thread's CPU time in ms (CLOCK_THREAD_CPUTIME_ID): the cost of a computation on a
+// shared machine, where wall time says little.
+double threadCpuMs();
 
 }  // namespace handscan

@@ -35,6 +35,10 @@ struct ReplayOptions {
     // (--no-clock-tracking): the configured latencies stand, as `handscan calibrate` needs them
     // to measure the calibration it was given.
     bool track_clocks = true;
+    // The first seconds check the calibration (worker::CalibrationCheck) and, when it is wrong,
+    // keep the scan out of the map. Off (--no-calibration-check): mapped whatever it is, as
+    // `handscan calibrate` needs the trajectory of the calibration it was given.
+    bool check_calibration = true;
     // Diagnostics: a TUM file (ground truth) to assemble sweeps with and match from, perturbed
     // (see ReferenceMotion): the scan matcher's own accuracy.
     std::string reference_motion;

@@ -25,6 +25,7 @@
 #include "handscan/lio/laser_inertial_odometry.hpp"
 #include "handscan/localize/localizer.hpp"
 #include "handscan/sources/sample_source.hpp"
+#include "handscan/worker/calibration_check.hpp"
 #include "handscan/worker/sample_merger.hpp"
 #include "handscan/worker/visual_stage.hpp"
 
@@ -62,6 +63,8 @@ struct WorkerConfig {
     // matching's prior. Off by default: on simulated walks it still makes the pipeline worse
     // (see firmware/cli/cmd_replay.cpp); frames that come are then dropped.
     bool visual = false;
+    // Every scan's first seconds check its calibration; what it keeps waits for the verdict.
+    CalibrationCheckConfig calibration_check;
     vio::VioConfig vio;
     // Ordering window behind the source's clock (see SampleMerger): longer than any device's
     // delivery delay (a scan's ~30 ms from its first step, a camera frame's exposure).
@@ -85,11 +88,16 @@ struct WorkerConfig {
 // pipeline's defaults.
 lio::LioConfig lioConfigFor(const DeviceConfig& device);
 
+class CalibrationGate;
+
 class PipelineWorker {
 public:
     // `timer` (may be null): per-stage costs for stats.json.
     PipelineWorker(WorkerConfig config, const Calibration& calibration, WorkerSink& sink,
                    CallTimer* timer = nullptr);
+    ~PipelineWorker();
+    PipelineWorker(const PipelineWorker&) = delete;
+    PipelineWorker& operator=(const PipelineWorker&) = delete;
 
     void add(sources::Sample sample) { merger_.push(std::move(sample)); }
     // Runs every queued sample taken more than the hold-back before `source_clock` through the
@@ -118,8 +126,9 @@ public:
     }
 
     const lio::LaserInertialOdometry& lio() const { return *lio_; }
-    // The calibration the current scan runs with.
+    // The calibration the current scan runs with, and its check on the scan's first seconds.
     const Calibration& calibration() const { return calibration_; }
+    const CalibrationCheck& calibrationCheck() const { return *check_; }
     std::size_t pending() const { return merger_.size(); }
     std::uint64_t colourErrors() const { return colour_errors_; }
     bool colourising() const { return colouriser_ != nullptr; }
@@ -164,6 +173,9 @@ private:
     // The colouriser of the calibration in use (none when colour is off or cam1 unusable).
     void makeColouriser();
 
+    // Where the outputs go: through the calibration gate while the scan checks its calibration.
+    WorkerSink& out();
+
     WorkerConfig config_;
     Calibration calibration_;
     struct Recalibration {
@@ -173,6 +185,8 @@ private:
     std::optional<Recalibration> pending_;  // in use from the next reset()
     WorkerSink& sink_;
     CallTimer* timer_;
+    std::unique_ptr<CalibrationCheck> check_;
+    std::unique_ptr<CalibrationGate> gate_;
     SampleMerger merger_;
     std::unique_ptr<lio::LaserInertialOdometry> lio_;
     std::unique_ptr<colour::Colouriser> colouriser_;

@@ -40,6 +40,9 @@ enum class LostReason : std::uint8_t {
     kLaserBlind = 6,  // a whole sweep with (almost) no returns: the laser's window covered
     kImuSilent = 7,   // no IMU samples while the laser runs: nothing carries the prediction
     kDropped = 8,     // free fall: the scanner left the operator's hand
+    // Set outside the monitor: the scan's calibration does not fit what the laser sees
+    // (worker::CalibrationCheck); the whole scan stays out of the map.
+    kCalibrationWrong = 9,
 };
 const char* lostReasonName(LostReason r);  // snake_case, for stats.json
 

@@ -1,13 +1,12 @@
-#include "handscan/calibrate/spin_observations.hpp"
+#include "handscan/spin_calibration/spin_observations.hpp"
 
 #include <algorithm>
 #include <cmath>
 #include <numbers>
 #include <variant>
 
-#include "handscan/calibrate/gyro_alignment.hpp"
 #include "handscan/core/se3.hpp"
-#include "handscan/sources/recorded_source.hpp"
+#include "handscan/imu/gyro_hand_eye.hpp"
 #include "handscan/tum/trajectory_pose.hpp"
 
 namespace handscan::calibrate {
@@ -50,48 +49,13 @@ PreparedSpin SpinModel::prepare(const SpinCorrection::Vector& x) const {
 
 namespace {
 
-struct Decoded {
-    std::vector<LaserScan> scans;
-    std::vector<EncoderSample> encoder;
-};
-
-Result<Decoded> decode(const std::string& recording, const DeviceConfig& device) {
-    sources::RecordedSourceOptions options;
-    options.laser = true;
-    options.colour = false;
-    options.fast = true;
-    auto opened = sources::RecordedSource::open(recording, device, options);
-    if (!opened.isOk()) return opened.status();
-    Decoded d;
-    std::vector<sources::Sample> samples;
-    for (;;) {
-        samples.clear();
-        auto clock = (*opened)->next(samples);
-        if (!clock.isOk()) return clock.status();
-        for (auto& s : samples) {
-            if (auto* scan = std::get_if<LaserScan>(&s)) d.scans.push_back(std::move(*scan));
-            if (auto* e = std::get_if<EncoderSample>(&s)) d.encoder.push_back(*e);
-        }
-        if (!clock->has_value()) break;
-    }
-    std::stable_sort(
-        d.encoder.begin(), d.encoder.end(),
-        [](const EncoderSample& a, const EncoderSample& b) { return a.t_host < b.t_host; });
-    if (d.scans.empty() || d.encoder.size() < 2)
-        return Status{StatusCode::kInvalidArgument,
-                      recording + ": needs /hokuyo/raw scans and /motor/can encoder positions (" +
-                          std::to_string(d.scans.size()) + " scans, " +
-                          std::to_string(d.encoder.size()) + " encoder samples decoded)"};
-    return d;
-}
-
 bool excluded(double t_s, const std::vector<std::pair<double, double>>& intervals) {
     return std::any_of(intervals.begin(), intervals.end(),
                        [&](const auto& iv) { return t_s >= iv.first && t_s < iv.second; });
 }
 
 // Times at which the shaft angle (encoder - zero) crosses a whole turn.
-std::vector<double> revolutionStarts(const std::vector<EncoderSample>& enc, double zero_rad) {
+std::vector<double> revolutionStarts(std::span<const EncoderSample> enc, double zero_rad) {
     std::vector<double> out;
     const double turn = 2.0 * std::numbers::pi;
     for (std::size_t i = 1; i < enc.size(); ++i) {
@@ -159,21 +123,18 @@ tum::Trajectory revolutionMotion(const tum::Trajectory& trajectory,
     return out;
 }
 
-Result<std::vector<SpinObservation>> loadObservations(
-    const std::string& recording, const DeviceConfig& device, const Calibration& base,
+Result<std::vector<SpinObservation>> pairObservations(
+    std::span<const LaserScan> scans, std::span<const EncoderSample> enc, const Calibration& base,
     const tum::Trajectory& replayed, const std::vector<std::pair<double, double>>& excluded_s,
     const std::vector<ImuSample>& imu, const ObservationOptions& opt) {
     if (replayed.size() < 2)
         return Status{StatusCode::kInvalidArgument, "calibrate: the replayed trajectory is empty"};
-    auto decoded = decode(recording, device);
-    if (!decoded.isOk()) return decoded.status();
-    const auto& enc = decoded->encoder;
     const tum::Trajectory trajectory =
         revolutionMotion(replayed, revolutionStarts(enc, base.encoder_zero_offset_rad), imu,
                          base.T_camera_imu().linear());
     if (trajectory.size() < 2)
         return Status{StatusCode::kInvalidArgument,
-                      recording + ": the shaft did not turn twice inside the replayed trajectory"};
+                      "the shaft did not turn twice inside the replayed trajectory"};
     const double t_first = trajectory.front().t_s + opt.motion_margin_s;
     const double t_last = trajectory.back().t_s - opt.motion_margin_s;
     constexpr double kVelocityStep_s = 0.005;  // the trajectory's 200 Hz period
@@ -181,7 +142,7 @@ Result<std::vector<SpinObservation>> loadObservations(
 
     std::vector<SpinObservation> out;
     std::uint32_t scan_number = 0;
-    for (const LaserScan& scan : decoded->scans) {
+    for (const LaserScan& scan : scans) {
         ++scan_number;
         for (std::size_t i = 0; i < scan.size(); i += static_cast<std::size_t>(opt.step_stride)) {
             const float r = scan.ranges_m[i];
@@ -222,9 +183,8 @@ Result<std::vector<SpinObservation>> loadObservations(
     }
     if (out.empty())
         return Status{StatusCode::kInvalidArgument,
-                      recording +
-                          ": no laser step falls inside the replayed trajectory where "
-                          "tracking was ok; nothing to calibrate from"};
+                      "no laser step falls inside the replayed trajectory where tracking was ok; "
+                      "nothing to calibrate from"};
     return out;
 }
 

@@ -1,4 +1,4 @@
-#include "handscan/calibrate/spin_solver.hpp"
+#include "handscan/spin_calibration/spin_solver.hpp"
 
 #include <fmt/format.h>
 

@@ -10,7 +10,7 @@
 #include <string>
 #include <vector>
 
-#include "handscan/calibrate/half_revolution_consistency.hpp"
+#include "handscan/spin_calibration/half_revolution_consistency.hpp"
 
 namespace handscan::calibrate {
 

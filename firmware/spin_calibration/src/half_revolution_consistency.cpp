@@ -1,4 +1,4 @@
-#include "handscan/calibrate/half_revolution_consistency.hpp"
+#include "handscan/spin_calibration/half_revolution_consistency.hpp"
 
 #include <Eigen/Eigenvalues>
 #include <algorithm>

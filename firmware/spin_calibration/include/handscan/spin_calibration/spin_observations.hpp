@@ -10,6 +10,7 @@
 #include <Eigen/Geometry>
 #include <cmath>
 #include <cstdint>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -112,12 +113,14 @@ tum::Trajectory revolutionMotion(const tum::Trajectory& trajectory,
                                  const std::vector<ImuSample>& imu,
                                  const Eigen::Matrix3d& R_body_imu);
 
-// Decodes the recording's laser and encoder (with `device`'s latencies, as replay does) and pairs
-// every kept step with the motion (revolutionMotion of the trajectory and the gyro). Steps in
-// `excluded` intervals (tracking not ok) are left out.
-Result<std::vector<SpinObservation>> loadObservations(
-    const std::string& recording, const DeviceConfig& device, const Calibration& base,
-    const tum::Trajectory& trajectory, const std::vector<std::pair<double, double>>& excluded_s,
-    const std::vector<ImuSample>& imu, const ObservationOptions& options);
+// Pairs every kept step of `scans` (in time order) with the encoder angle (`encoder` sorted by
+// time) and the motion (revolutionMotion of the trajectory and the gyro). Steps in `excluded`
+// intervals (tracking not ok) are left out. The streams as the pipeline saw them: from a
+// recording (calibrate's loadObservations) or buffered live (the worker's calibration check).
+Result<std::vector<SpinObservation>> pairObservations(
+    std::span<const LaserScan> scans, std::span<const EncoderSample> encoder,
+    const Calibration& base, const tum::Trajectory& trajectory,
+    const std::vector<std::pair<double, double>>& excluded_s, const std::vector<ImuSample>& imu,
+    const ObservationOptions& options);
 
 }  // namespace handscan::calibrate

@@ -12,7 +12,7 @@
 #include <span>
 #include <vector>
 
-#include "handscan/calibrate/spin_observations.hpp"
+#include "handscan/spin_calibration/spin_observations.hpp"
 
 namespace handscan::calibrate {
 
