@@ -25,6 +25,7 @@
 #pragma once
 
 #include <cstdint>
+#include <numbers>
 #include <string>
 #include <utility>
 #include <vector>
@@ -43,7 +44,7 @@ struct CalibrationCheckConfig {
     double retry_period_s = 2.0;  // undetermined: again after this much more
     double give_up_s = 20.0;      // still undetermined: unchecked, the scan goes on
     std::size_t min_residuals = 100;
-    double max_rotation_rad = 0.5 * 3.14159265358979323846 / 180.0;
+    double max_rotation_rad = 0.5 * std::numbers::pi / 180.0;
     double max_shift_m = 0.010;
     double significance = 3.0;
     double min_improvement = 0.05;  // of the halves' robust std
