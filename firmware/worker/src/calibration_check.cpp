@@ -136,8 +136,8 @@ void CalibrationCheck::attempt(double elapsed_s) {
                                       report_.rotation_rad >= k * report_.rotation_std_rad;
             const bool shift_off = report_.shift_m >= config_.max_shift_m &&
                                    report_.shift_m >= k * report_.shift_std_m;
-            const bool explains = report_.sigma_after_m <=
-                                  (1.0 - config_.min_improvement) * report_.sigma_before_m;
+            const bool explains =
+                report_.sigma_after_m <= (1.0 - config_.min_improvement) * report_.sigma_before_m;
             if ((rotation_off || shift_off) && explains) {
                 report_.verdict = CalibrationVerdict::kWrong;
                 // Short enough for the status line (shm::kTextChars); the log says more.
