@@ -38,7 +38,7 @@ Status VizSink::trajectoryPose(const PoseEstimate& p) {
 }
 
 Status VizSink::sweep(const lio::RegisteredSweep& s, std::span<const journal::MapPoint> points) {
-    if (failed_.isOk()) timed([&] { keep(writer_->sweep(s, points)); });
+    if (failed_.isOk()) timed([&] { keep(writer_->sweep(s, points, devices_)); });
     return next_ != nullptr ? next_->sweep(s, points) : Status::ok();
 }
 
@@ -51,8 +51,6 @@ void VizSink::samples(std::span<const sources::Sample> samples) {
                 keep(writer_->imu(*imu));
             } else if (const auto* position = std::get_if<EncoderSample>(&sample)) {
                 keep(writer_->encoder(*position));
-            } else if (const auto* scan = std::get_if<LaserScan>(&sample)) {
-                keep(writer_->laserScan(*scan));
             } else if (const auto* image = std::get_if<Image>(&sample)) {
                 keep(writer_->image(Camera::kColour, *image));  // the worker's camera
             }

@@ -148,8 +148,6 @@ struct VizWriter::Impl {
     std::optional<Eigen::Isometry3d> T_world_gtworld;
     bool static_tf_written = false;
     // Decoded samples since the last status, for its rates.
-    std::uint64_t imu_n = 0, scan_n = 0, encoder_n = 0, image_n[2] = {0, 0};
-    TimeNs rates_since = 0;
     std::uint64_t image_errors = 0;
     // Reused messages (their buffers keep their capacity).
     foxglove::PointCloud cloud;
@@ -400,8 +398,6 @@ Status VizWriter::pose(const PoseEstimate& p) {
 
 Status VizWriter::encoder(const EncoderSample& sample) {
     Impl& m = *impl_;
-    ++m.encoder_n;
-    if (m.rates_since == 0) m.rates_since = sample.t_host;
     if (!m.encoder.empty() && sample.t_host <= m.encoder.back().t_host) return Status::ok();
     m.encoder.push_back(sample);
     return Status::ok();
@@ -409,8 +405,6 @@ Status VizWriter::encoder(const EncoderSample& sample) {
 
 Status VizWriter::imu(const ImuSample& s) {
     Impl& m = *impl_;
-    ++m.imu_n;
-    if (m.rates_since == 0) m.rates_since = s.t_host;
     m.imu_msg.Clear();
     setTime(m.imu_msg.mutable_timestamp(), s.t_host);
     m.imu_msg.set_frame_id(kImuFrame);
@@ -426,12 +420,6 @@ Status VizWriter::imu(const ImuSample& s) {
     return m.write(m.imu_ch, s.t_host, m.imu_msg);
 }
 
-Status VizWriter::laserScan(const LaserScan& scan) {
-    ++impl_->scan_n;
-    if (impl_->rates_since == 0) impl_->rates_since = scan.t_host;
-    return Status::ok();
-}
-
 Status VizWriter::image(Camera camera, const Image& image) {
     Impl& m = *impl_;
     if (image.format == PixelFormat::kMjpeg && hasHuffmanTables(image.data)) {
@@ -440,7 +428,6 @@ Status VizWriter::image(Camera camera, const Image& image) {
     }
     int width = 0, height = 0;
     if (Status s = m.encodeImage(camera, image, width, height); !s.isOk()) {
-        ++m.image_n[static_cast<int>(camera)];
         // A frame that does not decode is the camera's problem, not the file's: skip it.
         if (m.image_errors++ == 0)
             log().warn("viz: {}: {} (frame skipped)", kImageTopics[static_cast<int>(camera)],
@@ -454,8 +441,6 @@ Status VizWriter::compressedImage(Camera camera, TimeNs t, std::span<const std::
                                   const char* format, int width, int height) {
     Impl& m = *impl_;
     const int c = static_cast<int>(camera);
-    ++m.image_n[c];
-    if (m.rates_since == 0) m.rates_since = t;
     if (!m.imageDue(camera, t)) return Status::ok();
     m.image_msg.Clear();
     setTime(m.image_msg.mutable_timestamp(), t);
@@ -500,7 +485,8 @@ Status VizWriter::groundTruth(const recording::GroundTruthPose& gt) {
     return m.write(m.gt_ch, gt.t, msg);
 }
 
-Status VizWriter::sweep(const lio::RegisteredSweep& s, std::span<const journal::MapPoint> points) {
+Status VizWriter::sweep(const lio::RegisteredSweep& s, std::span<const journal::MapPoint> points,
+                        const journal::DeviceCounts& devices) {
     Impl& m = *impl_;
     const TimeNs t = s.times.empty() ? s.result.pose.t_host : s.times.back();  // sweep complete
     if (Status st = m.writeClouds(t, points); !st.isOk()) return st;
@@ -525,16 +511,16 @@ Status VizWriter::sweep(const lio::RegisteredSweep& s, std::span<const journal::
     status.set_sweep_points(static_cast<std::uint32_t>(points.size()));
     status.set_tracking_lost(s.tracking.lost);
     status.set_enters_map(s.tracking.enters_map);
-    const double dt = m.rates_since > 0 && t > m.rates_since ? toSeconds(t - m.rates_since) : 0.0;
-    const auto rate = [dt](std::uint64_t n) { return dt > 0 ? static_cast<double>(n) / dt : 0.0; };
-    status.set_imu_hz(rate(m.imu_n));
-    status.set_laser_scans_hz(rate(m.scan_n));
-    status.set_encoder_hz(rate(m.encoder_n));
-    status.set_track_camera_hz(rate(m.image_n[0]));
-    status.set_colour_camera_hz(rate(m.image_n[1]));
+    // The device rates the worker counted since the previous sweep's record: the sweep's own,
+    // whenever the sweep reaches the file (a scan's first sweeps wait for its calibration check).
+    const double dt = devices.window_s;
+    const auto rate = [dt](std::uint32_t n) { return dt > 0 ? static_cast<double>(n) / dt : 0.0; };
+    status.set_imu_hz(rate(devices.imu_samples));
+    status.set_laser_scans_hz(rate(devices.laser_scans));
+    status.set_encoder_hz(rate(devices.encoder_samples));
+    status.set_track_camera_hz(rate(devices.tracking_frames));
+    status.set_colour_camera_hz(rate(devices.colour_frames));
     status.set_map_points(m.map.size());
-    m.imu_n = m.scan_n = m.encoder_n = m.image_n[0] = m.image_n[1] = 0;
-    m.rates_since = t;
     if (Status st = m.write(m.status_ch, t, status); !st.isOk()) return st;
     return m.writePathAndStatic(std::max(t, m.last_pose_t));
 }

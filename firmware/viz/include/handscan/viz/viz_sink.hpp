@@ -41,7 +41,9 @@ public:
     bool wantsSweeps() const override { return next_ == nullptr || next_->wantsSweeps(); }
     [[nodiscard]] Status sweep(const lio::RegisteredSweep& sweep,
                                std::span<const journal::MapPoint> points) override;
+    // Each sweep's record comes just before it: its device counts are the sweep's rates.
     [[nodiscard]] Status sweepRecord(const journal::SweepRecord& record) override {
+        devices_ = record.devices;
         return next_ != nullptr ? next_->sweepRecord(record) : Status::ok();
     }
 
@@ -76,6 +78,7 @@ private:
     worker::WorkerSink* next_;
     CallTimer* timer_;
     std::string path_;
+    journal::DeviceCounts devices_;  // of the last sweep record
     Status failed_;
     bool closed_ = false;
 };

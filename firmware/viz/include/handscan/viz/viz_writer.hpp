@@ -30,6 +30,7 @@
 #include "handscan/core/samples.hpp"
 #include "handscan/core/status.hpp"
 #include "handscan/journal/map_point.hpp"
+#include "handscan/journal/sweep_record.hpp"
 #include "handscan/lio/laser_inertial_odometry.hpp"
 #include "handscan/recording/channels.hpp"
 
@@ -72,7 +73,6 @@ public:
     // The shaft angle for body->laser; samples in time order, ahead of the poses they serve.
     [[nodiscard]] Status encoder(const EncoderSample& sample);
     [[nodiscard]] Status imu(const ImuSample& sample);
-    [[nodiscard]] Status laserScan(const LaserScan& scan);  // counted for the status' rate
     // A frame to show: a JPEG a browser decodes is kept as it is, anything else is JPEG-encoded.
     [[nodiscard]] Status image(Camera camera, const Image& image);
     // A frame already compressed as `format` ("png", "jpeg"): written as it is, no decoding.
@@ -81,9 +81,11 @@ public:
                                          int width, int height);
     [[nodiscard]] Status groundTruth(const recording::GroundTruthPose& pose);
     // `points`: the sweep's map points as journaled (empty when the tracking monitor kept the
-    // sweep out of the map: then only its status is written).
+    // sweep out of the map: then only its status is written); `devices`: its sweep record's
+    // sample counts, the status' device rates.
     [[nodiscard]] Status sweep(const lio::RegisteredSweep& sweep,
-                               std::span<const journal::MapPoint> points);
+                               std::span<const journal::MapPoint> points,
+                               const journal::DeviceCounts& devices);
     // Map points without the matcher's sweep (a journal's): /sweep, /map and /path at `t`, no
     // /status.
     [[nodiscard]] Status mapPoints(TimeNs t, std::span<const journal::MapPoint> points);
