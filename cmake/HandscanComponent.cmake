@@ -43,10 +43,11 @@ function(handscan_library name)
   add_library(handscan::${name} ALIAS ${target})
 endfunction()
 
-# handscan_test(<name> SOURCES ... LIBS ... [LABELS ...] [TIMEOUT s])
-# A GoogleTest executable registered with CTest test-by-test.
+# handscan_test(<name> SOURCES ... LIBS ... [LABELS ...] [TIMEOUT s] [RUN_SERIAL])
+# A GoogleTest executable registered with CTest test-by-test. RUN_SERIAL: its tests run alone
+# (real-time processes against fake devices, which two at a time on two cores under ASan starve).
 function(handscan_test name)
-  cmake_parse_arguments(ARG "" "TIMEOUT" "SOURCES;LIBS;LABELS" ${ARGN})
+  cmake_parse_arguments(ARG "RUN_SERIAL" "TIMEOUT" "SOURCES;LIBS;LABELS" ${ARGN})
   add_executable(${name} ${ARG_SOURCES})
   target_link_libraries(${name} PRIVATE ${ARG_LIBS} GTest::gtest GTest::gmock GTest::gtest_main)
   target_compile_definitions(${name} PRIVATE
@@ -61,8 +62,12 @@ function(handscan_test name)
   if(NOT ARG_LABELS)
     set(ARG_LABELS unit)
   endif()
+  set(serial FALSE)
+  if(ARG_RUN_SERIAL)
+    set(serial TRUE)
+  endif()
   gtest_discover_tests(${name} DISCOVERY_MODE PRE_TEST
-                       PROPERTIES TIMEOUT ${ARG_TIMEOUT} LABELS "${ARG_LABELS}")
+                       PROPERTIES TIMEOUT ${ARG_TIMEOUT} LABELS "${ARG_LABELS}" RUN_SERIAL ${serial})
 endfunction()
 
 # handscan_benchmark(<name> SOURCES ... LIBS ...): a Google Benchmark executable (not a test).
