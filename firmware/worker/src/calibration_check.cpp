@@ -77,10 +77,9 @@ CalibrationVerdict CalibrationCheck::update() {
     const bool at_loss = lost_ && !checked_at_loss_;
     if (!at_loss && elapsed_s < next_check_s_) return report_.verdict;
     if (at_loss) checked_at_loss_ = true;
-    if (trajectory_.size() >= 2)
-        attempt(elapsed_s);
-    else if (at_loss || elapsed_s >= config_.first_check_s)
-        ++report_.attempts;  // nothing tracked to check yet: no reason to hold the scan
+    // Due: the scan waits no longer, even with nothing tracked to check yet.
+    first_due_passed_ = true;
+    if (trajectory_.size() >= 2) attempt(elapsed_s);
     if (report_.verdict == CalibrationVerdict::kPending) {
         next_check_s_ = std::max(next_check_s_, elapsed_s + config_.retry_period_s);
         if (elapsed_s >= config_.give_up_s) {

@@ -17,7 +17,7 @@ Status CalibrationGate::trajectoryPose(const PoseEstimate& pose) {
         held_.emplace_back(pose);
         return Status::ok();
     }
-    if (Status s = flushIfDecided(); !s.isOk()) return s;
+    if (Status s = flushIfReleased(); !s.isOk()) return s;
     return forward(pose);
 }
 
@@ -26,7 +26,7 @@ Status CalibrationGate::sweepRecord(const journal::SweepRecord& record) {
         held_.emplace_back(record);
         return Status::ok();
     }
-    if (Status s = flushIfDecided(); !s.isOk()) return s;
+    if (Status s = flushIfReleased(); !s.isOk()) return s;
     return forward(record);
 }
 
@@ -49,9 +49,9 @@ Status CalibrationGate::sweep(const lio::RegisteredSweep& sweep,
     }
     if (check_.holding() || !held_.empty()) {
         held_.emplace_back(HeldSweep{sweep, {points.begin(), points.end()}});
-        return flushIfDecided();
+        return flushIfReleased();
     }
-    if (Status s = flushIfDecided(); !s.isOk()) return s;
+    if (Status s = flushIfReleased(); !s.isOk()) return s;
     return forward(HeldSweep{sweep, {points.begin(), points.end()}});
 }
 
@@ -59,7 +59,7 @@ Status CalibrationGate::finish() {
     const CalibrationVerdict before = check_.verdict();
     check_.giveUp();
     if (check_.verdict() != before) logVerdict();
-    return flushIfDecided();
+    return flushIfReleased();
 }
 
 void CalibrationGate::logVerdict() const {
@@ -76,7 +76,7 @@ void CalibrationGate::logVerdict() const {
                    r.checked_after_s, r.residuals, r.solve_ms);
 }
 
-Status CalibrationGate::flushIfDecided() {
+Status CalibrationGate::flushIfReleased() {
     if (check_.holding()) return Status::ok();
     for (; !held_.empty(); held_.pop_front()) {
         if (Status s = forward(std::move(held_.front())); !s.isOk()) return s;

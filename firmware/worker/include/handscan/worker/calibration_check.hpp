@@ -56,7 +56,7 @@ const char* calibrationVerdictName(CalibrationVerdict v);
 struct CalibrationCheckReport {
     CalibrationVerdict verdict = CalibrationVerdict::kPending;
     double checked_after_s = 0.0;  // since the scan's first laser scan, at the last attempt
-    int attempts = 0;
+    int attempts = 0;              // solves run (a due check with no tracked trajectory runs none)
     double rotation_rad = 0.0, rotation_std_rad = 0.0;  // the laser's correction on its shaft
     double shift_m = 0.0, shift_std_m = 0.0;
     double sigma_before_m = 0.0, sigma_after_m = 0.0;  // half-to-half distances (robust std)
@@ -84,7 +84,7 @@ public:
     CalibrationVerdict verdict() const { return report_.verdict; }
     // Before the first attempt: the scan's outputs wait for it.
     bool holding() const {
-        return report_.verdict == CalibrationVerdict::kPending && report_.attempts == 0;
+        return report_.verdict == CalibrationVerdict::kPending && !first_due_passed_;
     }
     const CalibrationCheckReport& report() const { return report_; }
 
@@ -102,6 +102,7 @@ private:
     double next_check_s_;
     TimeNs first_scan_ = 0, last_scan_ = 0;
     bool lost_ = false, checked_at_loss_ = false;
+    bool first_due_passed_ = false;  // the first check was due: the scan no longer waits
     CalibrationCheckReport report_;
 };
 

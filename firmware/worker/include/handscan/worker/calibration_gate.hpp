@@ -38,7 +38,7 @@ private:
     using Held = std::variant<PoseEstimate, journal::SweepRecord, HeldSweep>;
     // Hands on what is held once the check no longer holds (decided, or its first attempt did
     // not decide).
-    Status flushIfDecided();
+    Status flushIfReleased();
     void logVerdict() const;
     Status forward(Held item);
     bool wrong() const { return check_.verdict() == CalibrationVerdict::kWrong; }
